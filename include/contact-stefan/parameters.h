@@ -1,0 +1,198 @@
+// Run-time parameters of a contact-stefan scene.
+//
+// Everything a run uses comes from one ParameterHandler file. Each subsection has
+// its own small struct with declare/parse functions. Which "Body N" and
+// "Thermal boundary N" subsections exist depends on the lists "Bodies/Body ids" and
+// "Boundary conditions/Thermal boundaries", so a file is read twice: a lenient
+// first pass reads those lists, the second, strict pass reads everything and
+// rejects any entry that was not declared (misspellings included).
+//
+// Every check that can be made without building a mesh is made while parsing, and
+// a failure throws InputError: one line naming the parameter and the reason.
+#ifndef contact_stefan_parameters_h
+#define contact_stefan_parameters_h
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/point.h>
+
+#include <contact-stefan/enthalpy_law.h>
+
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace ContactStefan
+{
+  using namespace dealii;
+
+  // A bad input: what() is a single line meant for the user.
+  class InputError : public std::runtime_error
+  {
+  public:
+    InputError(const std::string &parameter, const std::string &reason)
+      : std::runtime_error("parameter '" + parameter + "': " + reason)
+    {}
+    explicit InputError(const std::string &message)
+      : std::runtime_error(message)
+    {}
+  };
+
+  namespace Parameters
+  {
+    struct Geometry
+    {
+      // "rectangle": [x0,x1]x[y0,y1] with boundary ids 0 (left), 1 (right),
+      // 2 (bottom), 3 (top), optionally cut into horizontal layers that are bodies
+      // 0, 1, ... from the bottom. "gmsh": a .msh file whose physical surfaces give
+      // the body (material) ids and physical lines the boundary ids.
+      std::string               mesh_type;
+      Point<2>                  lower_left, upper_right;
+      std::vector<unsigned int> subdivisions;
+      std::vector<double>       layer_interfaces;
+      std::string               mesh_file;
+
+      static void declare(ParameterHandler &prm);
+      void        parse(ParameterHandler &prm, const std::string &prm_directory);
+    };
+
+    // Thermal data of one body. Phases are numbered from cold (0) to hot (n).
+    struct BodyMaterial
+    {
+      std::string         name;
+      double              density;
+      std::vector<double> transition_temperatures; // n
+      std::vector<double> latent_heats;            // n, per unit mass
+      std::vector<double> heat_capacities;         // n+1, per unit mass
+      std::vector<double> conductivities;          // n+1 (or 1: the same in all phases)
+      double              anisotropy[3];           // k_xx, k_xy, k_yy of the shape tensor
+      std::string         heat_source;             // W/m^3, function of x, y, t
+      // Elastic data, checked here; they load the contact step.
+      double youngs_modulus, poisson_ratio, thermal_expansion;
+
+      EnthalpyLaw enthalpy_law() const;
+      double      conductivity(const unsigned int phase) const
+      {
+        return conductivities.size() == 1 ? conductivities[0] : conductivities[phase];
+      }
+      bool conductivity_is_isotropic() const
+      {
+        return anisotropy[1] == 0 && anisotropy[0] == anisotropy[2];
+      }
+
+      static void declare(ParameterHandler &prm);
+      void        parse(ParameterHandler &prm, const std::string &path);
+    };
+
+    struct ThermalBoundary
+    {
+      enum class Type
+      {
+        temperature,
+        flux
+      } type;
+      // Function of x, y, t, or "exact" (the configured exact solution).
+      std::string value;
+
+      static void declare(ParameterHandler &prm);
+      void        parse(ParameterHandler &prm, const std::string &path);
+    };
+
+    struct InitialCondition
+    {
+      // "temperature": Theta(x, 0); on a transition temperature a node starts at the
+      // lower end of the plateau. "enthalpy": H(x, 0), which can place a body inside
+      // a plateau.
+      std::string variable;
+      std::string function;
+
+      static void declare(ParameterHandler &prm);
+      void        parse(ParameterHandler &prm);
+    };
+
+    // A closed-form solution the run is compared against.
+    struct ExactSolution
+    {
+      // "none" or "neumann": the Neumann similarity solution of the body's
+      // (multi-)phase Stefan problem on x > x0, melting from x = x0.
+      std::string  type;
+      unsigned int body;
+      double       hot_temperature, cold_temperature, origin;
+
+      static void declare(ParameterHandler &prm);
+      void        parse(ParameterHandler &prm);
+    };
+
+    struct TimeStepping
+    {
+      double start_time, end_time, time_step;
+
+      static void declare(ParameterHandler &prm);
+      void        parse(ParameterHandler &prm);
+    };
+
+    struct Solver
+    {
+      std::string  linear_solver; // "direct" or "cg-amg"
+      std::string  direct_solver_type;
+      double       cg_tolerance;
+      unsigned int cg_max_iterations;
+      unsigned int max_active_set_iterations;
+      unsigned int max_state_changes_per_node;
+      double       relaxation_parameter_fraction;
+      double       relaxation_tolerance;
+      unsigned int relaxation_max_iterations;
+
+      static void declare(ParameterHandler &prm);
+      void        parse(ParameterHandler &prm);
+    };
+
+    struct Refinement
+    {
+      unsigned int initial_global_refinements;
+
+      static void declare(ParameterHandler &prm);
+      void        parse(ParameterHandler &prm);
+    };
+
+    struct Output
+    {
+      std::string  directory;
+      unsigned int vtu_interval;
+      std::string  statistics_file;
+      unsigned int verbosity;
+
+      static void declare(ParameterHandler &prm);
+      void        parse(ParameterHandler &prm);
+    };
+  } // namespace Parameters
+
+
+
+  struct AllParameters
+  {
+    Parameters::Geometry                               geometry;
+    std::vector<unsigned int>                          body_ids;
+    std::map<unsigned int, Parameters::BodyMaterial>   materials;
+    std::map<unsigned int, Parameters::ThermalBoundary> thermal_boundaries;
+    Parameters::InitialCondition                       initial_condition;
+    Parameters::ExactSolution                          exact_solution;
+    Parameters::TimeStepping                           time;
+    Parameters::Solver                                 solver;
+    Parameters::Refinement                             refinement;
+    Parameters::Output                                 output;
+
+    // Declare everything for the given body and boundary lists.
+    static void declare(ParameterHandler                &prm,
+                        const std::vector<unsigned int> &body_ids,
+                        const std::vector<unsigned int> &thermal_boundary_ids);
+
+    // Read and check a parameter file; throws InputError.
+    void read(const std::string &filename);
+
+    // The handler with every parameter at its default, for --print-parameters.
+    static void declare_defaults(ParameterHandler &prm);
+  };
+} // namespace ContactStefan
+
+#endif

@@ -1,0 +1,140 @@
+// Construction and the time loop of CoupledProblem.
+//
+// One time step of the semi-implicit scheme (DESIGN.md section 2) is a contact
+// step followed by an enthalpy step. A scene without mechanics skips the contact
+// step entirely; a scene without phase change still runs the enthalpy step, which
+// then is one linear solve (the active set is empty and never changes).
+#include <deal.II/base/utilities.h>
+
+#include <contact-stefan/coupled_problem.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+namespace ContactStefan
+{
+  template <int dim>
+  CoupledProblem<dim>::CoupledProblem(const AllParameters &parameters,
+                                      const MPI_Comm       mpi_communicator)
+    : prm(parameters)
+    , mpi_communicator(mpi_communicator)
+    , pcout(std::cout, Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
+    , timer(mpi_communicator, pcout, TimerOutput::never, TimerOutput::wall_times)
+    , triangulation(mpi_communicator)
+    , fe(1)
+    , dof_handler(triangulation)
+  {
+    // The output directory must be usable before any work is done. Rank 0 checks
+    // and every rank learns the verdict, so that all of them stop together.
+    std::string problem;
+    if (Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
+      {
+        std::error_code error;
+        std::filesystem::create_directories(prm.output.directory, error);
+        const std::string probe = prm.output.directory + "/" + prm.output.statistics_file;
+        if (error || !std::filesystem::is_directory(prm.output.directory))
+          problem = "cannot create the directory '" + prm.output.directory + "'";
+        else if (!std::ofstream(probe, std::ios::app))
+          problem = "cannot write '" + probe + "'";
+      }
+    problem = Utilities::MPI::broadcast(mpi_communicator, problem, 0);
+    if (!problem.empty())
+      throw InputError("Output/Directory", problem);
+  }
+
+
+
+  template <int dim>
+  void CoupledProblem<dim>::run()
+  {
+    wall_clock.restart();
+    make_mesh();
+    setup_thermal_system();
+    setup_nodal_enthalpy_laws();
+    setup_boundary_and_source_functions();
+
+    double width = 0;
+    for (const auto &cell : triangulation.active_cell_iterators())
+      if (cell->is_locally_owned())
+        width = std::max(width, cell->extent_in_direction(0));
+    mesh_width = Utilities::MPI::max(width, mpi_communicator);
+
+    // The melt area in the table is taken through the last transition of the
+    // exact solution's body, or else of the first body.
+    const auto &front_material =
+      prm.materials.at(prm.exact_solution.type != "none" ? prm.exact_solution.body :
+                                                            prm.body_ids[0]);
+    if (!front_material.transition_temperatures.empty())
+      front_temperature = front_material.transition_temperatures.back();
+
+    pcout << "Thermal: " << prm.body_ids.size() << " body(ies); "
+          << (phase_change_present ?
+                "phase change on: primal-dual active set on the nodal phase states" :
+                "no phase change: the enthalpy step is one linear solve")
+          << "; conductivity "
+          << (conductivity_depends_on_phase ? "depends on the phase (re-assembled each step)" :
+                                              "constant (assembled once)")
+          << "; heat load " << (heat_load_present ? "on" : "off (skipped)") << std::endl
+          << "Mechanics: off (no contact step, no displacement DoFs)" << std::endl;
+
+    time = prm.time.start_time;
+    set_initial_condition();
+    assemble_cell_conductivities();
+    accumulate_errors(0);
+    EnthalpyStepReport initial;
+    write_statistics_row(0, initial);
+    write_statistics_file();
+    if (prm.output.vtu_interval > 0)
+      output_vtu(0);
+
+    const double end  = prm.time.end_time;
+    const double span = end - prm.time.start_time;
+    // A step that would end within this fraction of a step of the end time is
+    // stretched to end exactly there (round-off, not a parameter).
+    const double end_slack = 1e-9;
+    while (time < end - end_slack * prm.time.time_step)
+      {
+        time_step = prm.time.time_step;
+        if (time + time_step > end - end_slack * time_step)
+          time_step = end - time;
+        time += time_step;
+        ++step_number;
+
+        old_enthalpy = enthalpy;
+        if (conductivity_depends_on_phase)
+          assemble_cell_conductivities();
+        assemble_heat_load(time);
+        make_dirichlet_constraints(time);
+        const EnthalpyStepReport report = solve_enthalpy_step();
+
+        total_active_set_iterations += report.active_set_iterations;
+        steps_with_fallback += (report.relaxation_iterations > 0);
+        max_energy_residual = std::max(max_energy_residual, report.energy_residual);
+        accumulate_errors(time_step);
+        write_statistics_row(step_number, report);
+        write_statistics_file();
+        if (prm.output.vtu_interval > 0 &&
+            (step_number % prm.output.vtu_interval == 0 || time >= end))
+          output_vtu(step_number);
+
+        const double done    = (time - prm.time.start_time) / span;
+        const double elapsed = wall_clock.wall_time();
+        char         line[200];
+        std::snprintf(line, sizeof(line),
+                      "Step %5u  t = %.5e  tau = %.3e  %5.1f%%  active set %2u  plateau %6u"
+                      "  wall %7.2f s  left ~%7.2f s",
+                      step_number, time, time_step, 100 * done, report.active_set_iterations,
+                      report.plateau_nodes, elapsed, elapsed * (1 - done) / done);
+        pcout << line << std::endl;
+      }
+
+    print_results();
+    timer.print_wall_time_statistics(mpi_communicator);
+  }
+
+
+
+  template class CoupledProblem<2>;
+} // namespace ContactStefan

@@ -1,0 +1,381 @@
+// The enthalpy (Stefan) step: find nodal Theta and h with h_i in H_i(Theta_i) and
+//
+//     m_i (h_i - h_i^old) + tau (A Theta)_i = tau F_i         at every free node i.
+//
+// H_i is a maximal monotone graph, so this is a variational inequality. We solve it
+// by a primal-dual active-set (semismooth Newton) method on the phase states: for
+// a guess of which piece of its graph each node sits on, the system is linear,
+//   - a node on the branch of phase p has h_i = offset_p + c_p Theta_i, so its row
+//     gets m_i c_p on the diagonal and m_i (h_i^old - offset_p) on the right;
+//   - a node on a plateau has Theta_i = T_j: an inhomogeneous constraint, held in
+//     the same AffineConstraints object as the Dirichlet and hanging-node ones.
+// After the solve every node's enthalpy is known (branch nodes from the law,
+// plateau nodes from the residual of their row), and each node moves to the piece
+// of its graph that contains that enthalpy. When no node moves, the discrete
+// problem is solved exactly (up to the linear solver). Because Theta = beta(h) is
+// piecewise linear this is Newton's method on Theta_i = beta(h_i); with an
+// M-matrix it converges monotonically in finitely many steps. Outside that setting
+// it can cycle, which a per-node count of state changes detects; the step then
+// falls back to the nonlinear relaxation iteration, slower but always convergent.
+#include <deal.II/lac/solver_cg.h>
+#include <deal.II/lac/solver_control.h>
+#include <deal.II/lac/trilinos_precondition.h>
+#include <deal.II/lac/trilinos_solver.h>
+
+#include <contact-stefan/coupled_problem.h>
+
+#include <cmath>
+
+namespace ContactStefan
+{
+  // Assemble  (tau A + diag(m d)) Theta = m g + tau F  from the per-cell operators,
+  // with the current constraints eliminated. d and g are nodal (ghosted vectors).
+  template <int dim>
+  void CoupledProblem<dim>::assemble_enthalpy_system(const bool assemble_matrix)
+  {
+    TimerOutput::Scope t(timer, "enthalpy step: assemble");
+    const unsigned int n = fe.n_dofs_per_cell();
+    LocalMatrix        local_matrix(n, n);
+    dealii::Vector<double> local_rhs(n);
+    std::vector<types::global_dof_index> dofs(n);
+    if (assemble_matrix)
+      system_matrix = 0;
+    system_rhs = 0;
+
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const unsigned int c = cell->active_cell_index();
+          cell->get_dof_indices(dofs);
+          local_matrix = cell_conductivity[c];
+          local_matrix *= time_step;
+          for (unsigned int i = 0; i < n; ++i)
+            {
+              local_matrix(i, i) += cell_mass[c](i) * nodal_diagonal_ghosted[dofs[i]];
+              local_rhs(i) = cell_mass[c](i) * nodal_rhs_ghosted[dofs[i]] +
+                             (heat_load_present ? time_step * cell_load[c](i) : 0.);
+            }
+          if (assemble_matrix)
+            constraints.distribute_local_to_global(local_matrix, local_rhs, dofs,
+                                                   system_matrix, system_rhs);
+          else
+            constraints.distribute_local_to_global(local_rhs, dofs, system_rhs, local_matrix);
+        }
+    if (assemble_matrix)
+      system_matrix.compress(VectorOperation::add);
+    system_rhs.compress(VectorOperation::add);
+  }
+
+
+
+  // Solve system_matrix x = system_rhs with the selected solver; x holds the
+  // constrained values afterwards.
+  template <int dim>
+  void CoupledProblem<dim>::solve_linear_system(Vector &solution)
+  {
+    TimerOutput::Scope t(timer, "enthalpy step: linear solve");
+    if (prm.solver.linear_solver == "direct")
+      {
+        SolverControl                                  control(1, 0);
+        TrilinosWrappers::SolverDirect::AdditionalData data(prm.output.verbosity >= 2,
+                                                            prm.solver.direct_solver_type);
+        TrilinosWrappers::SolverDirect                 solver(control, data);
+        solver.solve(system_matrix, solution, system_rhs);
+      }
+    else
+      {
+        SolverControl control(prm.solver.cg_max_iterations,
+                              prm.solver.cg_tolerance * system_rhs.l2_norm());
+        TrilinosWrappers::PreconditionAMG                 amg;
+        TrilinosWrappers::PreconditionAMG::AdditionalData data;
+        data.elliptic = true;
+        amg.initialize(system_matrix, data);
+        SolverCG<Vector> cg(control);
+        cg.solve(system_matrix, solution, system_rhs, amg);
+        if (prm.output.verbosity >= 2)
+          pcout << "      CG: " << control.last_step() << " iterations" << std::endl;
+      }
+    constraints.distribute(solution);
+  }
+
+
+
+  // result = A theta, hanging-node condensed (unconstrained otherwise).
+  template <int dim>
+  void CoupledProblem<dim>::compute_conductivity_residual(const Vector &theta,
+                                                          Vector       &result) const
+  {
+    const unsigned int                   n = fe.n_dofs_per_cell();
+    std::vector<types::global_dof_index> dofs(n);
+    dealii::Vector<double>               local_theta(n), local_result(n);
+    result = 0;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          cell->get_dof_indices(dofs);
+          for (unsigned int i = 0; i < n; ++i)
+            local_theta(i) = theta[dofs[i]];
+          cell_conductivity[cell->active_cell_index()].vmult(local_result, local_theta);
+          hanging_node_constraints.distribute_local_to_global(local_result, dofs, result);
+        }
+    result.compress(VectorOperation::add);
+  }
+
+
+
+  // After a solve: the enthalpy of every owned node, then the state update.
+  // Returns true if no state changed.
+  template <int dim>
+  bool CoupledProblem<dim>::update_phase_states(std::vector<unsigned int> &changes_per_node,
+                                                unsigned int              &n_changes)
+  {
+    Vector A_theta(locally_owned_dofs, mpi_communicator);
+    compute_conductivity_residual(temperature_ghosted, A_theta);
+
+    unsigned int local_changes = 0, k = 0;
+    for (const auto dof : locally_owned_dofs)
+      {
+        const EnthalpyLaw &l     = law(dof);
+        const unsigned int state = static_cast<unsigned int>(phase_state[dof]);
+        const double       theta = temperature[dof];
+        double             h;
+        if (dirichlet_constraints.is_constrained(dof))
+          h = l.enthalpy(theta); // prescribed (or hanging): follows the temperature
+        else if (EnthalpyLaw::is_plateau(state))
+          h = (lumped_mass[dof] * old_enthalpy[dof] +
+               time_step * (heat_load[dof] - A_theta[dof])) / lumped_mass[dof];
+        else
+          h = l.offset(state) + l.slope(state) * theta;
+        enthalpy[dof] = h;
+
+        const unsigned int new_state = dirichlet_constraints.is_constrained(dof) ?
+                                         l.state_of_temperature(theta) :
+                                         l.state_of_enthalpy(h);
+        if (new_state != state)
+          {
+            phase_state[dof] = new_state;
+            ++changes_per_node[k];
+            ++local_changes;
+          }
+        ++k;
+      }
+    enthalpy.compress(VectorOperation::insert);
+    phase_state.compress(VectorOperation::insert);
+    enthalpy_ghosted    = enthalpy;
+    phase_state_ghosted = phase_state;
+    n_changes           = Utilities::MPI::sum(local_changes, mpi_communicator);
+    return n_changes == 0;
+  }
+
+
+
+  // The fallback: nonlinear relaxation (Berger, Brezis & Rogers 1979; the form the
+  // Nedoma-Dvorak paper writes the step in). With alpha <= min c and
+  // Theta^m = beta(h^m), solve
+  //     (alpha M + tau A) w = M (h^old - h^m + alpha Theta^m) + tau F
+  // and set h^{m+1} = h^m + alpha (w - Theta^m). The fixed point is the solution of
+  // the step; the iteration contracts because beta is Lipschitz with constant
+  // 1/min c. The matrix is the same in every iteration.
+  template <int dim>
+  unsigned int CoupledProblem<dim>::relaxation_fallback()
+  {
+    TimerOutput::Scope t(timer, "enthalpy step: relaxation fallback");
+    double min_capacity = HUGE_VAL, h_scale = 0;
+    for (const auto &l : laws)
+      {
+        min_capacity = std::min(min_capacity, l.min_heat_capacity());
+        for (unsigned int j = 0; j < l.n_transitions(); ++j)
+          h_scale = std::max(h_scale, l.latent_heat(j));
+      }
+    min_capacity = Utilities::MPI::min(min_capacity, mpi_communicator);
+    h_scale      = std::max(Utilities::MPI::max(h_scale, mpi_communicator),
+                       Utilities::MPI::max(old_enthalpy.linfty_norm(), mpi_communicator));
+    const double alpha = prm.solver.relaxation_parameter_fraction * min_capacity;
+
+    constraints.clear();
+    constraints.reinit(locally_relevant_dofs);
+    constraints.merge(dirichlet_constraints);
+    constraints.close();
+    nodal_diagonal = alpha;
+    nodal_diagonal_ghosted = nodal_diagonal;
+
+    TrilinosWrappers::SolverDirect::AdditionalData data(false, prm.solver.direct_solver_type);
+    SolverControl                                  control(1, 0);
+    TrilinosWrappers::SolverDirect                 direct(control, data);
+
+    for (unsigned int m = 1; m <= prm.solver.relaxation_max_iterations; ++m)
+      {
+        for (const auto dof : locally_owned_dofs)
+          nodal_rhs[dof] = old_enthalpy[dof] - enthalpy[dof] + alpha * law(dof).temperature(enthalpy[dof]);
+        nodal_rhs.compress(VectorOperation::insert);
+        nodal_rhs_ghosted = nodal_rhs;
+        assemble_enthalpy_system(m == 1);
+        if (prm.solver.linear_solver == "direct")
+          {
+            if (m == 1)
+              direct.initialize(system_matrix);
+            direct.solve(temperature, system_rhs);
+            constraints.distribute(temperature);
+          }
+        else
+          solve_linear_system(temperature);
+
+        double local_change = 0;
+        for (const auto dof : locally_owned_dofs)
+          {
+            const EnthalpyLaw &l = law(dof);
+            double             h;
+            if (dirichlet_constraints.is_constrained(dof))
+              h = l.enthalpy(temperature[dof]);
+            else
+              h = enthalpy[dof] + alpha * (temperature[dof] - l.temperature(enthalpy[dof]));
+            local_change  = std::max(local_change, std::abs(h - enthalpy[dof]));
+            enthalpy[dof] = h;
+          }
+        enthalpy.compress(VectorOperation::insert);
+        const double change = Utilities::MPI::max(local_change, mpi_communicator);
+        if (prm.output.verbosity >= 1)
+          pcout << "      relaxation " << m << ": max enthalpy change " << change << std::endl;
+        if (change <= prm.solver.relaxation_tolerance * h_scale)
+          {
+            for (const auto dof : locally_owned_dofs)
+              {
+                temperature[dof] = law(dof).temperature(enthalpy[dof]);
+                phase_state[dof] = law(dof).state_of_enthalpy(enthalpy[dof]);
+              }
+            temperature.compress(VectorOperation::insert);
+            phase_state.compress(VectorOperation::insert);
+            hanging_node_constraints.distribute(temperature);
+            temperature_ghosted = temperature;
+            enthalpy_ghosted    = enthalpy;
+            phase_state_ghosted = phase_state;
+            return m;
+          }
+      }
+    throw std::runtime_error("the relaxation fallback of the enthalpy step did not converge in "
+                             "'Solver/Relaxation max iterations' = " +
+                             std::to_string(prm.solver.relaxation_max_iterations) +
+                             " iterations at t = " + std::to_string(time));
+  }
+
+
+
+  // Energy balance of the step. With r = M (h - h^old) + tau A Theta - tau F, the
+  // rows of free nodes must vanish; the rows of Dirichlet nodes are the heat that
+  // entered through them (the reaction). So
+  //     (stored heat) - (sources and fluxes) - (Dirichlet heat) = sum over free r_i,
+  // which we report relative to the heat moved in the step. It measures how well
+  // the discrete equations, including the enthalpy bookkeeping on the plateaus,
+  // are satisfied.
+  template <int dim>
+  double CoupledProblem<dim>::compute_energy_balance()
+  {
+    Vector A_theta(locally_owned_dofs, mpi_communicator);
+    compute_conductivity_residual(temperature_ghosted, A_theta);
+    double free_sum = 0, scale = 0;
+    for (const auto dof : locally_owned_dofs)
+      {
+        if (hanging_node_constraints.is_constrained(dof))
+          continue;
+        const double stored = lumped_mass[dof] * (enthalpy[dof] - old_enthalpy[dof]);
+        const double r      = stored + time_step * (A_theta[dof] - heat_load[dof]);
+        if (!dirichlet_constraints.is_constrained(dof))
+          free_sum += r;
+        else
+          scale += std::abs(r);
+        scale += std::abs(stored) + time_step * std::abs(heat_load[dof]);
+      }
+    free_sum = Utilities::MPI::sum(free_sum, mpi_communicator);
+    scale    = Utilities::MPI::sum(scale, mpi_communicator);
+    return scale > 0 ? std::abs(free_sum) / scale : 0.;
+  }
+
+
+
+  template <int dim>
+  EnthalpyStepReport CoupledProblem<dim>::solve_enthalpy_step()
+  {
+    EnthalpyStepReport        report;
+    std::vector<unsigned int> changes_per_node(locally_owned_dofs.n_elements(), 0);
+    bool                      converged = false, cycling = false;
+
+    for (unsigned int it = 1; it <= prm.solver.max_active_set_iterations; ++it)
+      {
+        // The active set, i.e. the plateau nodes, as constraints on top of the
+        // hanging-node and Dirichlet ones (those win where a node has both).
+        constraints.clear();
+        constraints.reinit(locally_relevant_dofs);
+        constraints.merge(dirichlet_constraints);
+        unsigned int local_plateau = 0;
+        for (const auto dof : locally_relevant_dofs)
+          {
+            const unsigned int state = static_cast<unsigned int>(phase_state_ghosted[dof]);
+            if (EnthalpyLaw::is_plateau(state) && !constraints.is_constrained(dof))
+              {
+                constraints.add_line(dof);
+                constraints.set_inhomogeneity(dof, law(dof).plateau_temperature(state));
+                if (locally_owned_dofs.is_element(dof))
+                  ++local_plateau;
+              }
+          }
+        constraints.close();
+
+        for (const auto dof : locally_owned_dofs)
+          {
+            const EnthalpyLaw &l     = law(dof);
+            const unsigned int state = static_cast<unsigned int>(phase_state[dof]);
+            nodal_diagonal[dof]      = l.slope(state);
+            nodal_rhs[dof]           = old_enthalpy[dof] - l.offset(state);
+          }
+        nodal_diagonal.compress(VectorOperation::insert);
+        nodal_rhs.compress(VectorOperation::insert);
+        nodal_diagonal_ghosted = nodal_diagonal;
+        nodal_rhs_ghosted      = nodal_rhs;
+
+        assemble_enthalpy_system(true);
+        solve_linear_system(temperature);
+        temperature_ghosted = temperature;
+
+        unsigned int n_changes = 0;
+        converged              = update_phase_states(changes_per_node, n_changes);
+        report.active_set_iterations = it;
+        report.state_changes += n_changes;
+        report.plateau_nodes = Utilities::MPI::sum(local_plateau, mpi_communicator);
+        if (prm.output.verbosity >= 1)
+          pcout << "      active set " << it << ": " << report.plateau_nodes
+                << " plateau nodes, " << n_changes << " state changes" << std::endl;
+        if (converged)
+          break;
+
+        const unsigned int max_changes =
+          Utilities::MPI::max(changes_per_node.empty() ?
+                                0u :
+                                *std::max_element(changes_per_node.begin(),
+                                                  changes_per_node.end()),
+                              mpi_communicator);
+        if (max_changes >= prm.solver.max_state_changes_per_node)
+          {
+            cycling = true;
+            break;
+          }
+      }
+
+    if (!converged)
+      {
+        pcout << "   Enthalpy step: "
+              << (cycling ? "active-set cycling detected" : "active-set iteration limit reached")
+              << " at t = " << time << "; switching to the relaxation fallback" << std::endl;
+        report.relaxation_iterations = relaxation_fallback();
+        unsigned int local_plateau   = 0;
+        for (const auto dof : locally_owned_dofs)
+          local_plateau += EnthalpyLaw::is_plateau(static_cast<unsigned int>(phase_state[dof]));
+        report.plateau_nodes = Utilities::MPI::sum(local_plateau, mpi_communicator);
+      }
+    report.energy_residual = compute_energy_balance();
+    return report;
+  }
+
+
+
+  template class CoupledProblem<2>;
+} // namespace ContactStefan

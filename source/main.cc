@@ -1,0 +1,113 @@
+// contact-stefan: thermoelastic bodies in frictionless contact with melting and
+// freezing (Nedoma & Dvorak 1995). This file only reads the command line.
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/parameter_handler.h>
+
+#include <contact-stefan/coupled_problem.h>
+#include <contact-stefan/parameters.h>
+
+#include <iostream>
+#include <string>
+
+namespace
+{
+  const char *usage =
+    "Usage: contact-stefan [options] scene.prm\n"
+    "       mpirun -np N contact-stefan scene.prm\n"
+    "\n"
+    "Runs the scene described by the parameter file scene.prm (deal.II\n"
+    "ParameterHandler format; see prm/ for examples and doc/parameters.prm for\n"
+    "every parameter with its default and documentation).\n"
+    "\n"
+    "Options:\n"
+    "  -h, --help                 this text\n"
+    "  -p, --print-parameters     print every parameter with its default and\n"
+    "                             documentation, in .prm format, and exit\n"
+    "  -c, --check                read and check scene.prm, then exit\n"
+    "\n"
+    "A run writes VTU/PVD files and a statistics table into 'Output/Directory';\n"
+    "runs with an exact solution end with 'RESULT <name> = <value>' lines.\n"
+    "Errors in the input stop the run before any work with one line naming the\n"
+    "parameter and the reason, and exit code 1.\n";
+}
+
+int main(int argc, char *argv[])
+{
+  using namespace ContactStefan;
+  Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  const bool root = Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
+
+  std::string filename;
+  bool        check_only = false;
+  for (int i = 1; i < argc; ++i)
+    {
+      const std::string arg = argv[i];
+      if (arg == "-h" || arg == "--help")
+        {
+          if (root)
+            std::cout << usage;
+          return 0;
+        }
+      if (arg == "-p" || arg == "--print-parameters")
+        {
+          if (root)
+            {
+              ParameterHandler prm;
+              AllParameters::declare_defaults(prm);
+              prm.print_parameters(std::cout, ParameterHandler::PRM);
+            }
+          return 0;
+        }
+      if (arg == "-c" || arg == "--check")
+        check_only = true;
+      else if (!arg.empty() && arg[0] == '-')
+        {
+          if (root)
+            std::cerr << "contact-stefan: error: unknown option '" << arg
+                      << "' (see contact-stefan --help)" << std::endl;
+          return 1;
+        }
+      else if (filename.empty())
+        filename = arg;
+      else
+        {
+          if (root)
+            std::cerr << "contact-stefan: error: more than one parameter file given" << std::endl;
+          return 1;
+        }
+    }
+  if (filename.empty())
+    {
+      if (root)
+        std::cerr << "contact-stefan: error: no parameter file given (see contact-stefan --help)"
+                  << std::endl;
+      return 1;
+    }
+
+  try
+    {
+      AllParameters parameters;
+      parameters.read(filename);
+      if (check_only)
+        {
+          if (root)
+            std::cout << filename << ": OK" << std::endl;
+          return 0;
+        }
+      CoupledProblem<2> problem(parameters, MPI_COMM_WORLD);
+      problem.run();
+    }
+  catch (const InputError &e)
+    {
+      if (root)
+        std::cerr << "contact-stefan: error: " << e.what() << std::endl;
+      return 1;
+    }
+  catch (const std::exception &e)
+    {
+      if (root)
+        std::cerr << "contact-stefan: error: " << e.what() << std::endl;
+      return 2;
+    }
+  return 0;
+}

@@ -1,0 +1,636 @@
+#include <deal.II/base/function_parser.h>
+#include <deal.II/base/utilities.h>
+
+#include <contact-stefan/parameters.h>
+
+#include <cmath>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+namespace ContactStefan
+{
+  namespace
+  {
+    // ------------------------------------------------------------------------
+    // Small helpers that turn text into checked numbers. Each failure names the
+    // parameter by its full path so that the user finds it in the file.
+    // ------------------------------------------------------------------------
+    std::vector<double> parse_doubles(const std::string &text, const std::string &path)
+    {
+      std::vector<double> values;
+      for (const std::string &item : Utilities::split_string_list(text, ','))
+        {
+          std::istringstream in(item);
+          double             v;
+          if (!(in >> v) || !(in >> std::ws).eof() || !std::isfinite(v))
+            throw InputError(path, "'" + item + "' is not a number");
+          values.push_back(v);
+        }
+      return values;
+    }
+
+    std::vector<unsigned int> parse_ids(const std::string &text, const std::string &path)
+    {
+      std::vector<unsigned int> ids;
+      for (const double v : parse_doubles(text, path))
+        {
+          if (v < 0 || v != std::floor(v) || v > 255)
+            throw InputError(path, "ids must be integers in [0, 255], got " + std::to_string(v));
+          ids.push_back(static_cast<unsigned int>(v));
+        }
+      for (unsigned int i = 0; i < ids.size(); ++i)
+        for (unsigned int j = 0; j < i; ++j)
+          if (ids[i] == ids[j])
+            throw InputError(path, "id " + std::to_string(ids[i]) + " is listed twice");
+      return ids;
+    }
+
+    void require(const bool condition, const std::string &path, const std::string &reason)
+    {
+      if (!condition)
+        throw InputError(path, reason);
+    }
+
+    std::string str(const double v)
+    {
+      std::ostringstream s;
+      s << v;
+      return s.str();
+    }
+
+    // A muparser expression in x, y, t must parse and evaluate; "exact" is allowed
+    // where an exact solution can stand in.
+    void check_function(const std::string &expression,
+                        const std::string &path,
+                        const bool         exact_allowed)
+    {
+      if (expression == "exact")
+        {
+          require(exact_allowed, path, "'exact' needs 'Exact solution/Type' other than none");
+          return;
+        }
+      try
+        {
+          FunctionParser<2> f(1);
+          f.initialize("x,y,t", expression, {{"pi", numbers::PI}}, true);
+          const double v = f.value(Point<2>(0.5, 0.5));
+          (void)v;
+        }
+      catch (...)
+        {
+          throw InputError(path, "cannot parse the function '" + expression + "'");
+        }
+    }
+
+    // deal.II's own parse errors are long multi-line texts; keep the sentence that
+    // says which line, entry and pattern failed, on one line.
+    std::string one_line(const std::string &text)
+    {
+      std::string message = text;
+      const auto  info    = message.find("Additional information:");
+      if (info != std::string::npos)
+        message = message.substr(info + std::string("Additional information:").size());
+      const auto stack = message.find("Stacktrace:");
+      if (stack != std::string::npos)
+        message = message.substr(0, stack);
+      message = std::regex_replace(message, std::regex("-{5,}"), " ");
+      message = std::regex_replace(message, std::regex("\\s+"), " ");
+      message = std::regex_replace(message, std::regex("^ | $"), "");
+      return message;
+    }
+
+    std::string body_section(const unsigned int id)
+    {
+      return "Body " + std::to_string(id);
+    }
+    std::string boundary_section(const unsigned int id)
+    {
+      return "Thermal boundary " + std::to_string(id);
+    }
+  } // namespace
+
+
+
+  namespace Parameters
+  {
+    void Geometry::declare(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Geometry");
+      prm.declare_entry("Mesh", "rectangle", Patterns::Selection("rectangle|gmsh"),
+                        "Where the mesh comes from. 'rectangle': the box below, boundary "
+                        "ids 0 (x = x0), 1 (x = x1), 2 (y = y0), 3 (y = y1). 'gmsh': the "
+                        "Mesh file; physical surfaces are body ids, physical lines boundary ids.");
+      prm.declare_entry("Lower left corner", "0, 0", Patterns::Anything(),
+                        "Rectangle: x0, y0 (m).");
+      prm.declare_entry("Upper right corner", "1, 1", Patterns::Anything(),
+                        "Rectangle: x1, y1 (m).");
+      prm.declare_entry("Subdivisions", "1, 1", Patterns::Anything(),
+                        "Rectangle: cells in x and y before the global refinements. Keep the "
+                        "cells near square: the Q1 conductivity matrix is an M-matrix only "
+                        "for aspect ratios below sqrt(2), which the enthalpy step's "
+                        "finite convergence relies on.");
+      prm.declare_entry("Layer interfaces", "", Patterns::Anything(),
+                        "Rectangle: increasing y coordinates of horizontal body interfaces; "
+                        "the layers are bodies 0, 1, ... from the bottom. Each must lie on a "
+                        "mesh line. Empty: one body, id 0.");
+      prm.declare_entry("Mesh file", "", Patterns::Anything(),
+                        "Gmsh .msh file, relative to the parameter file's directory.");
+      prm.leave_subsection();
+    }
+
+    void Geometry::parse(ParameterHandler &prm, const std::string &prm_directory)
+    {
+      prm.enter_subsection("Geometry");
+      mesh_type = prm.get("Mesh");
+      const auto ll = parse_doubles(prm.get("Lower left corner"), "Geometry/Lower left corner");
+      const auto ur = parse_doubles(prm.get("Upper right corner"), "Geometry/Upper right corner");
+      require(ll.size() == 2, "Geometry/Lower left corner", "needs two numbers");
+      require(ur.size() == 2, "Geometry/Upper right corner", "needs two numbers");
+      lower_left  = Point<2>(ll[0], ll[1]);
+      upper_right = Point<2>(ur[0], ur[1]);
+      require(ur[0] > ll[0] && ur[1] > ll[1], "Geometry/Upper right corner",
+              "must lie above and to the right of the lower left corner");
+      subdivisions.clear();
+      for (const double v : parse_doubles(prm.get("Subdivisions"), "Geometry/Subdivisions"))
+        {
+          require(v >= 1 && v == std::floor(v) && v < 1e6, "Geometry/Subdivisions",
+                  "must be positive integers, got " + str(v));
+          subdivisions.push_back(static_cast<unsigned int>(v));
+        }
+      require(subdivisions.size() == 2, "Geometry/Subdivisions", "needs two integers");
+      layer_interfaces = prm.get("Layer interfaces").empty() ?
+                           std::vector<double>() :
+                           parse_doubles(prm.get("Layer interfaces"), "Geometry/Layer interfaces");
+      for (unsigned int i = 0; i < layer_interfaces.size(); ++i)
+        {
+          require(layer_interfaces[i] > ll[1] && layer_interfaces[i] < ur[1],
+                  "Geometry/Layer interfaces", "each y must lie strictly inside (y0, y1)");
+          require(i == 0 || layer_interfaces[i] > layer_interfaces[i - 1],
+                  "Geometry/Layer interfaces", "must be increasing");
+        }
+      mesh_file = prm.get("Mesh file");
+      if (mesh_type == "gmsh")
+        {
+          require(!mesh_file.empty(), "Geometry/Mesh file", "is empty but Mesh = gmsh");
+          if (mesh_file.front() != '/')
+            mesh_file = prm_directory + mesh_file;
+          std::ifstream in(mesh_file);
+          require(static_cast<bool>(in), "Geometry/Mesh file",
+                  "cannot open '" + mesh_file + "'");
+        }
+      prm.leave_subsection();
+    }
+
+
+
+    void BodyMaterial::declare(ParameterHandler &prm)
+    {
+      prm.declare_entry("Name", "", Patterns::Anything(), "A label for output.");
+      prm.declare_entry("Density", "1", Patterns::Double(), "rho (kg/m^3), > 0.");
+      prm.declare_entry("Conductivities", "1", Patterns::Anything(),
+                        "Thermal conductivity k per phase, cold to hot (W/(m K)), > 0; one "
+                        "value means the same in every phase. In a cell holding several "
+                        "phases the phase fractions of the previous time step weight them.");
+      prm.declare_entry("Conductivity anisotropy", "1, 0, 1", Patterns::Anything(),
+                        "Symmetric positive definite shape tensor K_xx, K_xy, K_yy; the "
+                        "conductivity tensor of phase p is k_p * K.");
+      prm.declare_entry("Heat source", "0", Patterns::Anything(),
+                        "Volumetric heat source Q (W/m^3), function of x, y, t.");
+      prm.declare_entry("Youngs modulus", "1", Patterns::Double(), "E (Pa), > 0.");
+      prm.declare_entry("Poisson ratio", "0.3", Patterns::Double(), "nu, in (-1, 0.5).");
+      prm.declare_entry("Thermal expansion", "0", Patterns::Double(),
+                        "Linear expansion coefficient alpha (1/K), >= 0.");
+
+      prm.enter_subsection("Phase change");
+      prm.declare_entry("Transition temperatures", "", Patterns::Anything(),
+                        "Strictly increasing transition temperatures T_j (K or degC); "
+                        "empty: no phase change.");
+      prm.declare_entry("Latent heats", "", Patterns::Anything(),
+                        "Latent heat L_j per unit mass of each transition (J/kg), >= 0.");
+      prm.declare_entry("Heat capacities", "1", Patterns::Anything(),
+                        "Specific heat c_p of each phase, cold to hot (J/(kg K)), > 0: "
+                        "one more than transitions, or one value for all phases.");
+      prm.leave_subsection();
+    }
+
+    void BodyMaterial::parse(ParameterHandler &prm, const std::string &path)
+    {
+      name    = prm.get("Name");
+      density = prm.get_double("Density");
+      require(density > 0, path + "/Density", "must be > 0, got " + str(density));
+      conductivities = parse_doubles(prm.get("Conductivities"), path + "/Conductivities");
+      for (const double k : conductivities)
+        require(k > 0, path + "/Conductivities", "must be > 0, got " + str(k));
+      const auto K = parse_doubles(prm.get("Conductivity anisotropy"),
+                                   path + "/Conductivity anisotropy");
+      require(K.size() == 3, path + "/Conductivity anisotropy", "needs K_xx, K_xy, K_yy");
+      require(K[0] > 0 && K[2] > 0 && K[0] * K[2] - K[1] * K[1] > 0,
+              path + "/Conductivity anisotropy", "must be positive definite");
+      std::copy(K.begin(), K.end(), anisotropy);
+      heat_source = prm.get("Heat source");
+      check_function(heat_source, path + "/Heat source", false);
+
+      youngs_modulus    = prm.get_double("Youngs modulus");
+      poisson_ratio     = prm.get_double("Poisson ratio");
+      thermal_expansion = prm.get_double("Thermal expansion");
+      require(youngs_modulus > 0, path + "/Youngs modulus", "must be > 0");
+      require(poisson_ratio > -1 && poisson_ratio < 0.5, path + "/Poisson ratio",
+              "must lie in (-1, 0.5), got " + str(poisson_ratio));
+      require(thermal_expansion >= 0, path + "/Thermal expansion", "must be >= 0");
+
+      prm.enter_subsection("Phase change");
+      const std::string pc = path + "/Phase change/";
+      const std::string T  = prm.get("Transition temperatures");
+      transition_temperatures =
+        T.empty() ? std::vector<double>() : parse_doubles(T, pc + "Transition temperatures");
+      const std::string L = prm.get("Latent heats");
+      latent_heats = L.empty() ? std::vector<double>() : parse_doubles(L, pc + "Latent heats");
+      heat_capacities = parse_doubles(prm.get("Heat capacities"), pc + "Heat capacities");
+      prm.leave_subsection();
+
+      const unsigned int n = transition_temperatures.size();
+      for (unsigned int j = 1; j < n; ++j)
+        require(transition_temperatures[j] > transition_temperatures[j - 1],
+                pc + "Transition temperatures", "must be strictly increasing");
+      require(latent_heats.size() == n, pc + "Latent heats",
+              "needs one value per transition temperature (" + std::to_string(n) + ")");
+      for (const double l : latent_heats)
+        require(l >= 0, pc + "Latent heats", "must be >= 0, got " + str(l));
+      if (heat_capacities.size() == 1)
+        heat_capacities.assign(n + 1, heat_capacities[0]);
+      require(heat_capacities.size() == n + 1, pc + "Heat capacities",
+              "needs one value per phase (" + std::to_string(n + 1) + ") or a single value");
+      for (const double c : heat_capacities)
+        require(c > 0, pc + "Heat capacities", "must be > 0, got " + str(c));
+      require(conductivities.size() == 1 || conductivities.size() == n + 1,
+              path + "/Conductivities",
+              "needs one value per phase (" + std::to_string(n + 1) + ") or a single value");
+    }
+
+    EnthalpyLaw BodyMaterial::enthalpy_law() const
+    {
+      std::vector<double> rho_L, rho_c;
+      for (const double l : latent_heats)
+        rho_L.push_back(density * l);
+      for (const double c : heat_capacities)
+        rho_c.push_back(density * c);
+      return EnthalpyLaw(transition_temperatures, rho_L, rho_c);
+    }
+
+
+
+    void ThermalBoundary::declare(ParameterHandler &prm)
+    {
+      prm.declare_entry("Type", "flux", Patterns::Selection("temperature|flux"),
+                        "'temperature': Theta = Value; 'flux': inward heat flux "
+                        "k grad(Theta).n = Value (W/m^2).");
+      prm.declare_entry("Value", "0", Patterns::Anything(),
+                        "Function of x, y, t, or 'exact' for the exact solution.");
+    }
+
+    void ThermalBoundary::parse(ParameterHandler &prm, const std::string &path)
+    {
+      type  = prm.get("Type") == "temperature" ? Type::temperature : Type::flux;
+      value = prm.get("Value");
+    }
+
+
+
+    void InitialCondition::declare(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Initial conditions");
+      prm.declare_entry("Variable", "temperature", Patterns::Selection("temperature|enthalpy"),
+                        "Whether Function gives Theta(x, y) or the volumetric enthalpy "
+                        "H(x, y) (J/m^3; H = 0 just below the first transition), which can "
+                        "start a node inside a plateau.");
+      prm.declare_entry("Function", "0", Patterns::Anything(),
+                        "Function of x, y (and t = start time), or 'exact'.");
+      prm.leave_subsection();
+    }
+
+    void InitialCondition::parse(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Initial conditions");
+      variable = prm.get("Variable");
+      function = prm.get("Function");
+      prm.leave_subsection();
+    }
+
+
+
+    void ExactSolution::declare(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Exact solution");
+      prm.declare_entry("Type", "none", Patterns::Selection("none|neumann"),
+                        "'neumann': the similarity solution of the (multi-)phase Stefan "
+                        "problem of one body's material on x > Origin with Theta = Hot "
+                        "temperature at x = Origin and Cold temperature initially. Errors "
+                        "against it are reported as RESULT lines.");
+      prm.declare_entry("Body", "0", Patterns::Integer(0, 255),
+                        "The body whose material defines the exact solution.");
+      prm.declare_entry("Hot temperature", "1", Patterns::Double(),
+                        "T_L, above the highest transition temperature.");
+      prm.declare_entry("Cold temperature", "-1", Patterns::Double(),
+                        "T_S, at or below the lowest transition temperature.");
+      prm.declare_entry("Origin", "0", Patterns::Double(), "x coordinate of the hot wall.");
+      prm.leave_subsection();
+    }
+
+    void ExactSolution::parse(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Exact solution");
+      type             = prm.get("Type");
+      body             = prm.get_integer("Body");
+      hot_temperature  = prm.get_double("Hot temperature");
+      cold_temperature = prm.get_double("Cold temperature");
+      origin           = prm.get_double("Origin");
+      prm.leave_subsection();
+    }
+
+
+
+    void TimeStepping::declare(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Time stepping");
+      prm.declare_entry("Start time", "0", Patterns::Double(), "t0 (s).");
+      prm.declare_entry("End time", "1", Patterns::Double(), "T (s), > t0.");
+      prm.declare_entry("Time step", "0.1", Patterns::Double(),
+                        "tau (s), > 0; the last step is shortened to end at T.");
+      prm.leave_subsection();
+    }
+
+    void TimeStepping::parse(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Time stepping");
+      start_time = prm.get_double("Start time");
+      end_time   = prm.get_double("End time");
+      time_step  = prm.get_double("Time step");
+      prm.leave_subsection();
+      require(time_step > 0, "Time stepping/Time step", "must be > 0, got " + str(time_step));
+      require(end_time > start_time, "Time stepping/End time",
+              "must be greater than Start time (" + str(start_time) + "), got " + str(end_time));
+    }
+
+
+
+    void Solver::declare(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Solver");
+      prm.declare_entry("Linear solver", "direct", Patterns::Selection("direct|cg-amg"),
+                        "'direct': Trilinos Amesos sparse direct solver; 'cg-amg': conjugate "
+                        "gradients preconditioned by ML algebraic multigrid.");
+      prm.declare_entry("Direct solver type", "Amesos_Klu",
+                        Patterns::Selection("Amesos_Klu|Amesos_Mumps|Amesos_Superludist"),
+                        "Amesos back end of the direct solver.");
+      prm.declare_entry("CG tolerance", "1e-12", Patterns::Double(0),
+                        "Relative residual reduction of CG.");
+      prm.declare_entry("CG max iterations", "1000", Patterns::Integer(1),
+                        "Iteration limit of CG; hitting it is an error.");
+      prm.declare_entry("Max active-set iterations", "50", Patterns::Integer(1),
+                        "Limit of primal-dual active-set iterations per enthalpy step; "
+                        "reaching it switches to the relaxation fallback.");
+      prm.declare_entry("Max state changes per node", "4", Patterns::Integer(1),
+                        "Cycling guard: when one node has changed its phase state this "
+                        "often within a step, the active-set method is abandoned for the "
+                        "relaxation fallback.");
+      prm.declare_entry("Relaxation parameter", "1", Patterns::Double(0),
+                        "Fallback: nonlinear relaxation (Berger-Brezis-Rogers) with "
+                        "alpha = this fraction of the smallest volumetric heat capacity; "
+                        "it converges for values in (0, 1].");
+      prm.declare_entry("Relaxation tolerance", "1e-10", Patterns::Double(0),
+                        "Fallback stops when the enthalpy update, relative to the "
+                        "enthalpy scale, falls below this.");
+      prm.declare_entry("Relaxation max iterations", "2000", Patterns::Integer(1),
+                        "Fallback iteration limit; hitting it is an error.");
+      prm.leave_subsection();
+    }
+
+    void Solver::parse(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Solver");
+      linear_solver                 = prm.get("Linear solver");
+      direct_solver_type            = prm.get("Direct solver type");
+      cg_tolerance                  = prm.get_double("CG tolerance");
+      cg_max_iterations             = prm.get_integer("CG max iterations");
+      max_active_set_iterations     = prm.get_integer("Max active-set iterations");
+      max_state_changes_per_node    = prm.get_integer("Max state changes per node");
+      relaxation_parameter_fraction = prm.get_double("Relaxation parameter");
+      relaxation_tolerance          = prm.get_double("Relaxation tolerance");
+      relaxation_max_iterations     = prm.get_integer("Relaxation max iterations");
+      prm.leave_subsection();
+      require(cg_tolerance > 0 && cg_tolerance < 1, "Solver/CG tolerance", "must lie in (0, 1)");
+      require(relaxation_parameter_fraction > 0 && relaxation_parameter_fraction <= 1,
+              "Solver/Relaxation parameter", "must lie in (0, 1]");
+      require(relaxation_tolerance > 0, "Solver/Relaxation tolerance", "must be > 0");
+    }
+
+
+
+    void Refinement::declare(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Mesh refinement");
+      prm.declare_entry("Initial global refinements", "0", Patterns::Integer(0, 12),
+                        "Uniform refinements of the coarse mesh before the first step.");
+      prm.leave_subsection();
+    }
+
+    void Refinement::parse(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Mesh refinement");
+      initial_global_refinements = prm.get_integer("Initial global refinements");
+      prm.leave_subsection();
+    }
+
+
+
+    void Output::declare(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Output");
+      prm.declare_entry("Directory", "output", Patterns::Anything(),
+                        "Where VTU/PVD and the statistics go (created if missing), "
+                        "relative to the working directory.");
+      prm.declare_entry("VTU interval", "1", Patterns::Integer(0),
+                        "Write VTU every this many steps (and at the end); 0: never.");
+      prm.declare_entry("Statistics file", "statistics.txt", Patterns::Anything(),
+                        "Per-step table inside Directory.");
+      prm.declare_entry("Verbosity", "0", Patterns::Integer(0, 2),
+                        "0: one line per step; 1: plus one line per active-set "
+                        "iteration; 2: plus linear-solver details.");
+      prm.leave_subsection();
+    }
+
+    void Output::parse(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Output");
+      directory       = prm.get("Directory");
+      vtu_interval    = prm.get_integer("VTU interval");
+      statistics_file = prm.get("Statistics file");
+      verbosity       = prm.get_integer("Verbosity");
+      prm.leave_subsection();
+      require(!directory.empty(), "Output/Directory", "must not be empty");
+      require(!statistics_file.empty() && statistics_file.find('/') == std::string::npos,
+              "Output/Statistics file", "must be a plain file name");
+    }
+  } // namespace Parameters
+
+
+
+  void AllParameters::declare(ParameterHandler                &prm,
+                              const std::vector<unsigned int> &body_ids,
+                              const std::vector<unsigned int> &thermal_boundary_ids)
+  {
+    Parameters::Geometry::declare(prm);
+
+    prm.enter_subsection("Bodies");
+    prm.declare_entry("Body ids", "0", Patterns::Anything(),
+                      "Material ids of the bodies; each needs a 'Materials/Body N' "
+                      "subsection. Rectangle layers are 0, 1, ...; Gmsh meshes use their "
+                      "physical surface tags.");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Materials");
+    for (const unsigned int id : body_ids)
+      {
+        prm.enter_subsection(body_section(id));
+        Parameters::BodyMaterial::declare(prm);
+        prm.leave_subsection();
+      }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Boundary conditions");
+    prm.declare_entry("Thermal boundaries", "", Patterns::Anything(),
+                      "Boundary ids with a thermal condition, each with a 'Thermal boundary "
+                      "N' subsection; all other boundaries are insulated.");
+    for (const unsigned int id : thermal_boundary_ids)
+      {
+        prm.enter_subsection(boundary_section(id));
+        Parameters::ThermalBoundary::declare(prm);
+        prm.leave_subsection();
+      }
+    prm.leave_subsection();
+
+    Parameters::InitialCondition::declare(prm);
+    Parameters::ExactSolution::declare(prm);
+    Parameters::TimeStepping::declare(prm);
+    Parameters::Solver::declare(prm);
+    Parameters::Refinement::declare(prm);
+    Parameters::Output::declare(prm);
+  }
+
+
+
+  void AllParameters::declare_defaults(ParameterHandler &prm)
+  {
+    declare(prm, {0}, {0});
+  }
+
+
+
+  void AllParameters::read(const std::string &filename)
+  {
+    {
+      std::ifstream in(filename);
+      if (!in)
+        throw InputError("parameter file '" + filename + "' cannot be opened");
+    }
+    const auto        slash         = filename.rfind('/');
+    const std::string prm_directory = slash == std::string::npos ? "" : filename.substr(0, slash + 1);
+
+    // Pass 1, lenient: which bodies and thermal boundaries are there?
+    std::vector<unsigned int> thermal_ids;
+    {
+      ParameterHandler prm;
+      declare(prm, {}, {});
+      try
+        {
+          prm.parse_input(filename, "", true);
+        }
+      catch (const std::exception &e)
+        {
+          throw InputError(one_line(e.what()));
+        }
+      prm.enter_subsection("Bodies");
+      body_ids = parse_ids(prm.get("Body ids"), "Bodies/Body ids");
+      prm.leave_subsection();
+      require(!body_ids.empty(), "Bodies/Body ids", "must name at least one body");
+      prm.enter_subsection("Boundary conditions");
+      const std::string t = prm.get("Thermal boundaries");
+      thermal_ids = t.empty() ? std::vector<unsigned int>() :
+                                parse_ids(t, "Boundary conditions/Thermal boundaries");
+      prm.leave_subsection();
+    }
+
+    // Pass 2, strict: every entry must be declared and match its pattern.
+    ParameterHandler prm;
+    declare(prm, body_ids, thermal_ids);
+    try
+      {
+        prm.parse_input(filename, "", false);
+      }
+    catch (const std::exception &e)
+      {
+        throw InputError(one_line(e.what()));
+      }
+
+    geometry.parse(prm, prm_directory);
+    exact_solution.parse(prm);
+    const bool exact = exact_solution.type != "none";
+
+    prm.enter_subsection("Materials");
+    for (const unsigned int id : body_ids)
+      {
+        prm.enter_subsection(body_section(id));
+        materials[id].parse(prm, "Materials/" + body_section(id));
+        prm.leave_subsection();
+      }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Boundary conditions");
+    for (const unsigned int id : thermal_ids)
+      {
+        const std::string path = "Boundary conditions/" + boundary_section(id);
+        prm.enter_subsection(boundary_section(id));
+        thermal_boundaries[id].parse(prm, path);
+        check_function(thermal_boundaries[id].value, path + "/Value", exact);
+        prm.leave_subsection();
+      }
+    prm.leave_subsection();
+
+    initial_condition.parse(prm);
+    check_function(initial_condition.function, "Initial conditions/Function", exact);
+    require(!(exact && initial_condition.function == "exact" &&
+              initial_condition.variable != "temperature"),
+            "Initial conditions/Variable", "must be 'temperature' when Function = exact");
+
+    time.parse(prm);
+    solver.parse(prm);
+    refinement.parse(prm);
+    output.parse(prm);
+
+    if (geometry.mesh_type == "rectangle")
+      require(geometry.layer_interfaces.size() + 1 == body_ids.size(), "Bodies/Body ids",
+              "a rectangle with " + std::to_string(geometry.layer_interfaces.size()) +
+                " layer interfaces has bodies 0.." +
+                std::to_string(geometry.layer_interfaces.size()));
+
+    if (exact)
+      {
+        const std::string path = "Exact solution/Body";
+        require(materials.count(exact_solution.body) == 1, path,
+                "body " + std::to_string(exact_solution.body) + " is not in Bodies/Body ids");
+        const auto &m = materials.at(exact_solution.body);
+        require(!m.transition_temperatures.empty(), path,
+                "the Neumann solution needs a material with a phase transition");
+        require(exact_solution.hot_temperature > m.transition_temperatures.back(),
+                "Exact solution/Hot temperature", "must exceed the highest transition temperature");
+        require(exact_solution.cold_temperature <= m.transition_temperatures.front(),
+                "Exact solution/Cold temperature",
+                "must not exceed the lowest transition temperature");
+        require(m.conductivity_is_isotropic(), "Materials/Body " + std::to_string(exact_solution.body) +
+                  "/Conductivity anisotropy", "the Neumann solution needs an isotropic conductivity");
+        require(exact_solution.origin <= geometry.lower_left[0] || geometry.mesh_type != "rectangle",
+                "Exact solution/Origin", "must not lie inside the rectangle");
+      }
+  }
+} // namespace ContactStefan
