@@ -24,7 +24,9 @@
 
 #include <contact-stefan/coupled_problem.h>
 
+#include <algorithm>
 #include <cmath>
+#include <functional>
 
 namespace ContactStefan
 {
@@ -123,48 +125,102 @@ namespace ContactStefan
 
 
 
-  // After a solve: the enthalpy of every owned node, then the state update.
-  // Returns true if no state changed.
+  // One linear solve of the step for a given choice of linear piece at every
+  // node: pieces with a fixed temperature become constraints (on top of the
+  // hanging-node and Dirichlet ones, which win), the others put m_i c on the
+  // diagonal and m_i (h_i^old - offset) on the right. Afterwards every owned
+  // node has its enthalpy: from its piece where it is free, from the residual of
+  // its row where its temperature was fixed, from the temperature on Dirichlet nodes.
   template <int dim>
-  bool CoupledProblem<dim>::update_phase_states(std::vector<unsigned int> &changes_per_node,
-                                                unsigned int              &n_changes)
+  unsigned int CoupledProblem<dim>::solve_for_pieces(
+    const std::function<LinearPiece(const types::global_dof_index)> &piece_of)
   {
+    constraints.clear();
+    constraints.reinit(locally_relevant_dofs);
+    constraints.merge(dirichlet_constraints);
+    unsigned int local_fixed = 0;
+    for (const auto dof : locally_relevant_dofs)
+      if (!constraints.is_constrained(dof))
+        {
+          const LinearPiece p = piece_of(dof);
+          if (p.fixed)
+            {
+              constraints.add_line(dof);
+              constraints.set_inhomogeneity(dof, p.temperature);
+              local_fixed += locally_owned_dofs.is_element(dof);
+            }
+        }
+    constraints.close();
+
+    for (const auto dof : locally_owned_dofs)
+      {
+        const LinearPiece p = piece_of(dof);
+        nodal_diagonal[dof] = p.fixed ? 0. : p.capacity;
+        nodal_rhs[dof]      = p.fixed ? 0. : old_enthalpy[dof] - p.offset;
+      }
+    nodal_diagonal.compress(VectorOperation::insert);
+    nodal_rhs.compress(VectorOperation::insert);
+    nodal_diagonal_ghosted = nodal_diagonal;
+    nodal_rhs_ghosted      = nodal_rhs;
+
+    assemble_enthalpy_system(true);
+    solve_linear_system(temperature);
+    temperature_ghosted = temperature;
+
     Vector A_theta(locally_owned_dofs, mpi_communicator);
     compute_conductivity_residual(temperature_ghosted, A_theta);
+    for (const auto dof : locally_owned_dofs)
+      {
+        const double theta = temperature[dof];
+        if (dirichlet_constraints.is_constrained(dof))
+          enthalpy[dof] = law(dof).enthalpy(theta);
+        else if (const LinearPiece p = piece_of(dof); p.fixed)
+          enthalpy[dof] = old_enthalpy[dof] +
+                          time_step * (heat_load[dof] - A_theta[dof]) / lumped_mass[dof];
+        else
+          enthalpy[dof] = p.offset + p.capacity * theta;
+      }
+    enthalpy.compress(VectorOperation::insert);
+    enthalpy_ghosted = enthalpy;
+    return Utilities::MPI::sum(local_fixed, mpi_communicator);
+  }
 
+
+
+  // Move every owned node to the state new_state(dof, h) and count the moves; the
+  // state vector travels to the ghosts. Returns the number of moves everywhere.
+  // With a tracker, a move against the direction of the node's previous move
+  // (back down the phase sequence after moving up, or vice versa) is counted as
+  // a reversal: the signature of the overshoot that makes plain Newton cycle.
+  template <int dim>
+  unsigned int CoupledProblem<dim>::update_states(
+    Vector                                                                  &state,
+    Vector                                                                  &state_ghosted,
+    const std::function<unsigned int(const types::global_dof_index, double)> &new_state,
+    ReversalTracker                                                         *tracker)
+  {
     unsigned int local_changes = 0, k = 0;
     for (const auto dof : locally_owned_dofs)
       {
-        const EnthalpyLaw &l     = law(dof);
-        const unsigned int state = static_cast<unsigned int>(phase_state[dof]);
-        const double       theta = temperature[dof];
-        double             h;
-        if (dirichlet_constraints.is_constrained(dof))
-          h = l.enthalpy(theta); // prescribed (or hanging): follows the temperature
-        else if (EnthalpyLaw::is_plateau(state))
-          h = (lumped_mass[dof] * old_enthalpy[dof] +
-               time_step * (heat_load[dof] - A_theta[dof])) / lumped_mass[dof];
-        else
-          h = l.offset(state) + l.slope(state) * theta;
-        enthalpy[dof] = h;
-
-        const unsigned int new_state = dirichlet_constraints.is_constrained(dof) ?
-                                         l.state_of_temperature(theta) :
-                                         l.state_of_enthalpy(h);
-        if (new_state != state)
+        const unsigned int s   = new_state(dof, enthalpy[dof]);
+        const unsigned int old = static_cast<unsigned int>(state[dof]);
+        if (s != old)
           {
-            phase_state[dof] = new_state;
-            ++changes_per_node[k];
+            state[dof] = s;
             ++local_changes;
+            if (tracker)
+              {
+                const int direction = (s > old ? 1 : -1);
+                if (tracker->last_direction[k] == -direction)
+                  ++tracker->reversals[k];
+                tracker->last_direction[k] = direction;
+              }
           }
         ++k;
       }
-    enthalpy.compress(VectorOperation::insert);
-    phase_state.compress(VectorOperation::insert);
-    enthalpy_ghosted    = enthalpy;
-    phase_state_ghosted = phase_state;
-    n_changes           = Utilities::MPI::sum(local_changes, mpi_communicator);
-    return n_changes == 0;
+    state.compress(VectorOperation::insert);
+    state_ghosted = state;
+    return Utilities::MPI::sum(local_changes, mpi_communicator);
   }
 
 
@@ -292,79 +348,125 @@ namespace ContactStefan
 
 
 
+  // The plain primal-dual active-set iteration on the phase states, warm-started
+  // from the previous step. Returns true when the states are consistent.
+  template <int dim>
+  bool CoupledProblem<dim>::plain_active_set_iteration(EnthalpyStepReport &report)
+  {
+    ReversalTracker tracker(locally_owned_dofs.n_elements());
+    const auto      piece_of = [&](const types::global_dof_index dof) {
+      return law(dof).piece(static_cast<unsigned int>(phase_state_ghosted[dof]));
+    };
+    const auto new_state = [&](const types::global_dof_index dof, const double h) {
+      return dirichlet_constraints.is_constrained(dof) ?
+               law(dof).state_of_temperature(temperature[dof]) :
+               law(dof).state_of_enthalpy(h);
+    };
+    while (report.active_set_iterations < prm.solver.max_active_set_iterations)
+      {
+        report.plateau_nodes = solve_for_pieces(piece_of);
+        ++report.active_set_iterations;
+        const unsigned int n_changes =
+          update_states(phase_state, phase_state_ghosted, new_state, &tracker);
+        report.state_changes += n_changes;
+        if (prm.output.verbosity >= 1)
+          pcout << "      active set " << report.active_set_iterations << ": "
+                << report.plateau_nodes << " plateau nodes, " << n_changes << " state changes"
+                << std::endl;
+        if (n_changes == 0)
+          return true;
+        if (Utilities::MPI::max(tracker.max_reversals(), mpi_communicator) >=
+            prm.solver.max_state_reversals_per_node)
+          return false;
+      }
+    return false;
+  }
+
+
+
+  // The nested Newton iteration (Brugnano & Casulli 2008; Casulli & Zanolli
+  // 2012): the outer level J of each node (which concave kinks it has passed) is
+  // frozen while an inner active-set iteration solves the convexified problem;
+  // the inner iteration then moves monotonically and cannot cycle, and the outer
+  // levels settle after finitely many rounds. Starts from the current enthalpy.
+  template <int dim>
+  bool CoupledProblem<dim>::nested_active_set_iteration(EnthalpyStepReport &report)
+  {
+    for (const auto dof : locally_owned_dofs)
+      {
+        const unsigned int J = law(dof).outer_level(enthalpy[dof]);
+        outer_level[dof]     = J;
+        phase_state[dof]     = law(dof).nested_piece_of_enthalpy(J, enthalpy[dof]);
+      }
+    outer_level.compress(VectorOperation::insert);
+    phase_state.compress(VectorOperation::insert);
+    outer_level_ghosted = outer_level;
+    phase_state_ghosted = phase_state;
+
+    const auto piece_of = [&](const types::global_dof_index dof) {
+      return law(dof).nested_piece(static_cast<unsigned int>(outer_level_ghosted[dof]),
+                                   static_cast<unsigned int>(phase_state_ghosted[dof]));
+    };
+    const auto inner_state = [&](const types::global_dof_index dof, const double h) {
+      return law(dof).nested_piece_of_enthalpy(static_cast<unsigned int>(outer_level[dof]), h);
+    };
+    const auto outer_state = [&](const types::global_dof_index dof, const double h) {
+      return law(dof).outer_level(h);
+    };
+
+    while (report.active_set_iterations < prm.solver.max_active_set_iterations)
+      {
+        report.plateau_nodes = solve_for_pieces(piece_of);
+        ++report.active_set_iterations;
+        const unsigned int n_inner =
+          update_states(phase_state, phase_state_ghosted, inner_state, nullptr);
+        report.state_changes += n_inner;
+        unsigned int n_outer = 0;
+        if (n_inner == 0)
+          {
+            // Inner iteration converged: update the outer levels and restart the
+            // inner states from the new levels.
+            n_outer = update_states(outer_level, outer_level_ghosted, outer_state, nullptr);
+            report.state_changes += n_outer;
+            if (n_outer > 0)
+              update_states(phase_state, phase_state_ghosted, inner_state, nullptr);
+          }
+        if (prm.output.verbosity >= 1)
+          pcout << "      nested " << report.active_set_iterations << ": "
+                << report.plateau_nodes << " obstacle/plateau nodes, " << n_inner
+                << " inner and " << n_outer << " outer changes" << std::endl;
+        if (n_inner == 0 && n_outer == 0)
+          {
+            // Consistent: record the true phase states for output and warm start.
+            for (const auto dof : locally_owned_dofs)
+              phase_state[dof] = law(dof).state_of_enthalpy(enthalpy[dof]);
+            phase_state.compress(VectorOperation::insert);
+            phase_state_ghosted = phase_state;
+            return true;
+          }
+      }
+    return false;
+  }
+
+
+
   template <int dim>
   EnthalpyStepReport CoupledProblem<dim>::solve_enthalpy_step()
   {
-    EnthalpyStepReport        report;
-    std::vector<unsigned int> changes_per_node(locally_owned_dofs.n_elements(), 0);
-    bool                      converged = false, cycling = false;
-
-    for (unsigned int it = 1; it <= prm.solver.max_active_set_iterations; ++it)
+    EnthalpyStepReport report;
+    bool               converged = plain_active_set_iteration(report);
+    if (!converged && report.active_set_iterations < prm.solver.max_active_set_iterations)
       {
-        // The active set, i.e. the plateau nodes, as constraints on top of the
-        // hanging-node and Dirichlet ones (those win where a node has both).
-        constraints.clear();
-        constraints.reinit(locally_relevant_dofs);
-        constraints.merge(dirichlet_constraints);
-        unsigned int local_plateau = 0;
-        for (const auto dof : locally_relevant_dofs)
-          {
-            const unsigned int state = static_cast<unsigned int>(phase_state_ghosted[dof]);
-            if (EnthalpyLaw::is_plateau(state) && !constraints.is_constrained(dof))
-              {
-                constraints.add_line(dof);
-                constraints.set_inhomogeneity(dof, law(dof).plateau_temperature(state));
-                if (locally_owned_dofs.is_element(dof))
-                  ++local_plateau;
-              }
-          }
-        constraints.close();
-
-        for (const auto dof : locally_owned_dofs)
-          {
-            const EnthalpyLaw &l     = law(dof);
-            const unsigned int state = static_cast<unsigned int>(phase_state[dof]);
-            nodal_diagonal[dof]      = l.slope(state);
-            nodal_rhs[dof]           = old_enthalpy[dof] - l.offset(state);
-          }
-        nodal_diagonal.compress(VectorOperation::insert);
-        nodal_rhs.compress(VectorOperation::insert);
-        nodal_diagonal_ghosted = nodal_diagonal;
-        nodal_rhs_ghosted      = nodal_rhs;
-
-        assemble_enthalpy_system(true);
-        solve_linear_system(temperature);
-        temperature_ghosted = temperature;
-
-        unsigned int n_changes = 0;
-        converged              = update_phase_states(changes_per_node, n_changes);
-        report.active_set_iterations = it;
-        report.state_changes += n_changes;
-        report.plateau_nodes = Utilities::MPI::sum(local_plateau, mpi_communicator);
         if (prm.output.verbosity >= 1)
-          pcout << "      active set " << it << ": " << report.plateau_nodes
-                << " plateau nodes, " << n_changes << " state changes" << std::endl;
-        if (converged)
-          break;
-
-        const unsigned int max_changes =
-          Utilities::MPI::max(changes_per_node.empty() ?
-                                0u :
-                                *std::max_element(changes_per_node.begin(),
-                                                  changes_per_node.end()),
-                              mpi_communicator);
-        if (max_changes >= prm.solver.max_state_changes_per_node)
-          {
-            cycling = true;
-            break;
-          }
+          pcout << "      cycling: switching to the nested Newton iteration" << std::endl;
+        report.nested = true;
+        converged     = nested_active_set_iteration(report);
       }
-
     if (!converged)
       {
-        pcout << "   Enthalpy step: "
-              << (cycling ? "active-set cycling detected" : "active-set iteration limit reached")
-              << " at t = " << time << "; switching to the relaxation fallback" << std::endl;
+        pcout << "   Enthalpy step: no convergence in 'Solver/Max active-set iterations' = "
+              << prm.solver.max_active_set_iterations << " at t = " << time
+              << "; switching to the relaxation fallback" << std::endl;
         report.relaxation_iterations = relaxation_fallback();
         unsigned int local_plateau   = 0;
         for (const auto dof : locally_owned_dofs)

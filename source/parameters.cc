@@ -388,12 +388,14 @@ namespace ContactStefan
       prm.declare_entry("CG max iterations", "1000", Patterns::Integer(1),
                         "Iteration limit of CG; hitting it is an error.");
       prm.declare_entry("Max active-set iterations", "50", Patterns::Integer(1),
-                        "Limit of primal-dual active-set iterations per enthalpy step; "
-                        "reaching it switches to the relaxation fallback.");
-      prm.declare_entry("Max state changes per node", "4", Patterns::Integer(1),
-                        "Cycling guard: when one node has changed its phase state this "
-                        "often within a step, the active-set method is abandoned for the "
-                        "relaxation fallback.");
+                        "Limit of linear solves of the active-set iterations (plain and "
+                        "nested together) per enthalpy step; reaching it switches to "
+                        "the relaxation fallback.");
+      prm.declare_entry("Max state reversals per node", "1", Patterns::Integer(1),
+                        "Cycling guard of the plain active-set iteration: when a node has "
+                        "turned back this often (moved down the phase sequence after "
+                        "moving up, or vice versa) within one step, the step continues "
+                        "with the nested Newton iteration, which cannot cycle.");
       prm.declare_entry("Relaxation parameter", "1", Patterns::Double(0),
                         "Fallback: nonlinear relaxation (Berger-Brezis-Rogers) with "
                         "alpha = this fraction of the smallest volumetric heat capacity; "
@@ -414,7 +416,7 @@ namespace ContactStefan
       cg_tolerance                  = prm.get_double("CG tolerance");
       cg_max_iterations             = prm.get_integer("CG max iterations");
       max_active_set_iterations     = prm.get_integer("Max active-set iterations");
-      max_state_changes_per_node    = prm.get_integer("Max state changes per node");
+      max_state_reversals_per_node    = prm.get_integer("Max state reversals per node");
       relaxation_parameter_fraction = prm.get_double("Relaxation parameter");
       relaxation_tolerance          = prm.get_double("Relaxation tolerance");
       relaxation_max_iterations     = prm.get_integer("Relaxation max iterations");

@@ -34,6 +34,8 @@
 #include <contact-stefan/neumann_solution.h>
 #include <contact-stefan/parameters.h>
 
+#include <algorithm>
+#include <functional>
 #include <map>
 #include <optional>
 #include <memory>
@@ -47,10 +49,27 @@ namespace ContactStefan
   struct EnthalpyStepReport
   {
     unsigned int active_set_iterations = 0;
+    bool         nested                = false; // plain iteration cycled: nested Newton ran
     unsigned int relaxation_iterations = 0; // > 0 only if the fallback ran
     unsigned int plateau_nodes         = 0;
     unsigned int state_changes         = 0; // summed over the iterations
     double       energy_residual       = 0; // relative, see compute_energy_balance()
+  };
+
+  // Per owned node: the direction of its last state change and how often it has
+  // reversed direction within one enthalpy step.
+  struct ReversalTracker
+  {
+    explicit ReversalTracker(const std::size_t n)
+      : last_direction(n, 0)
+      , reversals(n, 0)
+    {}
+    unsigned int max_reversals() const
+    {
+      return reversals.empty() ? 0 : *std::max_element(reversals.begin(), reversals.end());
+    }
+    std::vector<int>          last_direction;
+    std::vector<unsigned int> reversals;
   };
 
   template <int dim>
@@ -80,8 +99,15 @@ namespace ContactStefan
     void               solve_linear_system(Vector &solution);
     void               compute_conductivity_residual(const Vector &theta_ghosted,
                                                      Vector       &result) const;
-    bool               update_phase_states(std::vector<unsigned int> &changes_per_node,
-                                           unsigned int              &n_changes);
+    unsigned int
+    solve_for_pieces(const std::function<LinearPiece(const types::global_dof_index)> &piece_of);
+    unsigned int update_states(
+      Vector                                                                  &state,
+      Vector                                                                  &state_ghosted,
+      const std::function<unsigned int(const types::global_dof_index, double)> &new_state,
+      ReversalTracker                                                         *tracker);
+    bool         plain_active_set_iteration(EnthalpyStepReport &report);
+    bool         nested_active_set_iteration(EnthalpyStepReport &report);
     unsigned int       relaxation_fallback();
     double             compute_energy_balance();
     const EnthalpyLaw &law(const types::global_dof_index dof) const;
@@ -122,6 +148,8 @@ namespace ContactStefan
     Vector enthalpy, old_enthalpy, enthalpy_ghosted;
     Vector lumped_mass, heat_load;
     Vector phase_state, phase_state_ghosted;
+    // The outer level of each node in the nested Newton iteration.
+    Vector outer_level, outer_level_ghosted;
     // The per-node coefficients of the linear system of one iteration:
     // row i reads m_i d_i Theta_i + tau (A Theta)_i = m_i g_i + tau F_i.
     Vector nodal_diagonal, nodal_diagonal_ghosted, nodal_rhs, nodal_rhs_ghosted;
@@ -153,6 +181,7 @@ namespace ContactStefan
     std::vector<std::pair<double, std::string>> pvd_records;
     std::optional<double>                      front_temperature;
     double                                     mesh_width = 0;
+    std::map<types::global_dof_index, Point<dim>> support_points; // for nodal errors
 
     // Statistics and accumulated errors.
     double last_l2_error = 0, last_l2_norm = 0, last_max_error = 0;

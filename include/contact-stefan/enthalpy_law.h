@@ -19,6 +19,17 @@
 
 namespace ContactStefan
 {
+  // One linear piece of a (possibly linearised) enthalpy law, as the linear
+  // system of an active-set iteration sees it: either Theta is fixed (a plateau,
+  // an inhomogeneous constraint) or h = offset + capacity * Theta.
+  struct LinearPiece
+  {
+    bool   fixed;
+    double temperature; // if fixed
+    double capacity;    // if not fixed
+    double offset;      // if not fixed
+  };
+
   class EnthalpyLaw
   {
   public:
@@ -56,6 +67,20 @@ namespace ContactStefan
     double slope(const unsigned int state) const;
     double offset(const unsigned int state) const;
     double plateau_temperature(const unsigned int state) const;
+    LinearPiece piece(const unsigned int state) const;
+
+    // --- The nested Newton linearisation (Brugnano & Casulli) -----------------
+    // beta(h) has a concave kink where a branch enters a plateau (h = h-_j) and a
+    // convex one where it leaves it (h = h+_j). Newton's method is monotone only
+    // across convex kinks. The outer level J = #{j : h > h-_j} freezes the concave
+    // ones: beta_J agrees with beta for h-_{J-1} < h <= h-_J, holds Theta =
+    // T_{J-1} for all h <= h+_{J-1} (an obstacle, for J >= 1) and continues
+    // convexly across every h+_k above. Its pieces are numbered k = J-1 (the
+    // obstacle, J >= 1), J, J+1, ..., n; piece k ends at h+_k.
+    unsigned int outer_level(const double h) const;
+    unsigned int nested_piece_of_enthalpy(const unsigned int J, const double h) const;
+    LinearPiece  nested_piece(const unsigned int J, const unsigned int k) const;
+
     // The enthalpy on the branch that holds theta; at a transition temperature the
     // lower end of the plateau (the "solid" value).
     double enthalpy(const double theta) const;

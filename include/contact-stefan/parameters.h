@@ -138,7 +138,7 @@ namespace ContactStefan
       double       cg_tolerance;
       unsigned int cg_max_iterations;
       unsigned int max_active_set_iterations;
-      unsigned int max_state_changes_per_node;
+      unsigned int max_state_reversals_per_node;
       double       relaxation_parameter_fraction;
       double       relaxation_tolerance;
       unsigned int relaxation_max_iterations;

@@ -1,0 +1,152 @@
+#!/usr/bin/python3
+"""Run a benchmark scene on a refinement ladder and print run time against error.
+
+Level L refines the scene's mesh L more times and divides its time step by 2^L
+(h and tau halved together). Each run's RESULT lines are collected; the table
+gives DoFs, steps, wall time, the errors and observed rates between levels, and
+a least-squares rate over the whole ladder.
+
+    benchmarks/ladder.py prm/benchmarks/neumann_A.prm --levels 4
+    benchmarks/ladder.py prm/benchmarks/neumann_A.prm --levels 5 --np 2 --markdown
+
+Only the standard library is needed; --plot FILE also draws error against wall
+time with matplotlib (Debian: python3-matplotlib, run with /usr/bin/python3).
+"""
+import argparse
+import math
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+DEFAULT_BINARY = os.path.join(HERE, "..", "build", "contact-stefan")
+
+# Columns: (RESULT name, header, format, fit a rate?)
+COLUMNS = [
+    ("temperature dofs", "DoFs", "{:>9.0f}", False),
+    ("time steps", "steps", "{:>6.0f}", False),
+    ("wall time", "wall [s]", "{:>9.2f}", False),
+    ("mean active-set iterations", "PDAS/step", "{:>9.2f}", False),
+    ("relative L2 error temperature", "rel L2(T)", "{:>10.3e}", True),
+    ("relative space-time L2 error temperature", "rel L2L2", "{:>10.3e}", True),
+    ("max-norm error temperature", "max err", "{:>10.3e}", True),
+    ("front position error in mesh widths", "front/h", "{:>8.3f}", False),
+    ("max energy-balance residual", "energy res", "{:>10.1e}", False),
+]
+
+
+def set_entry(text, name, value):
+    """Replace 'set name = ...' in a .prm text; the entry must be there."""
+    pattern = re.compile(r"^(\s*set\s+" + re.escape(name) + r"\s*=).*$", re.M)
+    if not pattern.search(text):
+        sys.exit(f"ladder.py: the scene has no entry '{name}'")
+    return pattern.sub(lambda m: m.group(1) + " " + value, text)
+
+
+def get_entry(text, name):
+    m = re.search(r"^\s*set\s+" + re.escape(name) + r"\s*=\s*(.*?)\s*(#.*)?$", text, re.M)
+    if not m:
+        sys.exit(f"ladder.py: the scene has no entry '{name}'")
+    return m.group(1)
+
+
+def run_level(binary, scene_text, scene_dir, level, np_, workdir):
+    refinements = int(get_entry(scene_text, "Initial global refinements")) + level
+    tau = float(get_entry(scene_text, "Time step")) / 2**level
+    text = set_entry(scene_text, "Initial global refinements", str(refinements))
+    text = set_entry(text, "Time step", repr(tau))
+    text = set_entry(text, "Directory", os.path.join(workdir, f"level-{level}"))
+    text = set_entry(text, "VTU interval", "0")
+    prm = os.path.join(scene_dir, f".ladder-level-{level}.prm")
+    with open(prm, "w") as f:
+        f.write(text)
+    try:
+        cmd = ([binary, prm] if np_ == 1 else ["mpirun", "--allow-run-as-root", "--oversubscribe",
+                                                "-np", str(np_), binary, prm])
+        out = subprocess.run(cmd, capture_output=True, text=True)
+    finally:
+        os.remove(prm)
+    if out.returncode != 0:
+        sys.exit(f"ladder.py: level {level} failed:\n{out.stderr}{out.stdout[-2000:]}")
+    results = {}
+    for line in out.stdout.splitlines():
+        m = re.match(r"RESULT (.+?) = (\S+)", line)
+        if m:
+            results[m.group(1)] = float(m.group(2))
+    results["tau"] = tau
+    return results
+
+
+def least_squares_rate(h, e):
+    x = [math.log(v) for v in h]
+    y = [math.log(v) for v in e]
+    n = len(x)
+    mx, my = sum(x) / n, sum(y) / n
+    return sum((a - mx) * (b - my) for a, b in zip(x, y)) / sum((a - mx) ** 2 for a in x)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("scene")
+    parser.add_argument("--levels", type=int, default=4)
+    parser.add_argument("--np", type=int, default=1, help="MPI ranks per run")
+    parser.add_argument("--binary", default=DEFAULT_BINARY)
+    parser.add_argument("--markdown", action="store_true", help="print a Markdown table")
+    parser.add_argument("--plot", help="write error against wall time to this PNG")
+    args = parser.parse_args()
+    if not os.path.exists(args.binary):
+        sys.exit(f"ladder.py: no binary at {args.binary}; build first (see README)")
+
+    with open(args.scene) as f:
+        scene_text = f.read()
+    rows = []
+    with tempfile.TemporaryDirectory() as workdir:
+        for level in range(args.levels):
+            rows.append(run_level(args.binary, scene_text, os.path.dirname(os.path.abspath(args.scene)),
+                                  level, args.np, workdir))
+            print(f"level {level} done in {rows[-1]['wall time']:.2f} s", file=sys.stderr)
+
+    have = [c for c in COLUMNS if c[0] in rows[0]]
+    headers = ["level", "h", "tau"] + [c[1] for c in have]
+    rate_cols = [c for c in have if c[3]]
+    if args.markdown:
+        print("| " + " | ".join(headers + [f"rate {c[1]}" for c in rate_cols]) + " |")
+        print("|" + "---|" * (len(headers) + len(rate_cols)))
+    else:
+        print("  ".join(f"{h:>9}" for h in headers + [f"rate {c[1]}"[:9] for c in rate_cols]))
+    for i, r in enumerate(rows):
+        cells = [f"{i:>9d}", f"{r.get('mesh width', float('nan')):>9.3e}", f"{r['tau']:>9.3e}"]
+        cells += [c[2].format(r[c[0]]) for c in have]
+        for c in rate_cols:
+            if i == 0:
+                cells.append(f"{'-':>9}")
+            else:
+                cells.append(f"{math.log(rows[i-1][c[0]] / r[c[0]]) / math.log(2):>9.2f}")
+        print(("| " + " | ".join(x.strip() for x in cells) + " |") if args.markdown else "  ".join(cells))
+    if "mesh width" in rows[0] and len(rows) > 1:
+        h = [r["mesh width"] for r in rows]
+        print()
+        for c in rate_cols:
+            print(f"least-squares rate of {c[0]}: {least_squares_rate(h, [r[c[0]] for r in rows]):.3f}")
+        print(f"mean active-set iterations over the ladder: "
+              f"{sum(r['mean active-set iterations'] for r in rows) / len(rows):.2f}")
+    if args.plot:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        fig, ax = plt.subplots(figsize=(6, 4))
+        for c in rate_cols:
+            ax.loglog([r["wall time"] for r in rows], [r[c[0]] for r in rows], "o-", label=c[1])
+        ax.set_xlabel("wall time [s]")
+        ax.set_ylabel("error")
+        ax.set_title(os.path.basename(args.scene))
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend()
+        fig.tight_layout()
+        fig.savefig(args.plot, dpi=120)
+
+
+if __name__ == "__main__":
+    main()
