@@ -33,11 +33,12 @@ namespace ContactStefan
       {
         std::error_code error;
         std::filesystem::create_directories(prm.output.directory, error);
-        const std::string probe = prm.output.directory + "/" + prm.output.statistics_file;
+        const std::string probe = prm.output.directory + "/.contact-stefan-write-test";
         if (error || !std::filesystem::is_directory(prm.output.directory))
           problem = "cannot create the directory '" + prm.output.directory + "'";
-        else if (!std::ofstream(probe, std::ios::app))
-          problem = "cannot write '" + probe + "'";
+        else if (!std::ofstream(probe))
+          problem = "cannot write into '" + prm.output.directory + "'";
+        std::filesystem::remove(probe, error);
       }
     problem = Utilities::MPI::broadcast(mpi_communicator, problem, 0);
     if (!problem.empty())
@@ -102,12 +103,30 @@ namespace ContactStefan
         time += time_step;
         ++step_number;
 
+        // Warm start of the active set: the phase states of the enthalpy
+        // extrapolated linearly from the last two steps (the previous step's
+        // states on the first step). A front moving at a steady speed then
+        // starts each step with the node it is about to reach already on its
+        // plateau, and the active-set iteration usually needs one solve.
+        if (step_number > 1 && prm.solver.extrapolate_active_set)
+          {
+            const double ratio = time_step / previous_time_step;
+            for (const auto dof : locally_owned_dofs)
+              {
+                const double h_predicted =
+                  enthalpy[dof] + ratio * (enthalpy[dof] - old_enthalpy[dof]);
+                phase_state[dof] = law(dof).state_of_enthalpy(h_predicted);
+              }
+            phase_state.compress(VectorOperation::insert);
+            phase_state_ghosted = phase_state;
+          }
         old_enthalpy = enthalpy;
         if (conductivity_depends_on_phase)
           assemble_cell_conductivities();
         assemble_heat_load(time);
         make_dirichlet_constraints(time);
         const EnthalpyStepReport report = solve_enthalpy_step();
+        previous_time_step               = time_step;
 
         total_active_set_iterations += report.active_set_iterations;
         steps_with_fallback += (report.relaxation_iterations > 0);

@@ -182,46 +182,27 @@ namespace ContactStefan
 
 
 
-  unsigned int EnthalpyLaw::outer_level(const double h) const
+  double EnthalpyLaw::beta_primitive(const double h) const
   {
-    unsigned int J = 0;
-    while (J < n_transitions() && h > h_minus[J])
-      ++J;
-    return J;
-  }
-
-
-
-  unsigned int EnthalpyLaw::nested_piece_of_enthalpy(const unsigned int J, const double h) const
-  {
-    unsigned int k = (J == 0 ? 0 : J - 1);
-    while (k < n_transitions() && h > h_plus[k])
-      ++k;
-    return k;
-  }
-
-
-
-  LinearPiece EnthalpyLaw::nested_piece(const unsigned int J, const unsigned int k) const
-  {
-    if (J >= 1 && k == J - 1)
-      return {true, temperatures[J - 1], 0., 0.};
-    // Walk up from the anchor: (h+_{J-1}, T_{J-1}) for J >= 1, (h-_0, T_0) for J = 0
-    // (a law without transitions is its single branch). dTheta/dh grows by
-    // 1/c_{i+1} at every convex kink h+_i passed.
-    if (n_transitions() == 0)
-      return {false, 0., capacities[0], offsets[0]};
-    double h_anchor = (J == 0 ? h_minus[0] : h_plus[J - 1]);
-    double t_anchor = temperatures[J == 0 ? 0 : J - 1];
-    double dtheta_dh = 1. / capacities[J];
-    for (unsigned int i = J; i < k; ++i)
+    // beta is linear between consecutive breakpoints h-_0 <= h+_0 <= h-_1 <= ...,
+    // so the trapezoidal rule integrates each piece exactly.
+    const double reference = n_transitions() > 0 ? h_minus[0] : 0.;
+    const double lo = std::min(h, reference), hi = std::max(h, reference);
+    double       integral = 0, a = lo;
+    const auto   add_up_to = [&](const double b) {
+      if (b > a)
+        {
+          integral += 0.5 * (temperature(a) + temperature(b)) * (b - a);
+          a = b;
+        }
+    };
+    for (unsigned int j = 0; j < n_transitions(); ++j)
       {
-        t_anchor += dtheta_dh * (h_plus[i] - h_anchor);
-        h_anchor = h_plus[i];
-        dtheta_dh += 1. / capacities[i + 1];
+        add_up_to(std::min(hi, h_minus[j]));
+        add_up_to(std::min(hi, h_plus[j]));
       }
-    const double capacity = 1. / dtheta_dh;
-    return {false, 0., capacity, h_anchor - capacity * t_anchor};
+    add_up_to(hi);
+    return h >= reference ? integral : -integral;
   }
 
 

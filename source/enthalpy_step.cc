@@ -133,7 +133,8 @@ namespace ContactStefan
   // its row where its temperature was fixed, from the temperature on Dirichlet nodes.
   template <int dim>
   unsigned int CoupledProblem<dim>::solve_for_pieces(
-    const std::function<LinearPiece(const types::global_dof_index)> &piece_of)
+    const std::function<LinearPiece(const types::global_dof_index)> &piece_of,
+    Vector                                                          &h_new)
   {
     constraints.clear();
     constraints.reinit(locally_relevant_dofs);
@@ -173,54 +174,15 @@ namespace ContactStefan
       {
         const double theta = temperature[dof];
         if (dirichlet_constraints.is_constrained(dof))
-          enthalpy[dof] = law(dof).enthalpy(theta);
+          h_new[dof] = law(dof).enthalpy(theta);
         else if (const LinearPiece p = piece_of(dof); p.fixed)
-          enthalpy[dof] = old_enthalpy[dof] +
-                          time_step * (heat_load[dof] - A_theta[dof]) / lumped_mass[dof];
+          h_new[dof] = old_enthalpy[dof] +
+                       time_step * (heat_load[dof] - A_theta[dof]) / lumped_mass[dof];
         else
-          enthalpy[dof] = p.offset + p.capacity * theta;
+          h_new[dof] = p.offset + p.capacity * theta;
       }
-    enthalpy.compress(VectorOperation::insert);
-    enthalpy_ghosted = enthalpy;
+    h_new.compress(VectorOperation::insert);
     return Utilities::MPI::sum(local_fixed, mpi_communicator);
-  }
-
-
-
-  // Move every owned node to the state new_state(dof, h) and count the moves; the
-  // state vector travels to the ghosts. Returns the number of moves everywhere.
-  // With a tracker, a move against the direction of the node's previous move
-  // (back down the phase sequence after moving up, or vice versa) is counted as
-  // a reversal: the signature of the overshoot that makes plain Newton cycle.
-  template <int dim>
-  unsigned int CoupledProblem<dim>::update_states(
-    Vector                                                                  &state,
-    Vector                                                                  &state_ghosted,
-    const std::function<unsigned int(const types::global_dof_index, double)> &new_state,
-    ReversalTracker                                                         *tracker)
-  {
-    unsigned int local_changes = 0, k = 0;
-    for (const auto dof : locally_owned_dofs)
-      {
-        const unsigned int s   = new_state(dof, enthalpy[dof]);
-        const unsigned int old = static_cast<unsigned int>(state[dof]);
-        if (s != old)
-          {
-            state[dof] = s;
-            ++local_changes;
-            if (tracker)
-              {
-                const int direction = (s > old ? 1 : -1);
-                if (tracker->last_direction[k] == -direction)
-                  ++tracker->reversals[k];
-                tracker->last_direction[k] = direction;
-              }
-          }
-        ++k;
-      }
-    state.compress(VectorOperation::insert);
-    state_ghosted = state;
-    return Utilities::MPI::sum(local_changes, mpi_communicator);
   }
 
 
@@ -348,102 +310,99 @@ namespace ContactStefan
 
 
 
-  // The plain primal-dual active-set iteration on the phase states, warm-started
-  // from the previous step. Returns true when the states are consistent.
+  // The active-set iteration with its globalisation.
+  //
+  // With g = M h on the free nodes, K = tau A restricted to them and c collecting
+  // h^old, the heat load and the Dirichlet data, the step is the optimality
+  // condition of the strongly convex, C^1, piecewise quadratic functional
+  //     E(g) = 1/2 (g - c)^T K^{-1} (g - c) + sum_i m_i Psi_i(g_i / m_i),  Psi_i' = beta_i,
+  // and the active-set iteration is exactly the semismooth Newton method for
+  // grad E = 0: the phase states choose the generalized derivative of beta. Full
+  // Newton steps can cycle (entering a plateau is a concave kink of beta), so
+  // every step is checked by an Armijo line search on E. K^{-1} is never applied:
+  // z = K^{-1}(g - c) equals -Theta after a full step and moves linearly along a
+  // damped one, and K^{-1} (g_new - g) = -z - Theta_new. Where the full step is
+  // accepted this is the plain active-set method; the line search only acts
+  // when it would overshoot.
   template <int dim>
-  bool CoupledProblem<dim>::plain_active_set_iteration(EnthalpyStepReport &report)
+  bool CoupledProblem<dim>::active_set_iteration(EnthalpyStepReport &report)
   {
-    ReversalTracker tracker(locally_owned_dofs.n_elements());
-    const auto      piece_of = [&](const types::global_dof_index dof) {
+    const auto piece_of = [&](const types::global_dof_index dof) {
       return law(dof).piece(static_cast<unsigned int>(phase_state_ghosted[dof]));
     };
-    const auto new_state = [&](const types::global_dof_index dof, const double h) {
-      return dirichlet_constraints.is_constrained(dof) ?
-               law(dof).state_of_temperature(temperature[dof]) :
-               law(dof).state_of_enthalpy(h);
+    const auto is_free = [&](const types::global_dof_index dof) {
+      return !dirichlet_constraints.is_constrained(dof);
     };
-    while (report.active_set_iterations < prm.solver.max_active_set_iterations)
+    Vector h_new(locally_owned_dofs, mpi_communicator);
+    Vector z(locally_owned_dofs, mpi_communicator);
+
+    for (unsigned int it = 1; it <= prm.solver.max_active_set_iterations; ++it)
       {
-        report.plateau_nodes = solve_for_pieces(piece_of);
-        ++report.active_set_iterations;
-        const unsigned int n_changes =
-          update_states(phase_state, phase_state_ghosted, new_state, &tracker);
-        report.state_changes += n_changes;
-        if (prm.output.verbosity >= 1)
-          pcout << "      active set " << report.active_set_iterations << ": "
-                << report.plateau_nodes << " plateau nodes, " << n_changes << " state changes"
-                << std::endl;
-        if (n_changes == 0)
-          return true;
-        if (Utilities::MPI::max(tracker.max_reversals(), mpi_communicator) >=
-            prm.solver.max_state_reversals_per_node)
-          return false;
-      }
-    return false;
-  }
+        report.plateau_nodes         = solve_for_pieces(piece_of, h_new);
+        report.active_set_iterations = it;
 
-
-
-  // The nested Newton iteration (Brugnano & Casulli 2008; Casulli & Zanolli
-  // 2012): the outer level J of each node (which concave kinks it has passed) is
-  // frozen while an inner active-set iteration solves the convexified problem;
-  // the inner iteration then moves monotonically and cannot cycle, and the outer
-  // levels settle after finitely many rounds. Starts from the current enthalpy.
-  template <int dim>
-  bool CoupledProblem<dim>::nested_active_set_iteration(EnthalpyStepReport &report)
-  {
-    for (const auto dof : locally_owned_dofs)
-      {
-        const unsigned int J = law(dof).outer_level(enthalpy[dof]);
-        outer_level[dof]     = J;
-        phase_state[dof]     = law(dof).nested_piece_of_enthalpy(J, enthalpy[dof]);
-      }
-    outer_level.compress(VectorOperation::insert);
-    phase_state.compress(VectorOperation::insert);
-    outer_level_ghosted = outer_level;
-    phase_state_ghosted = phase_state;
-
-    const auto piece_of = [&](const types::global_dof_index dof) {
-      return law(dof).nested_piece(static_cast<unsigned int>(outer_level_ghosted[dof]),
-                                   static_cast<unsigned int>(phase_state_ghosted[dof]));
-    };
-    const auto inner_state = [&](const types::global_dof_index dof, const double h) {
-      return law(dof).nested_piece_of_enthalpy(static_cast<unsigned int>(outer_level[dof]), h);
-    };
-    const auto outer_state = [&](const types::global_dof_index dof, const double h) {
-      return law(dof).outer_level(h);
-    };
-
-    while (report.active_set_iterations < prm.solver.max_active_set_iterations)
-      {
-        report.plateau_nodes = solve_for_pieces(piece_of);
-        ++report.active_set_iterations;
-        const unsigned int n_inner =
-          update_states(phase_state, phase_state_ghosted, inner_state, nullptr);
-        report.state_changes += n_inner;
-        unsigned int n_outer = 0;
-        if (n_inner == 0)
+        double alpha = 1;
+        if (it > 1)
           {
-            // Inner iteration converged: update the outer levels and restart the
-            // inner states from the new levels.
-            n_outer = update_states(outer_level, outer_level_ghosted, outer_state, nullptr);
-            report.state_changes += n_outer;
-            if (n_outer > 0)
-              update_states(phase_state, phase_state_ghosted, inner_state, nullptr);
-          }
-        if (prm.output.verbosity >= 1)
-          pcout << "      nested " << report.active_set_iterations << ": "
-                << report.plateau_nodes << " obstacle/plateau nodes, " << n_inner
-                << " inner and " << n_outer << " outer changes" << std::endl;
-        if (n_inner == 0 && n_outer == 0)
-          {
-            // Consistent: record the true phase states for output and warm start.
+            // Slope and the two quadratic coefficients of E along h_new - h.
+            double local[3] = {0, 0, 0}; // grad E . d,  d . z,  d . K^{-1} d
             for (const auto dof : locally_owned_dofs)
-              phase_state[dof] = law(dof).state_of_enthalpy(enthalpy[dof]);
-            phase_state.compress(VectorOperation::insert);
-            phase_state_ghosted = phase_state;
-            return true;
+              if (is_free(dof))
+                {
+                  const double d = lumped_mass[dof] * (h_new[dof] - enthalpy[dof]);
+                  local[0] += d * (z[dof] + law(dof).temperature(enthalpy[dof]));
+                  local[1] += d * z[dof];
+                  local[2] += d * (-z[dof] - temperature[dof]);
+                }
+            double global[3];
+            Utilities::MPI::sum(ArrayView<const double>(local, 3), mpi_communicator,
+                                ArrayView<double>(global, 3));
+            const auto decrease = [&](const double a) {
+              double psi = 0;
+              for (const auto dof : locally_owned_dofs)
+                if (is_free(dof))
+                  {
+                    const EnthalpyLaw &l = law(dof);
+                    const double       h = enthalpy[dof];
+                    psi += lumped_mass[dof] *
+                           (l.beta_primitive(h + a * (h_new[dof] - h)) - l.beta_primitive(h));
+                  }
+              return a * global[1] + 0.5 * a * a * global[2] +
+                     Utilities::MPI::sum(psi, mpi_communicator);
+            };
+            while (alpha > prm.solver.line_search_min_step &&
+                   decrease(alpha) > prm.solver.line_search_sufficient_decrease * alpha * global[0])
+              alpha *= 0.5;
           }
+        // h <- h + alpha (h_new - h), z <- (1 - alpha) z - alpha Theta_new.
+        unsigned int local_changes = 0;
+        for (const auto dof : locally_owned_dofs)
+          {
+            z[dof]        = (1 - alpha) * z[dof] - alpha * temperature[dof];
+            enthalpy[dof] = enthalpy[dof] + alpha * (h_new[dof] - enthalpy[dof]);
+            const unsigned int state =
+              is_free(dof) ? law(dof).state_of_enthalpy(enthalpy[dof]) :
+                             law(dof).state_of_temperature(temperature[dof]);
+            if (state != static_cast<unsigned int>(phase_state[dof]))
+              {
+                phase_state[dof] = state;
+                ++local_changes;
+              }
+          }
+        z.compress(VectorOperation::insert);
+        enthalpy.compress(VectorOperation::insert);
+        phase_state.compress(VectorOperation::insert);
+        enthalpy_ghosted    = enthalpy;
+        phase_state_ghosted = phase_state;
+        const unsigned int n_changes = Utilities::MPI::sum(local_changes, mpi_communicator);
+        report.state_changes += n_changes;
+        report.damped_steps += (alpha < 1);
+        if (prm.output.verbosity >= 1)
+          pcout << "      active set " << it << ": " << report.plateau_nodes
+                << " plateau nodes, step " << alpha << ", " << n_changes << " state changes"
+                << std::endl;
+        if (n_changes == 0 && alpha == 1)
+          return true;
       }
     return false;
   }
@@ -454,15 +413,7 @@ namespace ContactStefan
   EnthalpyStepReport CoupledProblem<dim>::solve_enthalpy_step()
   {
     EnthalpyStepReport report;
-    bool               converged = plain_active_set_iteration(report);
-    if (!converged && report.active_set_iterations < prm.solver.max_active_set_iterations)
-      {
-        if (prm.output.verbosity >= 1)
-          pcout << "      cycling: switching to the nested Newton iteration" << std::endl;
-        report.nested = true;
-        converged     = nested_active_set_iteration(report);
-      }
-    if (!converged)
+    if (!active_set_iteration(report))
       {
         pcout << "   Enthalpy step: no convergence in 'Solver/Max active-set iterations' = "
               << prm.solver.max_active_set_iterations << " at t = " << time

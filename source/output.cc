@@ -91,6 +91,7 @@ namespace ContactStefan
     statistics.add_value("dofs", static_cast<unsigned int>(dof_handler.n_dofs()));
     statistics.add_value("pdas_iterations", report.active_set_iterations);
     statistics.add_value("state_changes", report.state_changes);
+    statistics.add_value("damped_steps", report.damped_steps);
     statistics.add_value("fallback_iterations", report.relaxation_iterations);
     statistics.add_value("plateau_nodes", report.plateau_nodes);
     // Melt area: area-weighted fraction through the last transition of body

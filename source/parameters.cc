@@ -391,11 +391,17 @@ namespace ContactStefan
                         "Limit of linear solves of the active-set iterations (plain and "
                         "nested together) per enthalpy step; reaching it switches to "
                         "the relaxation fallback.");
-      prm.declare_entry("Max state reversals per node", "1", Patterns::Integer(1),
-                        "Cycling guard of the plain active-set iteration: when a node has "
-                        "turned back this often (moved down the phase sequence after "
-                        "moving up, or vice versa) within one step, the step continues "
-                        "with the nested Newton iteration, which cannot cycle.");
+      prm.declare_entry("Line search sufficient decrease", "1e-4", Patterns::Double(0, 0.5),
+                        "Armijo constant sigma of the line search that guards the "
+                        "active-set (semismooth Newton) iteration against cycling: a step "
+                        "is accepted when the step's convex functional falls by at least "
+                        "sigma times the step length times its directional derivative.");
+      prm.declare_entry("Line search minimum step", "1e-6", Patterns::Double(0, 1),
+                        "The line search halves the Newton step at most down to this length.");
+      prm.declare_entry("Extrapolate active set", "true", Patterns::Bool(),
+                        "Start each step's active-set iteration from the phase states of "
+                        "the nodal enthalpy extrapolated linearly in time (true) or from "
+                        "the previous step's states (false).");
       prm.declare_entry("Relaxation parameter", "1", Patterns::Double(0),
                         "Fallback: nonlinear relaxation (Berger-Brezis-Rogers) with "
                         "alpha = this fraction of the smallest volumetric heat capacity; "
@@ -416,7 +422,9 @@ namespace ContactStefan
       cg_tolerance                  = prm.get_double("CG tolerance");
       cg_max_iterations             = prm.get_integer("CG max iterations");
       max_active_set_iterations     = prm.get_integer("Max active-set iterations");
-      max_state_reversals_per_node    = prm.get_integer("Max state reversals per node");
+      line_search_sufficient_decrease = prm.get_double("Line search sufficient decrease");
+      line_search_min_step          = prm.get_double("Line search minimum step");
+      extrapolate_active_set        = prm.get_bool("Extrapolate active set");
       relaxation_parameter_fraction = prm.get_double("Relaxation parameter");
       relaxation_tolerance          = prm.get_double("Relaxation tolerance");
       relaxation_max_iterations     = prm.get_integer("Relaxation max iterations");

@@ -154,10 +154,9 @@ namespace ContactStefan
     system_matrix.reinit(locally_owned_dofs, locally_owned_dofs, dsp, mpi_communicator);
 
     for (Vector *v : {&system_rhs, &temperature, &enthalpy, &old_enthalpy, &lumped_mass,
-                      &heat_load, &phase_state, &outer_level, &nodal_diagonal, &nodal_rhs})
+                      &heat_load, &phase_state, &nodal_diagonal, &nodal_rhs})
       v->reinit(locally_owned_dofs, mpi_communicator);
     for (Vector *v : {&temperature_ghosted, &enthalpy_ghosted, &phase_state_ghosted,
-                      &outer_level_ghosted,
                       &nodal_diagonal_ghosted, &nodal_rhs_ghosted})
       v->reinit(locally_owned_dofs, locally_relevant_dofs, mpi_communicator);
 

@@ -49,27 +49,11 @@ namespace ContactStefan
   struct EnthalpyStepReport
   {
     unsigned int active_set_iterations = 0;
-    bool         nested                = false; // plain iteration cycled: nested Newton ran
+    unsigned int damped_steps          = 0; // iterations whose Newton step was shortened
     unsigned int relaxation_iterations = 0; // > 0 only if the fallback ran
     unsigned int plateau_nodes         = 0;
     unsigned int state_changes         = 0; // summed over the iterations
     double       energy_residual       = 0; // relative, see compute_energy_balance()
-  };
-
-  // Per owned node: the direction of its last state change and how often it has
-  // reversed direction within one enthalpy step.
-  struct ReversalTracker
-  {
-    explicit ReversalTracker(const std::size_t n)
-      : last_direction(n, 0)
-      , reversals(n, 0)
-    {}
-    unsigned int max_reversals() const
-    {
-      return reversals.empty() ? 0 : *std::max_element(reversals.begin(), reversals.end());
-    }
-    std::vector<int>          last_direction;
-    std::vector<unsigned int> reversals;
   };
 
   template <int dim>
@@ -100,14 +84,9 @@ namespace ContactStefan
     void               compute_conductivity_residual(const Vector &theta_ghosted,
                                                      Vector       &result) const;
     unsigned int
-    solve_for_pieces(const std::function<LinearPiece(const types::global_dof_index)> &piece_of);
-    unsigned int update_states(
-      Vector                                                                  &state,
-      Vector                                                                  &state_ghosted,
-      const std::function<unsigned int(const types::global_dof_index, double)> &new_state,
-      ReversalTracker                                                         *tracker);
-    bool         plain_active_set_iteration(EnthalpyStepReport &report);
-    bool         nested_active_set_iteration(EnthalpyStepReport &report);
+    solve_for_pieces(const std::function<LinearPiece(const types::global_dof_index)> &piece_of,
+                     Vector                                                          &h_new);
+    bool active_set_iteration(EnthalpyStepReport &report);
     unsigned int       relaxation_fallback();
     double             compute_energy_balance();
     const EnthalpyLaw &law(const types::global_dof_index dof) const;
@@ -148,8 +127,6 @@ namespace ContactStefan
     Vector enthalpy, old_enthalpy, enthalpy_ghosted;
     Vector lumped_mass, heat_load;
     Vector phase_state, phase_state_ghosted;
-    // The outer level of each node in the nested Newton iteration.
-    Vector outer_level, outer_level_ghosted;
     // The per-node coefficients of the linear system of one iteration:
     // row i reads m_i d_i Theta_i + tau (A Theta)_i = m_i g_i + tau F_i.
     Vector nodal_diagonal, nodal_diagonal_ghosted, nodal_rhs, nodal_rhs_ghosted;
@@ -174,7 +151,7 @@ namespace ContactStefan
     std::unique_ptr<NeumannSolution> neumann;
     std::unique_ptr<Function<dim>>   exact_temperature;
 
-    double       time, time_step;
+    double       time, time_step, previous_time_step = 0;
     unsigned int step_number = 0;
 
     // Output records and the temperature whose melt area the table reports.

@@ -69,17 +69,10 @@ namespace ContactStefan
     double plateau_temperature(const unsigned int state) const;
     LinearPiece piece(const unsigned int state) const;
 
-    // --- The nested Newton linearisation (Brugnano & Casulli) -----------------
-    // beta(h) has a concave kink where a branch enters a plateau (h = h-_j) and a
-    // convex one where it leaves it (h = h+_j). Newton's method is monotone only
-    // across convex kinks. The outer level J = #{j : h > h-_j} freezes the concave
-    // ones: beta_J agrees with beta for h-_{J-1} < h <= h-_J, holds Theta =
-    // T_{J-1} for all h <= h+_{J-1} (an obstacle, for J >= 1) and continues
-    // convexly across every h+_k above. Its pieces are numbered k = J-1 (the
-    // obstacle, J >= 1), J, J+1, ..., n; piece k ends at h+_k.
-    unsigned int outer_level(const double h) const;
-    unsigned int nested_piece_of_enthalpy(const unsigned int J, const double h) const;
-    LinearPiece  nested_piece(const unsigned int J, const unsigned int k) const;
+    // Psi(h) = integral of beta from the bottom of the first plateau (from 0 for
+    // a law without transitions) to h: convex, C^1, piecewise quadratic. The
+    // line search of the enthalpy step measures its functional with it.
+    double beta_primitive(const double h) const;
 
     // The enthalpy on the branch that holds theta; at a transition temperature the
     // lower end of the plateau (the "solid" value).

@@ -138,7 +138,9 @@ namespace ContactStefan
       double       cg_tolerance;
       unsigned int cg_max_iterations;
       unsigned int max_active_set_iterations;
-      unsigned int max_state_reversals_per_node;
+      double       line_search_sufficient_decrease;
+      double       line_search_min_step;
+      bool         extrapolate_active_set;
       double       relaxation_parameter_fraction;
       double       relaxation_tolerance;
       unsigned int relaxation_max_iterations;

@@ -1,0 +1,17 @@
+#!/bin/bash
+# expect_error.sh BINARY SCENE.prm EXPECTED: the run must stop with exit code 1,
+# print exactly one line to stderr containing EXPECTED, and write nothing else.
+binary=$1 scene=$2 expected=$3
+dir=$(mktemp -d) && cd "$dir" || exit 1
+"$binary" "$scene" > stdout.txt 2> stderr.txt
+status=$?
+trap 'rm -rf "$dir"' EXIT
+if [ $status -ne 1 ]; then echo "exit code $status, expected 1"; cat stderr.txt; exit 1; fi
+if [ "$(wc -l < stderr.txt)" -ne 1 ]; then echo "stderr is not one line:"; cat stderr.txt; exit 1; fi
+if ! grep -qF -- "$expected" stderr.txt; then
+  echo "stderr does not contain '$expected':"; cat stderr.txt; exit 1
+fi
+if [ -s stdout.txt ]; then echo "unexpected output on stdout:"; cat stdout.txt; exit 1; fi
+files=$(find . -type f ! -name stdout.txt ! -name stderr.txt)
+if [ -n "$files" ]; then echo "files were written: $files"; exit 1; fi
+echo "OK: $(cat stderr.txt)"

@@ -1,0 +1,64 @@
+#!/bin/bash
+# Regression run of one scene, used by ctest.
+#
+#   run_scene.sh BINARY SCENE.prm REFERENCE NP [REQUIREMENT ...]
+#
+# Runs the scene on NP MPI ranks in the current directory, keeps the deterministic
+# part of what it printed (the RESULT lines except the wall time, and the
+# statistics table without its wall_time column), compares that with REFERENCE
+# by numdiff, and checks each REQUIREMENT of the form 'RESULT name<value' or
+# 'RESULT name>value' against the exact-solution numbers of this run.
+# With UPDATE_REFERENCE=1 the reference is rewritten instead (after the
+# requirements pass): references are produced by the code, never by hand.
+set -u
+binary=$1 scene=$2 reference=$3 np=$4
+shift 4
+name=$(basename "$reference" .output)
+out=$name.out
+rm -rf "$name.dir" && mkdir -p "$name.dir" && cd "$name.dir" || exit 1
+
+if [ "$np" -eq 1 ]; then
+  "$binary" "$scene" > stdout.txt 2> stderr.txt
+else
+  mpirun --allow-run-as-root --oversubscribe -np "$np" "$binary" "$scene" > stdout.txt 2> stderr.txt
+fi
+status=$?
+if [ $status -ne 0 ]; then
+  echo "run failed with exit code $status"; cat stderr.txt; tail -20 stdout.txt; exit 1
+fi
+
+statistics=$(sed -n 's/^ *set Statistics file *= *\([^ #]*\).*/\1/p' "$scene")
+directory=$(sed -n 's/^ *set Directory *= *\([^ #]*\).*/\1/p' "$scene")
+{
+  grep '^RESULT' stdout.txt | grep -v 'RESULT wall time'
+  awk 'NR == 1 { for (i = 1; i <= NF; ++i) if ($i != "wall_time") keep[i] = 1 }
+       { line = ""; for (i = 1; i <= NF; ++i) if (i in keep) line = line (line == "" ? "" : " ") $i; print line }' \
+      "$directory/$statistics"
+} > "$out"
+
+failed=0
+for requirement in "$@"; do
+  if [[ "$requirement" =~ ^RESULT\ (.*)([\<\>])(.*)$ ]]; then
+    key=${BASH_REMATCH[1]} op=${BASH_REMATCH[2]} bound=${BASH_REMATCH[3]}
+    value=$(sed -n "s/^RESULT $key = //p" "$out")
+    if [ -z "$value" ]; then
+      echo "requirement '$requirement': no RESULT line '$key'"; failed=1; continue
+    fi
+    if ! awk -v v="$value" -v b="$bound" -v op="$op" 'BEGIN { exit !(op == "<" ? v < b : v > b) }'; then
+      echo "requirement failed: $key = $value, required $op $bound"; failed=1
+    else
+      echo "requirement met: $key = $value $op $bound"
+    fi
+  else
+    echo "malformed requirement '$requirement'"; failed=1
+  fi
+done
+[ $failed -eq 0 ] || exit 1
+
+if [ "${UPDATE_REFERENCE:-0}" = 1 ]; then
+  cp "$out" "$reference"; echo "reference $reference written"; exit 0
+fi
+# Relative 1e-6 and absolute 1e-9 (energy residuals are round-off, ~1e-14).
+numdiff -q -r 1e-6 -a 1e-9 -s ' \t\n=' "$reference" "$out" > /dev/null || {
+  numdiff -r 1e-6 -a 1e-9 -s ' \t\n=' "$reference" "$out" | head -30; exit 1; }
+echo "matches $reference"
