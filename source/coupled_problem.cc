@@ -21,7 +21,7 @@ namespace ContactStefan
     : prm(parameters)
     , mpi_communicator(mpi_communicator)
     , pcout(std::cout, Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
-    , timer(mpi_communicator, pcout, TimerOutput::never, TimerOutput::wall_times)
+    , timer(pcout, TimerOutput::never, TimerOutput::wall_times)
     , triangulation(mpi_communicator)
     , fe(1)
     , dof_handler(triangulation)

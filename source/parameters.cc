@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <iostream>
 #include <regex>
 #include <sstream>
 
@@ -70,15 +71,20 @@ namespace ContactStefan
           require(exact_allowed, path, "'exact' needs 'Exact solution/Type' other than none");
           return;
         }
+      // muparser reports syntax errors on std::cerr before deal.II throws; the
+      // user gets our one-line message instead.
+      std::streambuf *const cerr_buffer = std::cerr.rdbuf(nullptr);
       try
         {
           FunctionParser<2> f(1);
           f.initialize("x,y,t", expression, {{"pi", numbers::PI}}, true);
           const double v = f.value(Point<2>(0.5, 0.5));
           (void)v;
+          std::cerr.rdbuf(cerr_buffer);
         }
       catch (...)
         {
+          std::cerr.rdbuf(cerr_buffer);
           throw InputError(path, "cannot parse the function '" + expression + "'");
         }
     }

@@ -62,7 +62,6 @@ namespace ContactStefan
   template <int dim>
   void CoupledProblem<dim>::make_mesh()
   {
-    TimerOutput::Scope t(timer, "setup: mesh");
     const auto &g = prm.geometry;
     if (g.mesh_type == "rectangle")
       {
@@ -126,6 +125,7 @@ namespace ContactStefan
         throw InputError("Boundary conditions/Thermal boundaries",
                          "boundary id " + std::to_string(id) + " does not occur in the mesh");
 
+    TimerOutput::Scope t(timer, "setup: mesh");
     triangulation.refine_global(prm.refinement.initial_global_refinements);
   }
 

@@ -3,6 +3,9 @@
 #
 #   run_scene.sh BINARY SCENE.prm REFERENCE NP [REQUIREMENT ...]
 #
+# Arguments 'SET:Subsection/Entry name=value' set that entry in the copy of the
+# scene the test runs (replacing it where the file has it, adding it otherwise),
+# so that variants of a benchmark need no copies of its file.
 # Runs the scene on NP MPI ranks in the current directory, keeps the deterministic
 # part of what it printed (the RESULT lines except the wall time, and the
 # statistics table without its wall_time column), compares that with REFERENCE
@@ -16,6 +19,22 @@ shift 4
 name=$(basename "$reference" .output)
 out=$name.out
 rm -rf "$name.dir" && mkdir -p "$name.dir" && cd "$name.dir" || exit 1
+cp "$scene" scene.prm
+requirements=()
+for argument in "$@"; do
+  if [[ "$argument" == SET:* ]]; then
+    entry=${argument#SET:} path=${entry%%=*} value=${entry#*=}
+    section=${path%/*} key=${path##*/}
+    if grep -q "^ *set $key *=" scene.prm; then
+      sed -i "s|^\( *set $key *=\).*|\1 $value|" scene.prm
+    else
+      printf 'subsection %s\n  set %s = %s\nend\n' "$section" "$key" "$value" >> scene.prm
+    fi
+  else
+    requirements+=("$argument")
+  fi
+done
+scene=scene.prm
 
 if [ "$np" -eq 1 ]; then
   "$binary" "$scene" > stdout.txt 2> stderr.txt
@@ -37,7 +56,7 @@ directory=$(sed -n 's/^ *set Directory *= *\([^ #]*\).*/\1/p' "$scene")
 } > "$out"
 
 failed=0
-for requirement in "$@"; do
+for requirement in "${requirements[@]}"; do
   if [[ "$requirement" =~ ^RESULT\ (.*)([\<\>])(.*)$ ]]; then
     key=${BASH_REMATCH[1]} op=${BASH_REMATCH[2]} bound=${BASH_REMATCH[3]}
     value=$(sed -n "s/^RESULT $key = //p" "$out")
