@@ -62,14 +62,6 @@ namespace ContactStefan
         width = std::max(width, cell->extent_in_direction(0));
     mesh_width = Utilities::MPI::max(width, mpi_communicator);
 
-    // The melt area in the table is taken through the last transition of the
-    // exact solution's body, or else of the first body.
-    const auto &front_material =
-      prm.materials.at(prm.exact_solution.type != "none" ? prm.exact_solution.body :
-                                                            prm.body_ids[0]);
-    if (!front_material.transition_temperatures.empty())
-      front_temperature = front_material.transition_temperatures.back();
-
     pcout << "Thermal: " << prm.body_ids.size() << " body(ies); "
           << (phase_change_present ?
                 "phase change on: primal-dual active set on the nodal phase states" :

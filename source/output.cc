@@ -94,12 +94,13 @@ namespace ContactStefan
     statistics.add_value("damped_steps", report.damped_steps);
     statistics.add_value("fallback_iterations", report.relaxation_iterations);
     statistics.add_value("plateau_nodes", report.plateau_nodes);
-    // Melt area: area-weighted fraction through the last transition of body
-    // prm.body_ids[0]'s material (or of the exact solution's body).
+    // Melt area: lumped-mass weighted liquid fraction, i.e. the fraction through
+    // the last transition of each node's own law.
     double area = 0;
-    if (front_temperature.has_value())
-      area = liquid_area(*front_temperature);
-    statistics.add_value("liquid_area", area);
+    for (const auto dof : locally_owned_dofs)
+      if (!hanging_node_constraints.is_constrained(dof))
+        area += lumped_mass[dof] * law(dof).liquid_fraction(enthalpy[dof]);
+    statistics.add_value("liquid_area", Utilities::MPI::sum(area, mpi_communicator));
     statistics.add_value("energy_residual", report.energy_residual);
     statistics.add_value("wall_time", wall_clock.wall_time());
     for (const std::string &c : {"time", "liquid_area"})

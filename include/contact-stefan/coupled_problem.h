@@ -37,7 +37,6 @@
 #include <algorithm>
 #include <functional>
 #include <map>
-#include <optional>
 #include <memory>
 #include <vector>
 
@@ -154,9 +153,8 @@ namespace ContactStefan
     double       time, time_step, previous_time_step = 0;
     unsigned int step_number = 0;
 
-    // Output records and the temperature whose melt area the table reports.
+    // Output records.
     std::vector<std::pair<double, std::string>> pvd_records;
-    std::optional<double>                      front_temperature;
     double                                     mesh_width = 0;
     std::map<types::global_dof_index, Point<dim>> support_points; // for nodal errors
 
