@@ -204,6 +204,9 @@ namespace ContactStefan
         result("relative space-time L2 error temperature",
                std::sqrt(space_time_error_squared / space_time_norm_squared));
         result("max-norm error temperature", last_max_error);
+      }
+    if (neumann)
+      {
         // Fronts: from the melt area of each transition (strip of height Y).
         const auto  &g      = prm.geometry;
         const double height = g.upper_right[1] - g.lower_left[1];

@@ -328,11 +328,15 @@ namespace ContactStefan
     void ExactSolution::declare(ParameterHandler &prm)
     {
       prm.enter_subsection("Exact solution");
-      prm.declare_entry("Type", "none", Patterns::Selection("none|neumann"),
+      prm.declare_entry("Type", "none", Patterns::Selection("none|neumann|function"),
                         "'neumann': the similarity solution of the (multi-)phase Stefan "
                         "problem of one body's material on x > Origin with Theta = Hot "
-                        "temperature at x = Origin and Cold temperature initially. Errors "
-                        "against it are reported as RESULT lines.");
+                        "temperature at x = Origin and Cold temperature initially (a "
+                        "rectangle; front positions are reported too). 'function': the "
+                        "temperature given by Function. Errors against it are reported as "
+                        "RESULT lines.");
+      prm.declare_entry("Function", "0", Patterns::Anything(),
+                        "Type = function: the exact temperature, a function of x, y, t.");
       prm.declare_entry("Body", "0", Patterns::Integer(0, 255),
                         "The body whose material defines the exact solution.");
       prm.declare_entry("Hot temperature", "1", Patterns::Double(),
@@ -347,6 +351,7 @@ namespace ContactStefan
     {
       prm.enter_subsection("Exact solution");
       type             = prm.get("Type");
+      function         = prm.get("Function");
       body             = prm.get_integer("Body");
       hot_temperature  = prm.get_double("Hot temperature");
       cold_temperature = prm.get_double("Cold temperature");
@@ -630,7 +635,9 @@ namespace ContactStefan
                 " layer interfaces has bodies 0.." +
                 std::to_string(geometry.layer_interfaces.size()));
 
-    if (exact)
+    if (exact_solution.type == "function")
+      check_function(exact_solution.function, "Exact solution/Function", false);
+    if (exact_solution.type == "neumann")
       {
         const std::string path = "Exact solution/Body";
         require(materials.count(exact_solution.body) == 1, path,
@@ -645,8 +652,10 @@ namespace ContactStefan
                 "must not exceed the lowest transition temperature");
         require(m.conductivity_is_isotropic(), "Materials/Body " + std::to_string(exact_solution.body) +
                   "/Conductivity anisotropy", "the Neumann solution needs an isotropic conductivity");
-        require(exact_solution.origin <= geometry.lower_left[0] || geometry.mesh_type != "rectangle",
-                "Exact solution/Origin", "must not lie inside the rectangle");
+        require(geometry.mesh_type == "rectangle", "Exact solution/Type",
+                "'neumann' needs Geometry/Mesh = rectangle (a strip along x)");
+        require(exact_solution.origin <= geometry.lower_left[0], "Exact solution/Origin",
+                "must not lie inside the rectangle");
       }
   }
 } // namespace ContactStefan

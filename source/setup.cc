@@ -274,6 +274,17 @@ namespace ContactStefan
 
 
 
+  // A fresh copy of the exact solution (each user sets its own time).
+  template <int dim>
+  std::unique_ptr<Function<dim>> CoupledProblem<dim>::exact_function() const
+  {
+    if (neumann)
+      return std::make_unique<NeumannFunction<dim>>(*neumann, prm.exact_solution.origin);
+    return make_function<dim>(prm.exact_solution.function);
+  }
+
+
+
   template <int dim>
   void CoupledProblem<dim>::setup_boundary_and_source_functions()
   {
@@ -296,11 +307,10 @@ namespace ContactStefan
         exact_temperature =
           std::make_unique<NeumannFunction<dim>>(*neumann, prm.exact_solution.origin);
       }
+    else if (prm.exact_solution.type == "function")
+      exact_temperature = make_function<dim>(prm.exact_solution.function);
     const auto function_or_exact = [&](const std::string &expression) {
-      return expression == "exact" ?
-               std::unique_ptr<Function<dim>>(
-                 std::make_unique<NeumannFunction<dim>>(*neumann, prm.exact_solution.origin)) :
-               make_function<dim>(expression);
+      return expression == "exact" ? exact_function() : make_function<dim>(expression);
     };
 
     boundary_functions.clear();
@@ -471,10 +481,7 @@ namespace ContactStefan
   {
     const auto &ic = prm.initial_condition;
     std::unique_ptr<Function<dim>> f =
-      ic.function == "exact" ?
-        std::unique_ptr<Function<dim>>(
-          std::make_unique<NeumannFunction<dim>>(*neumann, prm.exact_solution.origin)) :
-        make_function<dim>(ic.function);
+      ic.function == "exact" ? exact_function() : make_function<dim>(ic.function);
     f->set_time(time);
     Vector values(locally_owned_dofs, mpi_communicator);
     VectorTools::interpolate(dof_handler, *f, values);

@@ -71,6 +71,7 @@ namespace ContactStefan
     void setup_thermal_system();
     void setup_nodal_enthalpy_laws();
     void setup_boundary_and_source_functions();
+    std::unique_ptr<Function<dim>> exact_function() const;
     void assemble_cell_conductivities();
     void assemble_heat_load(const double time);
     void make_dirichlet_constraints(const double time);

@@ -113,9 +113,11 @@ namespace ContactStefan
     // A closed-form solution the run is compared against.
     struct ExactSolution
     {
-      // "none" or "neumann": the Neumann similarity solution of the body's
-      // (multi-)phase Stefan problem on x > x0, melting from x = x0.
+      // "none"; "neumann": the Neumann similarity solution of the body's
+      // (multi-)phase Stefan problem on x > x0, melting from x = x0; "function":
+      // a given Theta(x, y, t), e.g. a manufactured or steady solution.
       std::string  type;
+      std::string  function;
       unsigned int body;
       double       hot_temperature, cold_temperature, origin;
 
