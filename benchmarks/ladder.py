@@ -33,6 +33,8 @@ COLUMNS = [
     ("relative space-time L2 error temperature", "rel L2L2", "{:>10.3e}", True),
     ("max-norm error temperature", "max err", "{:>10.3e}", True),
     ("front position error in mesh widths", "front/h", "{:>8.3f}", False),
+    ("front position error in mesh widths 0", "front0/h", "{:>8.3f}", False),
+    ("front position error in mesh widths 1", "front1/h", "{:>8.3f}", False),
     ("max energy-balance residual", "energy res", "{:>10.1e}", False),
 ]
 
