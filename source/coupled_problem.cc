@@ -78,7 +78,6 @@ namespace ContactStefan
     accumulate_errors(0);
     EnthalpyStepReport initial;
     write_statistics_row(0, initial);
-    write_statistics_file();
     if (prm.output.vtu_interval > 0)
       output_vtu(0);
 
@@ -125,7 +124,6 @@ namespace ContactStefan
         max_energy_residual = std::max(max_energy_residual, report.energy_residual);
         accumulate_errors(time_step);
         write_statistics_row(step_number, report);
-        write_statistics_file();
         if (prm.output.vtu_interval > 0 &&
             (step_number % prm.output.vtu_interval == 0 || time >= end))
           output_vtu(step_number);

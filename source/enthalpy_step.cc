@@ -256,17 +256,7 @@ namespace ContactStefan
           pcout << "      relaxation " << m << ": max enthalpy change " << change << std::endl;
         if (change <= prm.solver.relaxation_tolerance * h_scale)
           {
-            for (const auto dof : locally_owned_dofs)
-              {
-                temperature[dof] = law(dof).temperature(enthalpy[dof]);
-                phase_state[dof] = law(dof).state_of_enthalpy(enthalpy[dof]);
-              }
-            temperature.compress(VectorOperation::insert);
-            phase_state.compress(VectorOperation::insert);
-            hanging_node_constraints.distribute(temperature);
-            temperature_ghosted = temperature;
-            enthalpy_ghosted    = enthalpy;
-            phase_state_ghosted = phase_state;
+            set_nodal_state_from_enthalpy();
             return m;
           }
       }

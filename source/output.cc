@@ -12,6 +12,7 @@
 #include <contact-stefan/coupled_problem.h>
 
 #include <cstdio>
+#include <stdexcept>
 #include <fstream>
 #include <iomanip>
 
@@ -82,55 +83,37 @@ namespace ContactStefan
 
 
 
+  // The statistics table: a header line, then one line per step, appended and
+  // flushed as soon as the step is done, so that an interrupted run leaves every
+  // finished step on disk and a long run costs O(1) per step. Only rank 0 writes.
   template <int dim>
   void CoupledProblem<dim>::write_statistics_row(const unsigned int        step,
                                                  const EnthalpyStepReport &report)
   {
-    statistics.add_value("step", step);
-    statistics.add_value("time", time);
-    statistics.add_value("dofs", static_cast<unsigned int>(dof_handler.n_dofs()));
-    statistics.add_value("pdas_iterations", report.active_set_iterations);
-    statistics.add_value("state_changes", report.state_changes);
-    statistics.add_value("damped_steps", report.damped_steps);
-    statistics.add_value("fallback_iterations", report.relaxation_iterations);
-    statistics.add_value("plateau_nodes", report.plateau_nodes);
     // Melt area: lumped-mass weighted liquid fraction, i.e. the fraction through
     // the last transition of each node's own law.
     double area = 0;
     for (const auto dof : locally_owned_dofs)
       if (!hanging_node_constraints.is_constrained(dof))
         area += lumped_mass[dof] * law(dof).liquid_fraction(enthalpy[dof]);
-    statistics.add_value("liquid_area", Utilities::MPI::sum(area, mpi_communicator));
-    statistics.add_value("energy_residual", report.energy_residual);
-    statistics.add_value("wall_time", wall_clock.wall_time());
-    for (const std::string &c : {"time", "liquid_area"})
-      {
-        statistics.set_scientific(c, true);
-        statistics.set_precision(c, 10);
-      }
-    statistics.set_scientific("energy_residual", true);
-    statistics.set_precision("energy_residual", 2);
-    statistics.set_precision("wall_time", 3);
-  }
-
-
-
-  // The table is rewritten after every step through a temporary file, so that an
-  // interrupted run leaves a complete table of the steps it finished.
-  template <int dim>
-  void CoupledProblem<dim>::write_statistics_file() const
-  {
+    area = Utilities::MPI::sum(area, mpi_communicator);
     if (Utilities::MPI::this_mpi_process(mpi_communicator) != 0)
       return;
+
     const std::string path = prm.output.directory + "/" + prm.output.statistics_file;
-    {
-      std::ofstream out(path + ".tmp");
-      statistics.write_text(out, TableHandler::table_with_headers);
-      if (!out)
-        throw std::runtime_error("cannot write '" + path + ".tmp'");
-    }
-    if (std::rename((path + ".tmp").c_str(), path.c_str()) != 0)
-      throw std::runtime_error("cannot rename '" + path + ".tmp' to '" + path + "'");
+    std::ofstream     out(path, step == 0 ? std::ios::trunc : std::ios::app);
+    char              line[512];
+    if (step == 0)
+      out << "step time dofs pdas_iterations state_changes damped_steps fallback_iterations "
+             "plateau_nodes liquid_area energy_residual wall_time\n";
+    std::snprintf(line, sizeof(line), "%u %.10e %u %u %u %u %u %u %.10e %.2e %.3f\n", step,
+                  time, static_cast<unsigned int>(dof_handler.n_dofs()),
+                  report.active_set_iterations, report.state_changes, report.damped_steps,
+                  report.relaxation_iterations, report.plateau_nodes, area,
+                  report.energy_residual, wall_clock.wall_time());
+    out << line << std::flush;
+    if (!out)
+      throw std::runtime_error("cannot write '" + path + "'");
   }
 
 

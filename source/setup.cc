@@ -487,14 +487,24 @@ namespace ContactStefan
     VectorTools::interpolate(dof_handler, *f, values);
 
     for (const auto dof : locally_owned_dofs)
-      {
-        const EnthalpyLaw &l = law(dof);
-        const double       h = ic.variable == "temperature" ? l.enthalpy(values[dof]) : values[dof];
-        enthalpy[dof]        = h;
-        temperature[dof]     = l.temperature(h);
-        phase_state[dof]     = l.state_of_enthalpy(h);
-      }
+      enthalpy[dof] =
+        ic.variable == "temperature" ? law(dof).enthalpy(values[dof]) : values[dof];
     enthalpy.compress(VectorOperation::insert);
+    set_nodal_state_from_enthalpy();
+  }
+
+
+
+  // Theta = beta(h) and the phase state of every owned node from its enthalpy,
+  // then the ghost exchange of all three.
+  template <int dim>
+  void CoupledProblem<dim>::set_nodal_state_from_enthalpy()
+  {
+    for (const auto dof : locally_owned_dofs)
+      {
+        temperature[dof] = law(dof).temperature(enthalpy[dof]);
+        phase_state[dof] = law(dof).state_of_enthalpy(enthalpy[dof]);
+      }
     temperature.compress(VectorOperation::insert);
     phase_state.compress(VectorOperation::insert);
     hanging_node_constraints.distribute(temperature);

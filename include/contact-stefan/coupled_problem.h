@@ -15,7 +15,6 @@
 #include <deal.II/base/conditional_ostream.h>
 #include <deal.II/base/function.h>
 #include <deal.II/base/index_set.h>
-#include <deal.II/base/table_handler.h>
 #include <deal.II/base/timer.h>
 
 #include <deal.II/distributed/tria.h>
@@ -76,6 +75,7 @@ namespace ContactStefan
     void assemble_heat_load(const double time);
     void make_dirichlet_constraints(const double time);
     void set_initial_condition();
+    void set_nodal_state_from_enthalpy();
 
     // --- enthalpy_step.cc -------------------------------------------------
     EnthalpyStepReport solve_enthalpy_step();
@@ -94,7 +94,6 @@ namespace ContactStefan
     // --- output.cc --------------------------------------------------------
     void   output_vtu(const unsigned int step);
     void   write_statistics_row(const unsigned int step, const EnthalpyStepReport &report);
-    void   write_statistics_file() const;
     void   accumulate_errors(const double tau);
     void   print_results();
     double liquid_area(const double transition_temperature) const;
@@ -161,7 +160,6 @@ namespace ContactStefan
 
     // Statistics and accumulated errors.
     double last_l2_error = 0, last_l2_norm = 0, last_max_error = 0;
-    TableHandler statistics;
     double       space_time_error_squared = 0, space_time_norm_squared = 0;
     double       max_energy_residual      = 0;
     unsigned int total_active_set_iterations = 0, steps_with_fallback = 0;
