@@ -51,10 +51,17 @@ namespace ContactStefan
   void CoupledProblem<dim>::run()
   {
     wall_clock.restart();
+    const bool thermal = prm.physics.thermal, mechanics = prm.physics.mechanics;
+    time               = prm.time.start_time;
     make_mesh();
-    setup_thermal_system();
-    setup_nodal_enthalpy_laws();
-    setup_boundary_and_source_functions();
+    if (thermal)
+      {
+        setup_thermal_system();
+        setup_nodal_enthalpy_laws();
+        setup_boundary_and_source_functions();
+      }
+    if (mechanics)
+      setup_mechanical_system();
 
     double width = 0;
     for (const auto &cell : triangulation.active_cell_iterators())
@@ -62,22 +69,27 @@ namespace ContactStefan
         width = std::max(width, cell->extent_in_direction(0));
     mesh_width = Utilities::MPI::max(width, mpi_communicator);
 
-    pcout << "Thermal: " << prm.body_ids.size() << " body(ies); "
-          << (phase_change_present ?
-                "phase change on: primal-dual active set on the nodal phase states" :
-                "no phase change: the enthalpy step is one linear solve")
-          << "; conductivity "
-          << (conductivity_depends_on_phase ? "depends on the phase (re-assembled each step)" :
-                                              "constant (assembled once)")
-          << "; heat load " << (heat_load_present ? "on" : "off (skipped)") << std::endl
-          << "Mechanics: off (no contact step, no displacement DoFs)" << std::endl;
+    if (thermal)
+      pcout << "Thermal: " << prm.body_ids.size() << " body(ies); "
+            << (phase_change_present ?
+                  "phase change on: primal-dual active set on the nodal phase states" :
+                  "no phase change: the enthalpy step is one linear solve")
+            << "; conductivity "
+            << (conductivity_depends_on_phase ? "depends on the phase (re-assembled each step)" :
+                                                "constant (assembled once)")
+            << "; heat load " << (heat_load_present ? "on" : "off (skipped)") << std::endl;
+    else
+      pcout << "Thermal: off (no enthalpy step, no temperature DoFs)" << std::endl;
+    if (!mechanics)
+      pcout << "Mechanics: off (no contact step, no displacement DoFs)" << std::endl;
 
-    time = prm.time.start_time;
-    set_initial_condition();
-    assemble_cell_conductivities();
-    accumulate_errors(0);
-    EnthalpyStepReport initial;
-    write_statistics_row(0, initial);
+    if (thermal)
+      {
+        set_initial_condition();
+        assemble_cell_conductivities();
+        accumulate_errors(0);
+      }
+    write_statistics_row(0, EnthalpyStepReport(), ContactStepReport());
     if (prm.output.vtu_interval > 0)
       output_vtu(0);
 
@@ -94,52 +106,79 @@ namespace ContactStefan
         time += time_step;
         ++step_number;
 
-        // Warm start of the active set: the phase states of the enthalpy
-        // extrapolated linearly from the last two steps (the previous step's
-        // states on the first step). A front moving at a steady speed then
-        // starts each step with the node it is about to reach already on its
-        // plateau, and the active-set iteration usually needs one solve.
-        if (step_number > 1 && prm.solver.extrapolate_active_set)
+        // Contact step (DESIGN.md section 2, step 1).
+        ContactStepReport contact_report;
+        if (mechanics)
           {
-            const double ratio = time_step / previous_time_step;
-            for (const auto dof : locally_owned_dofs)
-              {
-                const double h_predicted =
-                  enthalpy[dof] + ratio * (enthalpy[dof] - old_enthalpy[dof]);
-                phase_state[dof] = law(dof).state_of_enthalpy(h_predicted);
-              }
-            phase_state.compress(VectorOperation::insert);
-            phase_state_ghosted = phase_state;
+            contact_report = solve_contact_step();
+            total_contact_iterations += contact_report.iterations;
+            max_contact_iterations = std::max(max_contact_iterations, contact_report.iterations);
+            if (step_number == 1)
+              first_contact_iterations = contact_report.iterations;
+            last_contact_report = contact_report;
           }
-        old_enthalpy = enthalpy;
-        if (conductivity_depends_on_phase)
-          assemble_cell_conductivities();
-        assemble_heat_load(time);
-        make_dirichlet_constraints(time);
-        const EnthalpyStepReport report = solve_enthalpy_step();
-        previous_time_step               = time_step;
 
-        total_active_set_iterations += report.active_set_iterations;
-        steps_with_fallback += (report.relaxation_iterations > 0);
-        max_energy_residual = std::max(max_energy_residual, report.energy_residual);
-        accumulate_errors(time_step);
-        write_statistics_row(step_number, report);
+        // Enthalpy step (step 2).
+        EnthalpyStepReport report;
+        if (thermal)
+          {
+            // Warm start of the active set: the phase states of the enthalpy
+            // extrapolated linearly from the last two steps (the previous step's
+            // states on the first step). A front moving at a steady speed then
+            // starts each step with the node it is about to reach already on its
+            // plateau, and the active-set iteration usually needs one solve.
+            if (step_number > 1 && prm.solver.extrapolate_active_set)
+              {
+                const double ratio = time_step / previous_time_step;
+                for (const auto dof : locally_owned_dofs)
+                  {
+                    const double h_predicted =
+                      enthalpy[dof] + ratio * (enthalpy[dof] - old_enthalpy[dof]);
+                    phase_state[dof] = law(dof).state_of_enthalpy(h_predicted);
+                  }
+                phase_state.compress(VectorOperation::insert);
+                phase_state_ghosted = phase_state;
+              }
+            old_enthalpy = enthalpy;
+            if (conductivity_depends_on_phase)
+              assemble_cell_conductivities();
+            assemble_heat_load(time);
+            make_dirichlet_constraints(time);
+            report = solve_enthalpy_step();
+
+            total_active_set_iterations += report.active_set_iterations;
+            steps_with_fallback += (report.relaxation_iterations > 0);
+            max_energy_residual = std::max(max_energy_residual, report.energy_residual);
+            accumulate_errors(time_step);
+          }
+        previous_time_step = time_step;
+
+        write_statistics_row(step_number, report, contact_report);
         if (prm.output.vtu_interval > 0 &&
             (step_number % prm.output.vtu_interval == 0 || time >= end))
           output_vtu(step_number);
 
         const double done    = (time - prm.time.start_time) / span;
         const double elapsed = wall_clock.wall_time();
-        char         line[200];
-        std::snprintf(line, sizeof(line),
-                      "Step %5u  t = %.5e  tau = %.3e  %5.1f%%  active set %2u  plateau %6u"
-                      "  wall %7.2f s  left ~%7.2f s",
-                      step_number, time, time_step, 100 * done, report.active_set_iterations,
-                      report.plateau_nodes, elapsed, elapsed * (1 - done) / done);
+        char         line[256];
+        int          length = std::snprintf(line, sizeof(line), "Step %5u  t = %.5e  tau = %.3e  %5.1f%%",
+                                   step_number, time, time_step, 100 * done);
+        if (mechanics)
+          length += std::snprintf(line + length, sizeof(line) - length, "  contact %2u (%u active)",
+                                  contact_report.iterations, contact_report.active_nodes);
+        if (thermal)
+          length += std::snprintf(line + length, sizeof(line) - length, "  active set %2u  plateau %6u",
+                                  report.active_set_iterations, report.plateau_nodes);
+        std::snprintf(line + length, sizeof(line) - length, "  wall %7.2f s  left ~%7.2f s", elapsed,
+                      elapsed * (1 - done) / done);
         pcout << line << std::endl;
       }
 
-    print_results();
+    if (thermal)
+      print_results();
+    if (mechanics)
+      print_mechanical_results();
+    pcout << "RESULT wall time = " << wall_clock.wall_time() << std::endl;
     timer.print_wall_time_statistics(mpi_communicator);
   }
 

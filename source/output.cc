@@ -9,8 +9,14 @@
 #include <deal.II/numerics/data_out.h>
 #include <deal.II/fe/fe_values.h>
 
+#include <deal.II/hp/fe_values.h>
+#include <deal.II/hp/q_collection.h>
+
+#include <contact-stefan/contact.h>
+
 #include <contact-stefan/coupled_problem.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <stdexcept>
 #include <fstream>
@@ -88,30 +94,71 @@ namespace ContactStefan
   // finished step on disk and a long run costs O(1) per step. Only rank 0 writes.
   template <int dim>
   void CoupledProblem<dim>::write_statistics_row(const unsigned int        step,
-                                                 const EnthalpyStepReport &report)
+                                                 const EnthalpyStepReport &report,
+                                                 const ContactStepReport  &contact_report)
   {
     // Melt area: lumped-mass weighted liquid fraction, i.e. the fraction through
     // the last transition of each node's own law.
     double area = 0;
-    for (const auto dof : locally_owned_dofs)
-      if (!hanging_node_constraints.is_constrained(dof))
-        area += lumped_mass[dof] * law(dof).liquid_fraction(enthalpy[dof]);
-    area = Utilities::MPI::sum(area, mpi_communicator);
+    if (prm.physics.thermal)
+      {
+        for (const auto dof : locally_owned_dofs)
+          if (!hanging_node_constraints.is_constrained(dof))
+            area += lumped_mass[dof] * law(dof).liquid_fraction(enthalpy[dof]);
+        area = Utilities::MPI::sum(area, mpi_communicator);
+      }
     if (Utilities::MPI::this_mpi_process(mpi_communicator) != 0)
       return;
 
     const std::string path = prm.output.directory + "/" + prm.output.statistics_file;
     std::ofstream     out(path, step == 0 ? std::ios::trunc : std::ios::app);
-    char              line[512];
+    char              field[64];
+    const auto        add = [&](const char *format, const auto value) {
+      std::snprintf(field, sizeof(field), format, value);
+      out << ' ' << field;
+    };
     if (step == 0)
-      out << "step time dofs pdas_iterations state_changes damped_steps fallback_iterations "
-             "plateau_nodes liquid_area energy_residual wall_time\n";
-    std::snprintf(line, sizeof(line), "%u %.10e %u %u %u %u %u %u %.10e %.2e %.3f\n", step,
-                  time, static_cast<unsigned int>(dof_handler.n_dofs()),
-                  report.active_set_iterations, report.state_changes, report.damped_steps,
-                  report.relaxation_iterations, report.plateau_nodes, area,
-                  report.energy_residual, wall_clock.wall_time());
-    out << line << std::flush;
+      {
+        out << "step time";
+        if (prm.physics.thermal)
+          out << " dofs pdas_iterations state_changes damped_steps fallback_iterations "
+                 "plateau_nodes liquid_area energy_residual";
+        if (prm.physics.mechanics)
+          {
+            out << " displacement_dofs contact_iterations active_nodes";
+            for (std::string group : contact_groups)
+              {
+                std::replace(group.begin(), group.end(), ' ', '_');
+                out << " force_" << group;
+              }
+            out << " max_pressure";
+          }
+        out << " wall_time\n";
+      }
+    out << step;
+    add("%.10e", time);
+    if (prm.physics.thermal)
+      {
+        add("%u", static_cast<unsigned int>(dof_handler.n_dofs()));
+        add("%u", report.active_set_iterations);
+        add("%u", report.state_changes);
+        add("%u", report.damped_steps);
+        add("%u", report.relaxation_iterations);
+        add("%u", report.plateau_nodes);
+        add("%.10e", area);
+        add("%.2e", report.energy_residual);
+      }
+    if (prm.physics.mechanics)
+      {
+        add("%u", static_cast<unsigned int>(mechanical_dof_handler.n_dofs()));
+        add("%u", contact_report.iterations);
+        add("%u", contact_report.active_nodes);
+        for (const auto &group : contact_groups)
+          add("%.10e", contact_report.forces.count(group) ? contact_report.forces.at(group) : 0.);
+        add("%.10e", contact_report.max_pressure);
+      }
+    add("%.3f", wall_clock.wall_time());
+    out << std::endl;
     if (!out)
       throw std::runtime_error("cannot write '" + path + "'");
   }
@@ -206,7 +253,125 @@ namespace ContactStefan
             result("front position error in mesh widths" + suffix, std::abs(s_h - s) / mesh_width);
           }
       }
-    result("wall time", wall_clock.wall_time());
+  }
+
+
+
+  // Contact results; with an exact solution (Hertz, patch test) its errors.
+  template <int dim>
+  void CoupledProblem<dim>::print_mechanical_results()
+  {
+    using Kind        = NormalCondition::Kind;
+    const auto result = [&](const std::string &name, const double value) {
+      pcout << "RESULT " << name << " = " << std::setprecision(10) << value << std::endl;
+    };
+    result("displacement dofs", mechanical_dof_handler.n_dofs());
+    result("contact iterations first step", first_contact_iterations);
+    result("max contact iterations", max_contact_iterations);
+    result("mean contact iterations",
+           step_number > 0 ? double(total_contact_iterations) / step_number : 0.);
+    result("active contact nodes", last_contact_report.active_nodes);
+    for (const auto &[group, force] : last_contact_report.forces)
+      result("contact force " + group, force);
+    result("max contact pressure", last_contact_report.max_pressure);
+
+    const auto &exact = prm.exact_solution;
+    if (exact.type == "hertz")
+      {
+        // The contact nodes of the obstacle: position, pressure and weight.
+        std::vector<std::array<double, 3>> local;
+        double                             local_force = 0;
+        for (const auto &c : normal_conditions)
+          if (c.kind == Kind::obstacle && mechanical_owned.is_element(c.dofs_k[0]))
+            {
+              const bool active = obstacle_active[c.dofs_k[0]] > 0.5;
+              local.push_back({c.position[0], active ? contact_pressure[c.dofs_k[0]] : 0., c.weight});
+              local_force += active ? contact_pressure[c.dofs_k[0]] * c.weight : 0.;
+            }
+        const double P      = Utilities::MPI::sum(local_force, mpi_communicator);
+        const double E_star = prm.materials.at(exact.body).plane_strain_modulus();
+        const Contact::Hertz hertz(P, exact.cylinder_radius, E_star);
+        double contact_length = 0, p0 = 0, error2 = 0, norm2 = 0;
+        for (const auto &[x, p, w] : local)
+          {
+            contact_length += (p > 0 ? w : 0.);
+            p0 = std::max(p0, p);
+            error2 += w * (p - hertz.pressure(x)) * (p - hertz.pressure(x));
+            norm2 += w * hertz.pressure(x) * hertz.pressure(x);
+          }
+        contact_length = Utilities::MPI::sum(contact_length, mpi_communicator);
+        p0             = Utilities::MPI::max(p0, mpi_communicator);
+        error2         = Utilities::MPI::sum(error2, mpi_communicator);
+        norm2          = Utilities::MPI::sum(norm2, mpi_communicator);
+        // The computed half-width is half the lumped length of the active nodes.
+        const double a = 0.5 * contact_length;
+        result("Hertz force P", P);
+        result("Hertz half-width", a);
+        result("Hertz exact half-width", hertz.half_width);
+        result("Hertz half-width relative error", std::abs(a - hertz.half_width) / hertz.half_width);
+        result("Hertz peak pressure", p0);
+        result("Hertz exact peak pressure", hertz.peak_pressure);
+        result("Hertz peak pressure relative error",
+               std::abs(p0 - hertz.peak_pressure) / hertz.peak_pressure);
+        result("Hertz pressure profile relative L2 error", std::sqrt(error2 / norm2));
+        double spacing = HUGE_VAL;
+        for (const auto &c : normal_conditions)
+          if (c.kind == Kind::obstacle)
+            spacing = std::min(spacing, c.weight);
+        result("contact mesh width", Utilities::MPI::min(spacing, mpi_communicator));
+      }
+    if (exact.type == "patch")
+      {
+        // Uniform stress sigma_yy = -E* delta / H when the interface closes
+        // (delta >= gap), zero otherwise; every interface node in contact.
+        const double E_star  = prm.materials.at(exact.body).plane_strain_modulus();
+        double gap = -HUGE_VAL; // the (constant) interface gap
+        for (const auto &c : normal_conditions)
+          if (c.kind == Kind::interface)
+            gap = std::max(gap, c.gap);
+        gap = Utilities::MPI::max(gap, mpi_communicator);
+        const bool   closed  = exact.patch_displacement >= gap;
+        const double sigma_y = closed ? -E_star * (exact.patch_displacement - gap) / exact.patch_height : 0.;
+        const double scale   = closed ? std::abs(sigma_y) : E_star * exact.patch_displacement / exact.patch_height;
+        double       stress_error = 0, pressure_error = 0, min_gap = HUGE_VAL;
+        unsigned int interface_nodes = 0, active = 0;
+        const QMidpoint<dim>       midpoint;
+        hp::QCollection<dim>       q(midpoint);
+        hp::FEValues<dim>          hp_fe_values(mechanical_fe, q, update_gradients);
+        for (const auto &cell : mechanical_dof_handler.active_cell_iterators())
+          if (cell->is_locally_owned())
+            {
+              hp_fe_values.reinit(cell);
+              const auto &fv = hp_fe_values.get_present_fe_values();
+              std::vector<std::vector<Tensor<1, dim>>> grads(1, std::vector<Tensor<1, dim>>(fv.get_fe().n_components()));
+              fv.get_function_gradients(displacement_ghosted, grads);
+              const unsigned int      slot = body_slot.at(cell->material_id());
+              SymmetricTensor<2, dim> strain;
+              for (unsigned int i = 0; i < dim; ++i)
+                for (unsigned int j = i; j < dim; ++j)
+                  strain[i][j] = 0.5 * (grads[0][slot * dim + i][j] + grads[0][slot * dim + j][i]);
+              const SymmetricTensor<2, dim> sigma =
+                prm.materials.at(cell->material_id()).elasticity_tensor() * strain;
+              stress_error = std::max({stress_error, std::abs(sigma[0][0]), std::abs(sigma[0][1]),
+                                       std::abs(sigma[1][1] - sigma_y)});
+            }
+        for (const auto &c : normal_conditions)
+          if (c.kind == Kind::interface && mechanical_owned.is_element(c.dofs_k[0]))
+            {
+              ++interface_nodes;
+              active += interface_active[c.dofs_k[0]] > 0.5;
+              pressure_error = std::max(pressure_error, std::abs(static_cast<double>(contact_pressure[c.dofs_k[0]]) - std::abs(sigma_y)));
+              min_gap        = std::min(min_gap, static_cast<double>(contact_gap[c.dofs_k[0]]));
+            }
+        result("patch exact sigma_yy", sigma_y);
+        result("patch stress relative error",
+               Utilities::MPI::max(stress_error, mpi_communicator) / scale);
+        result("patch pressure relative error",
+               Utilities::MPI::max(pressure_error, mpi_communicator) / scale);
+        result("patch interface nodes", Utilities::MPI::sum(interface_nodes, mpi_communicator));
+        result("patch interface nodes active", Utilities::MPI::sum(active, mpi_communicator));
+        result("patch min interface gap", Utilities::MPI::min(min_gap, mpi_communicator));
+      }
   }
 
 

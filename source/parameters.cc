@@ -68,7 +68,7 @@ namespace ContactStefan
     {
       if (expression == "exact")
         {
-          require(exact_allowed, path, "'exact' needs 'Exact solution/Type' other than none");
+          require(exact_allowed, path, "'exact' needs 'Exact solution/Type' = neumann or function");
           return;
         }
       // muparser reports syntax errors on std::cerr before deal.II throws; the
@@ -113,6 +113,10 @@ namespace ContactStefan
     std::string boundary_section(const unsigned int id)
     {
       return "Thermal boundary " + std::to_string(id);
+    }
+    std::string mechanical_section(const unsigned int id)
+    {
+      return "Mechanical boundary " + std::to_string(id);
     }
   } // namespace
 
@@ -203,8 +207,19 @@ namespace ContactStefan
                         "conductivity tensor of phase p is k_p * K.");
       prm.declare_entry("Heat source", "0", Patterns::Anything(),
                         "Volumetric heat source Q (W/m^3), function of x, y, t.");
+      prm.declare_entry("Elasticity", "isotropic", Patterns::Selection("isotropic|lame|anisotropic"),
+                        "How the elasticity tensor (plane strain) is given: 'isotropic' by "
+                        "Youngs modulus and Poisson ratio, 'lame' by Lame lambda and mu, "
+                        "'anisotropic' by the Elasticity tensor in Voigt form.");
       prm.declare_entry("Youngs modulus", "1", Patterns::Double(), "E (Pa), > 0.");
       prm.declare_entry("Poisson ratio", "0.3", Patterns::Double(), "nu, in (-1, 0.5).");
+      prm.declare_entry("Lame lambda", "1", Patterns::Double(), "lambda (Pa), > -2 mu / 3.");
+      prm.declare_entry("Lame mu", "1", Patterns::Double(), "mu (Pa), > 0.");
+      prm.declare_entry("Elasticity tensor", "1, 0, 0, 1, 0, 1", Patterns::Anything(),
+                        "Voigt form C11, C12, C16, C22, C26, C66 (Pa) with the order xx, yy, xy "
+                        "and engineering shear strain; must be positive definite.");
+      prm.declare_entry("Body force", "0; 0", Patterns::Anything(),
+                        "f_x; f_y (N/m^3), functions of x, y, t separated by ';'.");
       prm.declare_entry("Thermal expansion", "0", Patterns::Double(),
                         "Linear expansion coefficient alpha (1/K), >= 0.");
 
@@ -237,13 +252,43 @@ namespace ContactStefan
       heat_source = prm.get("Heat source");
       check_function(heat_source, path + "/Heat source", false);
 
+      elasticity        = prm.get("Elasticity");
       youngs_modulus    = prm.get_double("Youngs modulus");
       poisson_ratio     = prm.get_double("Poisson ratio");
+      lame_lambda       = prm.get_double("Lame lambda");
+      lame_mu           = prm.get_double("Lame mu");
       thermal_expansion = prm.get_double("Thermal expansion");
-      require(youngs_modulus > 0, path + "/Youngs modulus", "must be > 0");
-      require(poisson_ratio > -1 && poisson_ratio < 0.5, path + "/Poisson ratio",
-              "must lie in (-1, 0.5), got " + str(poisson_ratio));
+      voigt = parse_doubles(prm.get("Elasticity tensor"), path + "/Elasticity tensor");
+      if (elasticity == "isotropic")
+        {
+          require(youngs_modulus > 0, path + "/Youngs modulus", "must be > 0, got " + str(youngs_modulus));
+          require(poisson_ratio > -1 && poisson_ratio < 0.5, path + "/Poisson ratio",
+                  "must lie in (-1, 0.5), got " + str(poisson_ratio));
+        }
+      else if (elasticity == "lame")
+        {
+          require(lame_mu > 0, path + "/Lame mu", "must be > 0, got " + str(lame_mu));
+          require(lame_lambda > -2 * lame_mu / 3, path + "/Lame lambda",
+                  "must exceed -2 mu / 3, got " + str(lame_lambda));
+        }
+      else
+        {
+          require(voigt.size() == 6, path + "/Elasticity tensor", "needs C11, C12, C16, C22, C26, C66");
+          // Positive definite 3x3 (Sylvester's criterion).
+          const double d1 = voigt[0], d2 = voigt[0] * voigt[3] - voigt[1] * voigt[1];
+          const double d3 = voigt[0] * (voigt[3] * voigt[5] - voigt[4] * voigt[4]) -
+                            voigt[1] * (voigt[1] * voigt[5] - voigt[4] * voigt[2]) +
+                            voigt[2] * (voigt[1] * voigt[4] - voigt[3] * voigt[2]);
+          require(d1 > 0 && d2 > 0 && d3 > 0, path + "/Elasticity tensor", "must be positive definite");
+        }
       require(thermal_expansion >= 0, path + "/Thermal expansion", "must be >= 0");
+      const auto f = Utilities::split_string_list(prm.get("Body force"), ';');
+      require(f.size() == 2, path + "/Body force", "needs two functions separated by ';'");
+      for (unsigned int d = 0; d < 2; ++d)
+        {
+          body_force[d] = f[d];
+          check_function(f[d], path + "/Body force", false);
+        }
 
       prm.enter_subsection("Phase change");
       const std::string pc = path + "/Phase change/";
@@ -274,6 +319,53 @@ namespace ContactStefan
               "needs one value per phase (" + std::to_string(n + 1) + ") or a single value");
     }
 
+    SymmetricTensor<4, 2> BodyMaterial::elasticity_tensor() const
+    {
+      SymmetricTensor<4, 2> C;
+      if (elasticity == "anisotropic")
+        {
+          // Voigt index of (i, j): xx -> 0, yy -> 1, xy -> 2.
+          const double V[3][3] = {{voigt[0], voigt[1], voigt[2]},
+                                  {voigt[1], voigt[3], voigt[4]},
+                                  {voigt[2], voigt[4], voigt[5]}};
+          const unsigned int index[2][2] = {{0, 2}, {2, 1}};
+          for (unsigned int i = 0; i < 2; ++i)
+            for (unsigned int j = i; j < 2; ++j)
+              for (unsigned int k = 0; k < 2; ++k)
+                for (unsigned int l = k; l < 2; ++l)
+                  C[i][j][k][l] = V[index[i][j]][index[k][l]];
+          return C;
+        }
+      const double lambda =
+        elasticity == "lame" ? lame_lambda :
+                               youngs_modulus * poisson_ratio /
+                                 ((1 + poisson_ratio) * (1 - 2 * poisson_ratio));
+      const double mu = elasticity == "lame" ? lame_mu : youngs_modulus / (2 * (1 + poisson_ratio));
+      for (unsigned int i = 0; i < 2; ++i)
+        for (unsigned int j = i; j < 2; ++j)
+          for (unsigned int k = 0; k < 2; ++k)
+            for (unsigned int l = k; l < 2; ++l)
+              C[i][j][k][l] = (i == j && k == l ? lambda : 0.) +
+                              mu * ((i == k && j == l ? 1. : 0.) + (i == l && j == k ? 1. : 0.));
+      return C;
+    }
+
+    double BodyMaterial::plane_strain_modulus() const
+    {
+      if (elasticity == "isotropic")
+        return youngs_modulus / (1 - poisson_ratio * poisson_ratio);
+      if (elasticity == "lame")
+        {
+          const double E  = lame_mu * (3 * lame_lambda + 2 * lame_mu) / (lame_lambda + lame_mu);
+          const double nu = lame_lambda / (2 * (lame_lambda + lame_mu));
+          return E / (1 - nu * nu);
+        }
+      // Uniaxial plane-strain stiffness in y with free x: C22 - C12^2 / C11.
+      return voigt[3] - voigt[1] * voigt[1] / voigt[0];
+    }
+
+
+
     EnthalpyLaw BodyMaterial::enthalpy_law() const
     {
       std::vector<double> rho_L, rho_c;
@@ -303,6 +395,109 @@ namespace ContactStefan
 
 
 
+    void MechanicalBoundary::declare(ParameterHandler &prm)
+    {
+      prm.declare_entry("Type", "traction",
+                        Patterns::Selection("displacement|traction|roller|obstacle"),
+                        "'displacement': u = Value on the selected Components; 'traction': "
+                        "sigma n = Value (Pa); 'roller': u.n = 0 with averaged nodal normals "
+                        "(any orientation), tangentially free; 'obstacle': frictionless "
+                        "contact with a rigid obstacle, u.n <= Gap along the outward normal.");
+      prm.declare_entry("Components", "x, y", Patterns::MultipleSelection("x|y"),
+                        "Displacement: which components are prescribed.");
+      prm.declare_entry("Value", "0; 0", Patterns::Anything(),
+                        "Displacement (m) or traction (Pa): two functions of x, y, t "
+                        "separated by ';'.");
+      prm.declare_entry("Gap", "0", Patterns::Anything(),
+                        "Obstacle: the normal distance g(x, y, t) (m) from the boundary to "
+                        "the obstacle; negative values are an imposed penetration.");
+    }
+
+    void MechanicalBoundary::parse(ParameterHandler &prm, const std::string &path)
+    {
+      const std::string t = prm.get("Type");
+      type = t == "displacement" ? Type::displacement :
+             t == "traction"     ? Type::traction :
+             t == "roller"       ? Type::roller :
+                                   Type::obstacle;
+      const std::string c = prm.get("Components");
+      components[0]       = c.find('x') != std::string::npos;
+      components[1]       = c.find('y') != std::string::npos;
+      const auto v        = Utilities::split_string_list(prm.get("Value"), ';');
+      require(v.size() == 2, path + "/Value", "needs two functions separated by ';'");
+      for (unsigned int d = 0; d < 2; ++d)
+        {
+          value[d] = v[d];
+          check_function(v[d], path + "/Value", false);
+        }
+      gap = prm.get("Gap");
+      check_function(gap, path + "/Gap", false);
+      require(type != Type::displacement || components[0] || components[1],
+              path + "/Components", "a displacement condition needs at least one component");
+    }
+
+
+
+    void Contact::declare(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Contact");
+      prm.declare_entry("Interfaces", "contact", Patterns::Selection("contact|tied"),
+                        "Where two bodies share faces: 'contact' makes the interface a "
+                        "frictionless Signorini contact, 'tied' glues the bodies.");
+      prm.declare_entry("Interface gap", "0", Patterns::Anything(),
+                        "Initial normal gap g(x, y, t) (m) of contact interfaces.");
+      prm.declare_entry("Complementarity constant", "1", Patterns::Double(0),
+                        "c of the active-set test lambda + c d > 0, in units of the diagonal "
+                        "stiffness of the node's normal displacement (so 1 balances force and "
+                        "gap); > 0. The fixed point does not depend on it.");
+      prm.declare_entry("Max iterations", "50", Patterns::Integer(1),
+                        "Limit of active-set iterations per contact step; reaching it is an error.");
+      prm.declare_entry("Tolerance", "1e-10", Patterns::Double(0),
+                        "Activity test threshold, relative to the largest |lambda| + c |d| of "
+                        "the step: guards against round-off flipping grazing nodes.");
+      prm.declare_entry("Max set repetitions", "1", Patterns::Integer(1),
+                        "Cycling guard: when an active set recurs this often, c is divided by "
+                        "ten (the dual update then dominates) and the count restarts.");
+      prm.leave_subsection();
+    }
+
+    void Contact::parse(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Contact");
+      interfaces               = prm.get("Interfaces");
+      interface_gap            = prm.get("Interface gap");
+      complementarity_constant = prm.get_double("Complementarity constant");
+      max_iterations           = prm.get_integer("Max iterations");
+      tolerance                = prm.get_double("Tolerance");
+      max_set_repetitions      = prm.get_integer("Max set repetitions");
+      prm.leave_subsection();
+      check_function(interface_gap, "Contact/Interface gap", false);
+      require(complementarity_constant > 0, "Contact/Complementarity constant", "must be > 0");
+    }
+
+
+
+    void Physics::declare(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Physics");
+      prm.declare_entry("Thermal", "true", Patterns::Bool(),
+                        "Solve the heat (enthalpy) equation. Off: no temperature DoFs at all.");
+      prm.declare_entry("Mechanics", "false", Patterns::Bool(),
+                        "Solve the elasticity/contact problem. Off: no displacement DoFs at all.");
+      prm.leave_subsection();
+    }
+
+    void Physics::parse(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Physics");
+      thermal   = prm.get_bool("Thermal");
+      mechanics = prm.get_bool("Mechanics");
+      prm.leave_subsection();
+      require(thermal || mechanics, "Physics/Thermal", "at least one of Thermal and Mechanics must be on");
+    }
+
+
+
     void InitialCondition::declare(ParameterHandler &prm)
     {
       prm.enter_subsection("Initial conditions");
@@ -328,13 +523,20 @@ namespace ContactStefan
     void ExactSolution::declare(ParameterHandler &prm)
     {
       prm.enter_subsection("Exact solution");
-      prm.declare_entry("Type", "none", Patterns::Selection("none|neumann|function"),
+      prm.declare_entry("Type", "none", Patterns::Selection("none|neumann|function|hertz|patch"),
                         "'neumann': the similarity solution of the (multi-)phase Stefan "
                         "problem of one body's material on x > Origin with Theta = Hot "
                         "temperature at x = Origin and Cold temperature initially (a "
                         "rectangle; front positions are reported too). 'function': the "
-                        "temperature given by Function. Errors against it are reported as "
-                        "RESULT lines.");
+                        "temperature given by Function. 'hertz': a rigid cylinder of Cylinder "
+                        "radius pressed into body Body through its obstacle boundary (the "
+                        "Hertz half-plane solution for the computed force). 'patch': the C2 "
+                        "two-block patch test (height Patch height, top pushed down by Patch "
+                        "displacement). Errors against it are reported as RESULT lines.");
+      prm.declare_entry("Cylinder radius", "1", Patterns::Double(0), "Hertz: R (m).");
+      prm.declare_entry("Patch height", "1", Patterns::Double(0), "Patch test: total height H (m).");
+      prm.declare_entry("Patch displacement", "0", Patterns::Double(),
+                        "Patch test: downward displacement delta of the top (m).");
       prm.declare_entry("Function", "0", Patterns::Anything(),
                         "Type = function: the exact temperature, a function of x, y, t.");
       prm.declare_entry("Body", "0", Patterns::Integer(0, 255),
@@ -356,6 +558,9 @@ namespace ContactStefan
       hot_temperature  = prm.get_double("Hot temperature");
       cold_temperature = prm.get_double("Cold temperature");
       origin           = prm.get_double("Origin");
+      cylinder_radius    = prm.get_double("Cylinder radius");
+      patch_height       = prm.get_double("Patch height");
+      patch_displacement = prm.get_double("Patch displacement");
       prm.leave_subsection();
     }
 
@@ -499,8 +704,11 @@ namespace ContactStefan
 
   void AllParameters::declare(ParameterHandler                &prm,
                               const std::vector<unsigned int> &body_ids,
-                              const std::vector<unsigned int> &thermal_boundary_ids)
+                              const std::vector<unsigned int> &thermal_boundary_ids,
+                              const std::vector<unsigned int> &mechanical_boundary_ids)
   {
+    Parameters::Physics::declare(prm);
+    Parameters::Contact::declare(prm);
     Parameters::Geometry::declare(prm);
 
     prm.enter_subsection("Bodies");
@@ -529,6 +737,15 @@ namespace ContactStefan
         Parameters::ThermalBoundary::declare(prm);
         prm.leave_subsection();
       }
+    prm.declare_entry("Mechanical boundaries", "", Patterns::Anything(),
+                      "Boundary ids with a mechanical condition, each with a 'Mechanical "
+                      "boundary N' subsection; all other boundaries are traction free.");
+    for (const unsigned int id : mechanical_boundary_ids)
+      {
+        prm.enter_subsection(mechanical_section(id));
+        Parameters::MechanicalBoundary::declare(prm);
+        prm.leave_subsection();
+      }
     prm.leave_subsection();
 
     Parameters::InitialCondition::declare(prm);
@@ -543,7 +760,7 @@ namespace ContactStefan
 
   void AllParameters::declare_defaults(ParameterHandler &prm)
   {
-    declare(prm, {0}, {0});
+    declare(prm, {0}, {0}, {0});
   }
 
 
@@ -559,10 +776,10 @@ namespace ContactStefan
     const std::string prm_directory = slash == std::string::npos ? "" : filename.substr(0, slash + 1);
 
     // Pass 1, lenient: which bodies and thermal boundaries are there?
-    std::vector<unsigned int> thermal_ids;
+    std::vector<unsigned int> thermal_ids, mechanical_ids;
     {
       ParameterHandler prm;
-      declare(prm, {}, {});
+      declare(prm, {}, {}, {});
       try
         {
           prm.parse_input(filename, "", true);
@@ -579,12 +796,15 @@ namespace ContactStefan
       const std::string t = prm.get("Thermal boundaries");
       thermal_ids = t.empty() ? std::vector<unsigned int>() :
                                 parse_ids(t, "Boundary conditions/Thermal boundaries");
+      const std::string m = prm.get("Mechanical boundaries");
+      mechanical_ids = m.empty() ? std::vector<unsigned int>() :
+                                   parse_ids(m, "Boundary conditions/Mechanical boundaries");
       prm.leave_subsection();
     }
 
     // Pass 2, strict: every entry must be declared and match its pattern.
     ParameterHandler prm;
-    declare(prm, body_ids, thermal_ids);
+    declare(prm, body_ids, thermal_ids, mechanical_ids);
     try
       {
         prm.parse_input(filename, "", false);
@@ -596,7 +816,7 @@ namespace ContactStefan
 
     geometry.parse(prm, prm_directory);
     exact_solution.parse(prm);
-    const bool exact = exact_solution.type != "none";
+    const bool exact = exact_solution.type == "neumann" || exact_solution.type == "function";
 
     prm.enter_subsection("Materials");
     for (const unsigned int id : body_ids)
@@ -616,7 +836,15 @@ namespace ContactStefan
         check_function(thermal_boundaries[id].value, path + "/Value", exact);
         prm.leave_subsection();
       }
+    for (const unsigned int id : mechanical_ids)
+      {
+        prm.enter_subsection(mechanical_section(id));
+        mechanical_boundaries[id].parse(prm, "Boundary conditions/" + mechanical_section(id));
+        prm.leave_subsection();
+      }
     prm.leave_subsection();
+    physics.parse(prm);
+    contact.parse(prm);
 
     initial_condition.parse(prm);
     check_function(initial_condition.function, "Initial conditions/Function", exact);
@@ -635,6 +863,15 @@ namespace ContactStefan
                 " layer interfaces has bodies 0.." +
                 std::to_string(geometry.layer_interfaces.size()));
 
+    if (exact_solution.type == "hertz" || exact_solution.type == "patch")
+      require(physics.mechanics, "Exact solution/Type",
+              "'" + exact_solution.type + "' needs Physics/Mechanics = true");
+    if (exact_solution.type == "neumann" || exact_solution.type == "function")
+      require(physics.thermal, "Exact solution/Type",
+              "'" + exact_solution.type + "' needs Physics/Thermal = true");
+    if (exact_solution.type == "hertz" || exact_solution.type == "patch")
+      require(materials.count(exact_solution.body) == 1, "Exact solution/Body",
+              "body " + std::to_string(exact_solution.body) + " is not in Bodies/Body ids");
     if (exact_solution.type == "function")
       check_function(exact_solution.function, "Exact solution/Function", false);
     if (exact_solution.type == "neumann")

@@ -23,6 +23,8 @@
 
 #include <deal.II/fe/fe_q.h>
 
+#include <deal.II/hp/fe_collection.h>
+
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
@@ -34,6 +36,9 @@
 #include <contact-stefan/parameters.h>
 
 #include <algorithm>
+#include <array>
+#include <cstdint>
+#include <string>
 #include <functional>
 #include <map>
 #include <memory>
@@ -52,6 +57,40 @@ namespace ContactStefan
     unsigned int plateau_nodes         = 0;
     unsigned int state_changes         = 0; // summed over the iterations
     double       energy_residual       = 0; // relative, see compute_energy_balance()
+  };
+
+  // What one contact step did.
+  struct ContactStepReport
+  {
+    unsigned int iterations   = 0;
+    unsigned int active_nodes = 0; // obstacle and interface nodes in contact
+    unsigned int changes      = 0; // summed over the iterations
+    unsigned int c_reductions = 0; // cycling remedies applied
+    double       max_pressure = 0;
+    // Total compressive normal force per obstacle boundary / interface.
+    std::map<std::string, double> forces;
+  };
+
+  // A node with a normal condition: a roller (u.n = 0), a rigid obstacle
+  // (u.n <= g) or a contact interface between bodies k and l
+  // ((u_k - u_l).n <= g, n pointing out of body k, k the smaller body id).
+  struct NormalCondition
+  {
+    enum class Kind
+    {
+      roller,
+      interface,
+      obstacle
+    } kind;
+    std::string                   group; // "boundary N" or "interface k-l"
+    unsigned int                  boundary_id; // roller and obstacle nodes
+    Point<2>                      position;
+    std::array<std::uint64_t, 2>  dofs_k, dofs_l;
+    bool                          has_partner;
+    std::array<double, 2>         normal;
+    double                        weight;
+    double                        stiffness; // normal diagonal of the stiffness matrix
+    double                        gap = 0;   // g at the current time
   };
 
   template <int dim>
@@ -77,6 +116,23 @@ namespace ContactStefan
     void set_initial_condition();
     void set_nodal_state_from_enthalpy();
 
+    // --- mechanics.cc -----------------------------------------------------
+    void setup_mechanical_system();
+    void assemble_cell_stiffness();
+    void assemble_mechanical_load(const double time);
+    void make_fixed_mechanical_constraints(const double time);
+    void find_normal_conditions();
+    void check_bodies_are_held() const;
+
+    // --- contact_step.cc --------------------------------------------------
+    ContactStepReport solve_contact_step();
+    void              build_contact_constraints(unsigned int &n_skipped);
+    void              assemble_mechanical_system();
+    void              solve_mechanical_linear_system();
+    void              compute_mechanical_residual(Vector &residual) const;
+    void              update_condition_gaps();
+    double            normal_displacement_jump(const NormalCondition &c) const;
+
     // --- enthalpy_step.cc -------------------------------------------------
     EnthalpyStepReport solve_enthalpy_step();
     void               assemble_enthalpy_system(const bool assemble_matrix);
@@ -93,7 +149,10 @@ namespace ContactStefan
 
     // --- output.cc --------------------------------------------------------
     void   output_vtu(const unsigned int step);
-    void   write_statistics_row(const unsigned int step, const EnthalpyStepReport &report);
+    void   write_statistics_row(const unsigned int        step,
+                                const EnthalpyStepReport &report,
+                                const ContactStepReport  &contact_report);
+    void   print_mechanical_results();
     void   accumulate_errors(const double tau);
     void   print_results();
     double liquid_area(const double transition_temperature) const;
@@ -143,6 +202,30 @@ namespace ContactStefan
     std::vector<LocalMatrix>            cell_conductivity;
     std::vector<dealii::Vector<double>> cell_mass, cell_load;
 
+    // --- Mechanics: displacement on an hp DoFHandler whose element on body b is
+    // FE_Q(1)^dim in body b's slot of components and FE_Nothing elsewhere, so
+    // that each body has its own displacement on an interface. -----------------
+    hp::FECollection<dim>                 mechanical_fe;
+    DoFHandler<dim>                       mechanical_dof_handler;
+    IndexSet                              mechanical_owned, mechanical_relevant;
+    std::map<unsigned int, unsigned int>  body_slot; // material id -> slot
+    AffineConstraints<double>             mechanical_hanging, mechanical_fixed, mechanical_constraints;
+    TrilinosWrappers::SparseMatrix        mechanical_matrix;
+    Vector                                mechanical_rhs, mechanical_load, stiffness_diagonal;
+    Vector                                displacement, displacement_ghosted;
+    std::vector<LocalMatrix>              cell_stiffness;
+    std::vector<dealii::Vector<double>>   cell_mechanical_load;
+    bool                                  mechanical_load_present = false;
+    std::vector<NormalCondition>          normal_conditions;
+    std::vector<std::string>              contact_groups; // on every rank, sorted
+    // Active flags (1 or 0) at the x DoF of side k, owned and ghosted, for the
+    // obstacle and the interface conditions.
+    Vector obstacle_active, obstacle_active_ghosted, interface_active, interface_active_ghosted;
+    // Nodal contact pressure and gap for output (at the x DoF of side k).
+    Vector contact_pressure, contact_gap;
+    double complementarity_scale = 1; // divided by 10 per cycling remedy
+    ContactStepReport last_contact_report;
+
     // Data functions of x, y, t.
     std::map<unsigned int, std::unique_ptr<Function<dim>>> boundary_functions;
     std::map<unsigned int, std::unique_ptr<Function<dim>>> heat_sources;
@@ -163,6 +246,7 @@ namespace ContactStefan
     double       space_time_error_squared = 0, space_time_norm_squared = 0;
     double       max_energy_residual      = 0;
     unsigned int total_active_set_iterations = 0, steps_with_fallback = 0;
+    unsigned int total_contact_iterations = 0, max_contact_iterations = 0, first_contact_iterations = 0;
   };
 } // namespace ContactStefan
 

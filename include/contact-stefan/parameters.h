@@ -14,6 +14,7 @@
 
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/point.h>
+#include <deal.II/base/symmetric_tensor.h>
 
 #include <contact-stefan/enthalpy_law.h>
 
@@ -67,8 +68,16 @@ namespace ContactStefan
       std::vector<double> conductivities;          // n+1 (or 1: the same in all phases)
       double              anisotropy[3];           // k_xx, k_xy, k_yy of the shape tensor
       std::string         heat_source;             // W/m^3, function of x, y, t
-      // Elastic data, checked here; they load the contact step.
-      double youngs_modulus, poisson_ratio, thermal_expansion;
+      // Elastic data (plane strain): isotropic by (E, nu) or Lame (lambda, mu),
+      // or a general anisotropic tensor in Voigt form; thermal expansion alpha.
+      std::string         elasticity;
+      double              youngs_modulus, poisson_ratio, lame_lambda, lame_mu;
+      std::vector<double> voigt; // C11, C12, C16, C22, C26, C66
+      double              thermal_expansion;
+      std::string         body_force[2];
+      // The elasticity tensor C_ijkl and, for isotropic data, E and nu.
+      SymmetricTensor<4, 2> elasticity_tensor() const;
+      double                plane_strain_modulus() const; // E / (1 - nu^2), or C22 fallback
 
       EnthalpyLaw enthalpy_law() const;
       double      conductivity(const unsigned int phase) const
@@ -98,6 +107,49 @@ namespace ContactStefan
       void        parse(ParameterHandler &prm, const std::string &path);
     };
 
+    struct MechanicalBoundary
+    {
+      // displacement: u_c = Value_c for the selected components; traction:
+      // sigma n = Value; roller: u.n = 0 (averaged nodal normals, any
+      // orientation); obstacle: frictionless contact with a rigid obstacle,
+      // u.n <= Gap along the outward normal.
+      enum class Type
+      {
+        displacement,
+        traction,
+        roller,
+        obstacle
+      } type;
+      bool        components[2];
+      std::string value[2];
+      std::string gap;
+
+      static void declare(ParameterHandler &prm);
+      void        parse(ParameterHandler &prm, const std::string &path);
+    };
+
+    struct Contact
+    {
+      // Where two bodies share faces: "contact" (frictionless Signorini) or "tied".
+      std::string  interfaces;
+      std::string  interface_gap;
+      double       complementarity_constant;
+      unsigned int max_iterations;
+      double       tolerance;
+      unsigned int max_set_repetitions;
+
+      static void declare(ParameterHandler &prm);
+      void        parse(ParameterHandler &prm);
+    };
+
+    struct Physics
+    {
+      bool thermal, mechanics;
+
+      static void declare(ParameterHandler &prm);
+      void        parse(ParameterHandler &prm);
+    };
+
     struct InitialCondition
     {
       // "temperature": Theta(x, 0); on a transition temperature a node starts at the
@@ -120,6 +172,9 @@ namespace ContactStefan
       std::string  function;
       unsigned int body;
       double       hot_temperature, cold_temperature, origin;
+      // "hertz": a rigid cylinder of this radius; "patch": two stacked blocks of
+      // total height H pushed down by delta (the C2 patch test).
+      double       cylinder_radius, patch_height, patch_displacement;
 
       static void declare(ParameterHandler &prm);
       void        parse(ParameterHandler &prm);
@@ -179,6 +234,9 @@ namespace ContactStefan
     std::vector<unsigned int>                          body_ids;
     std::map<unsigned int, Parameters::BodyMaterial>   materials;
     std::map<unsigned int, Parameters::ThermalBoundary> thermal_boundaries;
+    std::map<unsigned int, Parameters::MechanicalBoundary> mechanical_boundaries;
+    Parameters::Contact                                contact;
+    Parameters::Physics                                physics;
     Parameters::InitialCondition                       initial_condition;
     Parameters::ExactSolution                          exact_solution;
     Parameters::TimeStepping                           time;
@@ -189,7 +247,8 @@ namespace ContactStefan
     // Declare everything for the given body and boundary lists.
     static void declare(ParameterHandler                &prm,
                         const std::vector<unsigned int> &body_ids,
-                        const std::vector<unsigned int> &thermal_boundary_ids);
+                        const std::vector<unsigned int> &thermal_boundary_ids,
+                        const std::vector<unsigned int> &mechanical_boundary_ids);
 
     // Read and check a parameter file; throws InputError.
     void read(const std::string &filename);

@@ -1,0 +1,95 @@
+#include <contact-stefan/contact.h>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace ContactStefan
+{
+  namespace Contact
+  {
+    void NormalAccumulator::add_face(const Vector2 &a, const Vector2 &b, const Vector2 &inside)
+    {
+      const double tx = b[0] - a[0], ty = b[1] - a[1];
+      const double length = std::sqrt(tx * tx + ty * ty);
+      // (ty, -tx) is perpendicular to the face; flip it to point away from the cell.
+      double       nx = ty, ny = -tx;
+      const double mx = 0.5 * (a[0] + b[0]) - inside[0], my = 0.5 * (a[1] + b[1]) - inside[1];
+      if (nx * mx + ny * my < 0)
+        {
+          nx = -nx;
+          ny = -ny;
+        }
+      // |(nx, ny)| = length, so this adds the unit normal times the length.
+      sum[0] += nx;
+      sum[1] += ny;
+      lumped_weight += 0.5 * length;
+    }
+
+
+
+    Vector2 NormalAccumulator::normal() const
+    {
+      const double norm = std::sqrt(sum[0] * sum[0] + sum[1] * sum[1]);
+      if (!(norm > 0))
+        throw std::runtime_error("a contact node has no well-defined normal (opposite faces cancel)");
+      return {{sum[0] / norm, sum[1] / norm}};
+    }
+
+
+
+    ConstraintRow normal_constraint(const std::array<std::uint64_t, 2> &dofs_k,
+                                    const std::array<std::uint64_t, 2> *dofs_l,
+                                    const Vector2                      &n,
+                                    const double                        gap,
+                                    const unsigned int                  c,
+                                    const bool                          on_partner)
+    {
+      // n.u_k - n.u_l = g. Solving for u_k[c]:
+      //   u_k[c] = g/n_c - (n_o/n_c) u_k[o] + (n_x/n_c) u_l[x] + (n_y/n_c) u_l[y];
+      // solving for u_l[c]:
+      //   u_l[c] = -g/n_c + (n_x/n_c) u_k[x] + (n_y/n_c) u_k[y] - (n_o/n_c) u_l[o].
+      const unsigned int o = 1 - c;
+      if (n[c] == 0)
+        throw std::logic_error("normal_constraint: the target component has n_c = 0");
+      ConstraintRow row;
+      if (!on_partner)
+        {
+          row.target        = dofs_k[c];
+          row.inhomogeneity = gap / n[c];
+          if (n[o] != 0)
+            row.entries.emplace_back(dofs_k[o], -n[o] / n[c]);
+          if (dofs_l)
+            for (unsigned int d = 0; d < 2; ++d)
+              if (n[d] != 0)
+                row.entries.emplace_back((*dofs_l)[d], n[d] / n[c]);
+        }
+      else
+        {
+          if (!dofs_l)
+            throw std::logic_error("normal_constraint: no partner to solve for");
+          row.target        = (*dofs_l)[c];
+          row.inhomogeneity = -gap / n[c];
+          for (unsigned int d = 0; d < 2; ++d)
+            if (n[d] != 0)
+              row.entries.emplace_back(dofs_k[d], n[d] / n[c]);
+          if (n[o] != 0)
+            row.entries.emplace_back((*dofs_l)[o], -n[o] / n[c]);
+        }
+      return row;
+    }
+
+
+
+    Hertz::Hertz(const double P, const double R, const double E_star)
+      : half_width(std::sqrt(4 * P * R / (M_PI * E_star)))
+      , peak_pressure(half_width > 0 ? 2 * P / (M_PI * half_width) : 0.)
+    {}
+
+    double Hertz::pressure(const double x) const
+    {
+      if (std::abs(x) >= half_width)
+        return 0.;
+      return peak_pressure * std::sqrt(1 - x * x / (half_width * half_width));
+    }
+  } // namespace Contact
+} // namespace ContactStefan

@@ -1,0 +1,321 @@
+// The contact step: linear elasticity with frictionless Signorini conditions on
+// rigid obstacles and between bodies, solved by the primal-dual active-set method.
+//
+// For a guess of the active set every active node is the linear constraint
+// n.(u_k - u_l) = g (n.u_k = g at an obstacle), written in AffineConstraints by
+// solving for the displacement component with the larger |n_c| (as deal.II's
+// normal-flux constraints do), on top of the hanging-node, Dirichlet, tied and
+// roller constraints; where that component is taken the other one is used, then
+// (interfaces) the partner's. The constrained linear system is assembled from
+// cached cell matrices and solved. The compressive normal force of each node is
+// read off the residual of the unconstrained system, lambda = -n.(K u - f)_k, and
+// the node is active next iteration if lambda + c d > 0, with d = n.(u_k - u_l) - g
+// and c the complementarity constant times the node's normal stiffness. The
+// iteration stops when the set does not change. It starts from the previous
+// step's set (warm start). If an active set recurs, c is divided by ten, which
+// makes the update follow the multipliers more than the gaps and breaks the cycle.
+#include <deal.II/base/function_parser.h>
+
+#include <deal.II/lac/solver_cg.h>
+#include <deal.II/lac/solver_control.h>
+#include <deal.II/lac/trilinos_precondition.h>
+#include <deal.II/lac/trilinos_solver.h>
+
+#include <contact-stefan/contact.h>
+#include <contact-stefan/coupled_problem.h>
+
+#include <cmath>
+#include <map>
+#include <set>
+
+namespace ContactStefan
+{
+  // The gap g of every obstacle and interface node at the current time.
+  template <int dim>
+  void CoupledProblem<dim>::update_condition_gaps()
+  {
+    std::map<std::string, std::unique_ptr<FunctionParser<dim>>> functions;
+    for (auto &c : normal_conditions)
+      {
+        if (c.kind == NormalCondition::Kind::roller)
+          continue;
+        auto &g = functions[c.group];
+        if (!g)
+          {
+            g = std::make_unique<FunctionParser<dim>>(1);
+            g->initialize("x,y,t",
+                          c.kind == NormalCondition::Kind::obstacle ? prm.mechanical_boundaries.at(c.boundary_id).gap :
+                                                                      prm.contact.interface_gap,
+                          {{"pi", numbers::PI}}, true);
+            g->set_time(time);
+          }
+        c.gap = g->value(c.position);
+      }
+  }
+
+
+
+  // n.(u_k - u_l), or n.u_k without a partner (ghosted displacement).
+  template <int dim>
+  double CoupledProblem<dim>::normal_displacement_jump(const NormalCondition &c) const
+  {
+    double jump = 0;
+    for (unsigned int d = 0; d < dim; ++d)
+      jump += c.normal[d] * (displacement_ghosted[c.dofs_k[d]] -
+                             (c.has_partner ? displacement_ghosted[c.dofs_l[d]] : 0.));
+    return jump;
+  }
+
+
+
+  template <int dim>
+  void CoupledProblem<dim>::build_contact_constraints(unsigned int &n_skipped)
+  {
+    mechanical_constraints.clear();
+    mechanical_constraints.reinit(mechanical_relevant);
+    mechanical_constraints.merge(mechanical_fixed);
+    n_skipped = 0;
+    for (const auto &c : normal_conditions)
+        {
+          const bool is_interface = c.kind == NormalCondition::Kind::interface;
+          if (c.kind == NormalCondition::Kind::roller ||
+              (is_interface && prm.contact.interfaces == "tied"))
+            continue;
+          const Vector &active = is_interface ? interface_active_ghosted : obstacle_active_ghosted;
+          if (active[c.dofs_k[0]] < 0.5)
+            continue;
+          // Candidates: side k's components by decreasing |n_c|, then the partner's.
+          std::vector<std::pair<unsigned int, bool>> candidates;
+          const unsigned int major = std::abs(c.normal[1]) > std::abs(c.normal[0]) ? 1 : 0;
+          for (const bool partner : {false, true})
+            if (!partner || c.has_partner)
+              for (const unsigned int comp : {major, 1 - major})
+                candidates.emplace_back(comp, partner);
+          bool placed = false;
+          for (const auto &[comp, partner] : candidates)
+            {
+              const auto target = partner ? c.dofs_l[comp] : c.dofs_k[comp];
+              if (c.normal[comp] == 0 || mechanical_constraints.is_constrained(target))
+                continue;
+              const auto row = Contact::normal_constraint(c.dofs_k, c.has_partner ? &c.dofs_l : nullptr,
+                                                          c.normal, c.gap, comp, partner);
+              mechanical_constraints.add_line(row.target);
+              for (const auto &[dof, coefficient] : row.entries)
+                mechanical_constraints.add_entry(row.target, dof, coefficient);
+              mechanical_constraints.set_inhomogeneity(row.target, row.inhomogeneity);
+              placed = true;
+              break;
+            }
+          n_skipped += !placed;
+        }
+    mechanical_constraints.close();
+  }
+
+
+
+  template <int dim>
+  void CoupledProblem<dim>::assemble_mechanical_system()
+  {
+    TimerOutput::Scope t(timer, "contact step: assemble");
+    mechanical_matrix = 0;
+    mechanical_rhs    = 0;
+    for (const auto &cell : mechanical_dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const unsigned int                   n = cell->get_fe().n_dofs_per_cell();
+          std::vector<types::global_dof_index> dofs(n);
+          cell->get_dof_indices(dofs);
+          const unsigned int     index = cell->active_cell_index();
+          dealii::Vector<double> rhs(n);
+          if (mechanical_load_present)
+            rhs = cell_mechanical_load[index];
+          mechanical_constraints.distribute_local_to_global(cell_stiffness[index], rhs, dofs,
+                                                            mechanical_matrix, mechanical_rhs);
+        }
+    mechanical_matrix.compress(VectorOperation::add);
+    mechanical_rhs.compress(VectorOperation::add);
+  }
+
+
+
+  template <int dim>
+  void CoupledProblem<dim>::solve_mechanical_linear_system()
+  {
+    TimerOutput::Scope t(timer, "contact step: linear solve");
+    if (prm.solver.linear_solver == "direct")
+      {
+        SolverControl                                  control(1, 0);
+        TrilinosWrappers::SolverDirect::AdditionalData data(prm.output.verbosity >= 2,
+                                                            prm.solver.direct_solver_type);
+        TrilinosWrappers::SolverDirect                 solver(control, data);
+        solver.solve(mechanical_matrix, displacement, mechanical_rhs);
+      }
+    else
+      {
+        SolverControl control(prm.solver.cg_max_iterations,
+                              prm.solver.cg_tolerance * mechanical_rhs.l2_norm());
+        TrilinosWrappers::PreconditionAMG                 amg;
+        TrilinosWrappers::PreconditionAMG::AdditionalData data;
+        data.elliptic = true;
+        amg.initialize(mechanical_matrix, data);
+        SolverCG<Vector> cg(control);
+        cg.solve(mechanical_matrix, displacement, mechanical_rhs, amg);
+      }
+    mechanical_constraints.distribute(displacement);
+    displacement_ghosted = displacement;
+  }
+
+
+
+  // residual = K u - f, unconstrained (hanging nodes condensed): the nodal
+  // contact forces on the contact nodes and the reactions on Dirichlet nodes.
+  template <int dim>
+  void CoupledProblem<dim>::compute_mechanical_residual(Vector &residual) const
+  {
+    residual = 0;
+    for (const auto &cell : mechanical_dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const unsigned int                   n = cell->get_fe().n_dofs_per_cell();
+          std::vector<types::global_dof_index> dofs(n);
+          cell->get_dof_indices(dofs);
+          dealii::Vector<double> u(n), r(n);
+          for (unsigned int i = 0; i < n; ++i)
+            u(i) = displacement_ghosted[dofs[i]];
+          cell_stiffness[cell->active_cell_index()].vmult(r, u);
+          if (mechanical_load_present)
+            r -= cell_mechanical_load[cell->active_cell_index()];
+          mechanical_hanging.distribute_local_to_global(r, dofs, residual);
+        }
+    residual.compress(VectorOperation::add);
+  }
+
+
+
+  template <int dim>
+  ContactStepReport CoupledProblem<dim>::solve_contact_step()
+  {
+    using Kind = NormalCondition::Kind;
+    ContactStepReport report;
+    assemble_mechanical_load(time);
+    make_fixed_mechanical_constraints(time);
+    update_condition_gaps();
+
+    Vector                   residual(mechanical_owned, mpi_communicator);
+    std::map<std::uint64_t, unsigned int> seen_sets; // hash of an active set -> visits
+    for (unsigned int it = 1;; ++it)
+      {
+        if (it > prm.contact.max_iterations)
+          throw std::runtime_error("the contact step did not converge in 'Contact/Max iterations' = " +
+                                   std::to_string(prm.contact.max_iterations) +
+                                   " iterations at t = " + std::to_string(time));
+        unsigned int skipped = 0;
+        build_contact_constraints(skipped);
+        assemble_mechanical_system();
+        solve_mechanical_linear_system();
+        compute_mechanical_residual(residual);
+        report.iterations = it;
+
+        // Multipliers, gap violations and the scale of the activity test.
+        struct Decision
+        {
+          const NormalCondition *c;
+          double                 lambda, d, c_eff;
+        };
+        std::vector<Decision> decisions;
+        double                local_scale = 0, max_penetration = 0;
+        for (const auto &c : normal_conditions)
+          if (c.kind != Kind::roller && !(c.kind == Kind::interface && prm.contact.interfaces == "tied") &&
+              mechanical_owned.is_element(c.dofs_k[0]))
+            {
+              double lambda = 0;
+              for (unsigned int d = 0; d < dim; ++d)
+                lambda -= c.normal[d] * residual[c.dofs_k[d]];
+              const double d     = normal_displacement_jump(c) - c.gap;
+              const double c_eff = prm.contact.complementarity_constant * complementarity_scale * c.stiffness;
+              decisions.push_back({&c, lambda, d, c_eff});
+              local_scale     = std::max(local_scale, std::abs(lambda) + c_eff * std::abs(d));
+              max_penetration = std::max(max_penetration, d);
+            }
+        const double tolerance =
+          prm.contact.tolerance * Utilities::MPI::max(local_scale, mpi_communicator);
+
+        unsigned int  local_changes = 0, local_active = 0;
+        std::uint64_t local_hash    = 0;
+        double        local_min_lambda = HUGE_VAL;
+        for (const auto &dec : decisions)
+          {
+            Vector    &active     = dec.c->kind == Kind::interface ? interface_active : obstacle_active;
+            const bool was_active = active[dec.c->dofs_k[0]] > 0.5;
+            const bool now_active = Contact::is_active(dec.lambda, dec.d, dec.c_eff, tolerance);
+            if (was_active)
+              local_min_lambda = std::min(local_min_lambda, dec.lambda);
+            if (now_active != was_active)
+              {
+                active[dec.c->dofs_k[0]] = now_active ? 1. : 0.;
+                ++local_changes;
+              }
+            if (now_active)
+              {
+                ++local_active;
+                // Order-independent hash of the set: sum of mixed node keys.
+                std::uint64_t key = dec.c->dofs_k[0] * 2 + (dec.c->kind == Kind::interface);
+                key ^= key >> 33;
+                key *= 0xff51afd7ed558ccdULL;
+                key ^= key >> 33;
+                local_hash += key;
+              }
+          }
+        obstacle_active.compress(VectorOperation::insert);
+        interface_active.compress(VectorOperation::insert);
+        obstacle_active_ghosted  = obstacle_active;
+        interface_active_ghosted = interface_active;
+        const unsigned int changes = Utilities::MPI::sum(local_changes, mpi_communicator);
+        report.active_nodes        = Utilities::MPI::sum(local_active, mpi_communicator);
+        report.changes += changes;
+        const std::uint64_t set_hash = Utilities::MPI::sum(local_hash, mpi_communicator);
+
+        if (prm.output.verbosity >= 1)
+          pcout << "      contact " << it << ": " << report.active_nodes << " active, " << changes
+                << " changes, max penetration " << Utilities::MPI::max(max_penetration, mpi_communicator)
+                << ", min active lambda " << Utilities::MPI::min(local_min_lambda, mpi_communicator)
+                << (skipped > 0 ? ", " + std::to_string(skipped) + " conditions without a free DoF" : "")
+                << std::endl;
+
+        if (changes == 0)
+          {
+            // Converged: nodal pressures, gaps and forces for output.
+            contact_pressure = 0;
+            contact_gap      = 0;
+            std::map<std::string, double> forces;
+            double                        max_pressure = 0;
+            for (const auto &dec : decisions)
+              {
+                contact_pressure[dec.c->dofs_k[0]] = dec.lambda / dec.c->weight;
+                contact_gap[dec.c->dofs_k[0]]      = -dec.d;
+                forces[dec.c->group] += dec.lambda;
+                max_pressure = std::max(max_pressure, dec.lambda / dec.c->weight);
+              }
+            contact_pressure.compress(VectorOperation::insert);
+            contact_gap.compress(VectorOperation::insert);
+            for (const auto &group : contact_groups)
+              report.forces[group] = Utilities::MPI::sum(forces[group], mpi_communicator);
+            report.max_pressure = Utilities::MPI::max(max_pressure, mpi_communicator);
+            break;
+          }
+        if (++seen_sets[set_hash] > prm.contact.max_set_repetitions)
+          {
+            complementarity_scale /= 10;
+            ++report.c_reductions;
+            seen_sets.clear();
+            pcout << "   Contact step: active set recurred at t = " << time
+                  << "; complementarity constant divided by 10" << std::endl;
+          }
+      }
+    return report;
+  }
+
+
+
+  template class CoupledProblem<2>;
+} // namespace ContactStefan

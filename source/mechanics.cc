@@ -1,0 +1,498 @@
+// Mechanics set-up: the displacement space, the elasticity operators, the loads,
+// the fixed constraints and the nodes that carry a normal condition.
+//
+// Multibody design (see doc/contact.md): one connected triangulation, the
+// temperature on a scalar FE_Q(1) space, the displacement on an hp DoFHandler
+// whose element on body b is FE_Q(1)^dim in body b's slot of components and
+// FE_Nothing in every other slot (step-46's device). Where two bodies meet, each
+// vertex therefore carries one displacement per body, and the contact condition
+// between the two is a constraint between DoFs of the same vertex, which every
+// MPI rank that sees the vertex can build from its own cells.
+#include <deal.II/base/function_parser.h>
+#include <deal.II/base/quadrature_lib.h>
+
+#include <deal.II/dofs/dof_tools.h>
+
+#include <deal.II/fe/fe_nothing.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/fe_values.h>
+
+#include <deal.II/hp/fe_values.h>
+#include <deal.II/hp/q_collection.h>
+
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/sparsity_tools.h>
+
+#include <deal.II/numerics/vector_tools.h>
+
+#include <contact-stefan/contact.h>
+#include <contact-stefan/coupled_problem.h>
+
+#include <boost/serialization/string.hpp>
+#include <boost/serialization/vector.hpp>
+
+#include <map>
+#include <set>
+#include <tuple>
+
+namespace ContactStefan
+{
+  namespace
+  {
+    // A vector function of x, y, t given per displacement component, replicated
+    // into every body's slot of components.
+    template <int dim>
+    class ReplicatedFunction : public Function<dim>
+    {
+    public:
+      ReplicatedFunction(const std::string (&expressions)[2], const unsigned int n_slots)
+        : Function<dim>(n_slots * dim)
+      {
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            parts[d] = std::make_unique<FunctionParser<dim>>(1);
+            parts[d]->initialize("x,y,t", expressions[d], {{"pi", numbers::PI}}, true);
+          }
+      }
+      double value(const Point<dim> &p, const unsigned int component) const override
+      {
+        parts[component % dim]->set_time(this->get_time());
+        return parts[component % dim]->value(p);
+      }
+
+    private:
+      std::unique_ptr<FunctionParser<dim>> parts[dim];
+    };
+
+    // The DoFs of each vertex of a cell: dofs[v][d] is displacement component d
+    // at cell-local vertex v (the cell's element is FE_Q(1)^dim in one slot).
+    template <int dim>
+    std::array<std::array<types::global_dof_index, dim>, GeometryInfo<dim>::vertices_per_cell>
+    vertex_dofs(const typename DoFHandler<dim>::active_cell_iterator &cell)
+    {
+      const auto                          &fe = cell->get_fe();
+      std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+      cell->get_dof_indices(dofs);
+      std::array<std::array<types::global_dof_index, dim>, GeometryInfo<dim>::vertices_per_cell> result;
+      for (unsigned int i = 0; i < fe.n_dofs_per_cell(); ++i)
+        {
+          const auto [component, vertex] = fe.system_to_component_index(i);
+          result[vertex][component % dim] = dofs[i];
+        }
+      return result;
+    }
+  } // namespace
+
+
+
+  template <int dim>
+  void CoupledProblem<dim>::setup_mechanical_system()
+  {
+    TimerOutput::Scope t(timer, "setup: mechanics");
+    const unsigned int n_slots = prm.body_ids.size();
+    mechanical_dof_handler.reinit(triangulation);
+    body_slot.clear();
+    for (unsigned int s = 0; s < n_slots; ++s)
+      body_slot[prm.body_ids[s]] = s;
+
+    if (mechanical_fe.size() == 0)
+      for (unsigned int b = 0; b < n_slots; ++b)
+        {
+          std::vector<const FiniteElement<dim> *> elements;
+          std::vector<unsigned int>               multiplicities;
+          const FE_Q<dim>                         q1(1);
+          const FE_Nothing<dim>                   nothing;
+          for (unsigned int s = 0; s < n_slots; ++s)
+            {
+              elements.push_back(s == b ? static_cast<const FiniteElement<dim> *>(&q1) : &nothing);
+              multiplicities.push_back(dim);
+            }
+          mechanical_fe.push_back(FESystem<dim>(elements, multiplicities));
+        }
+    for (const auto &cell : mechanical_dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        cell->set_active_fe_index(body_slot.at(cell->material_id()));
+    mechanical_dof_handler.distribute_dofs(mechanical_fe);
+    mechanical_owned = mechanical_dof_handler.locally_owned_dofs();
+    DoFTools::extract_locally_relevant_dofs(mechanical_dof_handler, mechanical_relevant);
+
+    mechanical_hanging.clear();
+    mechanical_hanging.reinit(mechanical_relevant);
+    DoFTools::make_hanging_node_constraints(mechanical_dof_handler, mechanical_hanging);
+    mechanical_hanging.close();
+
+    for (Vector *v : {&mechanical_rhs, &mechanical_load, &displacement, &obstacle_active,
+                      &interface_active, &contact_pressure, &contact_gap})
+      v->reinit(mechanical_owned, mpi_communicator);
+    for (Vector *v : {&displacement_ghosted, &obstacle_active_ghosted, &interface_active_ghosted,
+                      &stiffness_diagonal})
+      v->reinit(mechanical_owned, mechanical_relevant, mpi_communicator);
+
+    assemble_cell_stiffness();
+    find_normal_conditions();
+    make_fixed_mechanical_constraints(time);
+    check_bodies_are_held();
+
+    // The sparsity pattern must hold every system the active-set iteration can
+    // produce: build it with every contact condition active.
+    for (Vector *v : {&obstacle_active, &interface_active})
+      *v = 1.;
+    obstacle_active_ghosted  = obstacle_active;
+    interface_active_ghosted = interface_active;
+    unsigned int skipped     = 0;
+    build_contact_constraints(skipped);
+    DynamicSparsityPattern dsp(mechanical_relevant);
+    DoFTools::make_sparsity_pattern(mechanical_dof_handler, dsp, mechanical_constraints, true);
+    SparsityTools::distribute_sparsity_pattern(dsp, mechanical_owned, mpi_communicator,
+                                               mechanical_relevant);
+    mechanical_matrix.reinit(mechanical_owned, mechanical_owned, dsp, mpi_communicator);
+    // A cold start: no node in contact.
+    for (Vector *v : {&obstacle_active, &interface_active})
+      *v = 0.;
+    obstacle_active_ghosted  = obstacle_active;
+    interface_active_ghosted = interface_active;
+
+    unsigned int n_rollers = 0, n_obstacle = 0, n_interface = 0;
+    for (const auto &c : normal_conditions)
+      if (mechanical_owned.is_element(c.dofs_k[0]))
+        (c.kind == NormalCondition::Kind::roller   ? n_rollers :
+         c.kind == NormalCondition::Kind::obstacle ? n_obstacle :
+                                                     n_interface)++;
+    pcout << "Mechanics: " << mechanical_dof_handler.n_dofs() << " displacement DoFs in "
+          << n_slots << " body(ies); "
+          << Utilities::MPI::sum(n_obstacle, mpi_communicator) << " obstacle, "
+          << Utilities::MPI::sum(n_interface, mpi_communicator) << " interface ("
+          << prm.contact.interfaces << ") and "
+          << Utilities::MPI::sum(n_rollers, mpi_communicator) << " roller nodes" << std::endl;
+  }
+
+
+
+  // The elasticity matrices K_K of all owned cells (assembled once per mesh; the
+  // material is linear) and the diagonal of K, which scales the complementarity
+  // constant per node.
+  template <int dim>
+  void CoupledProblem<dim>::assemble_cell_stiffness()
+  {
+    const hp::QCollection<dim> quadrature(QGauss<dim>(2));
+    hp::FEValues<dim>          hp_fe_values(mechanical_fe, quadrature,
+                                   update_gradients | update_JxW_values);
+    cell_stiffness.assign(triangulation.n_active_cells(), LocalMatrix());
+    Vector diagonal(mechanical_owned, mpi_communicator);
+    std::map<unsigned int, SymmetricTensor<4, dim>> C;
+    for (const auto &[id, m] : prm.materials)
+      C[id] = m.elasticity_tensor();
+
+    for (const auto &cell : mechanical_dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          hp_fe_values.reinit(cell);
+          const FEValues<dim> &fe_values = hp_fe_values.get_present_fe_values();
+          const FEValuesExtractors::Vector u(body_slot.at(cell->material_id()) * dim);
+          const unsigned int               n = cell->get_fe().n_dofs_per_cell();
+          LocalMatrix                     &K = cell_stiffness[cell->active_cell_index()];
+          K.reinit(n, n);
+          const SymmetricTensor<4, dim> &C_cell = C.at(cell->material_id());
+          for (unsigned int q = 0; q < fe_values.n_quadrature_points; ++q)
+            for (unsigned int i = 0; i < n; ++i)
+              {
+                const SymmetricTensor<2, dim> sigma_i = C_cell * fe_values[u].symmetric_gradient(i, q);
+                for (unsigned int j = 0; j < n; ++j)
+                  K(i, j) += sigma_i * fe_values[u].symmetric_gradient(j, q) * fe_values.JxW(q);
+              }
+          std::vector<types::global_dof_index> dofs(n);
+          cell->get_dof_indices(dofs);
+          dealii::Vector<double> d(n);
+          for (unsigned int i = 0; i < n; ++i)
+            d(i) = K(i, i);
+          mechanical_hanging.distribute_local_to_global(d, dofs, diagonal);
+        }
+    diagonal.compress(VectorOperation::add);
+    stiffness_diagonal = diagonal;
+  }
+
+
+
+  // Body forces and tractions at time t: F_K per cell and their condensed sum.
+  template <int dim>
+  void CoupledProblem<dim>::assemble_mechanical_load(const double t)
+  {
+    TimerOutput::Scope t_(timer, "contact step: assemble load");
+    mechanical_load = 0;
+    cell_mechanical_load.assign(triangulation.n_active_cells(), dealii::Vector<double>());
+    mechanical_load_present = false;
+    for (const auto &[id, m] : prm.materials)
+      mechanical_load_present |= (m.body_force[0] != "0" || m.body_force[1] != "0");
+    for (const auto &[id, bc] : prm.mechanical_boundaries)
+      mechanical_load_present |= (bc.type == Parameters::MechanicalBoundary::Type::traction &&
+                                  (bc.value[0] != "0" || bc.value[1] != "0"));
+    if (!mechanical_load_present)
+      return;
+
+    const unsigned int n_slots = prm.body_ids.size();
+    std::map<unsigned int, std::unique_ptr<ReplicatedFunction<dim>>> forces, tractions;
+    for (const auto &[id, m] : prm.materials)
+      {
+        forces[id] = std::make_unique<ReplicatedFunction<dim>>(m.body_force, n_slots);
+        forces[id]->set_time(t);
+      }
+    for (const auto &[id, bc] : prm.mechanical_boundaries)
+      if (bc.type == Parameters::MechanicalBoundary::Type::traction)
+        {
+          tractions[id] = std::make_unique<ReplicatedFunction<dim>>(bc.value, n_slots);
+          tractions[id]->set_time(t);
+        }
+
+    const hp::QCollection<dim>     quadrature(QGauss<dim>(2));
+    const hp::QCollection<dim - 1> face_quadrature(QGauss<dim - 1>(2));
+    hp::FEValues<dim>              hp_fe_values(mechanical_fe, quadrature,
+                                   update_values | update_quadrature_points | update_JxW_values);
+    hp::FEFaceValues<dim>          hp_face_values(mechanical_fe, face_quadrature,
+                                         update_values | update_quadrature_points |
+                                           update_JxW_values);
+    for (const auto &cell : mechanical_dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const unsigned int slot = body_slot.at(cell->material_id());
+          const FEValuesExtractors::Vector u(slot * dim);
+          const unsigned int               n = cell->get_fe().n_dofs_per_cell();
+          dealii::Vector<double>          &F = cell_mechanical_load[cell->active_cell_index()];
+          F.reinit(n);
+          hp_fe_values.reinit(cell);
+          const FEValues<dim> &fe_values = hp_fe_values.get_present_fe_values();
+          const auto          &f         = *forces.at(cell->material_id());
+          for (unsigned int q = 0; q < fe_values.n_quadrature_points; ++q)
+            {
+              Tensor<1, dim> force;
+              for (unsigned int d = 0; d < dim; ++d)
+                force[d] = f.value(fe_values.quadrature_point(q), d);
+              for (unsigned int i = 0; i < n; ++i)
+                F(i) += force * fe_values[u].value(i, q) * fe_values.JxW(q);
+            }
+          for (const unsigned int face : cell->face_indices())
+            if (cell->face(face)->at_boundary() &&
+                tractions.count(cell->face(face)->boundary_id()) == 1)
+              {
+                hp_face_values.reinit(cell, face);
+                const FEFaceValues<dim> &fv = hp_face_values.get_present_fe_values();
+                const auto              &tr = *tractions.at(cell->face(face)->boundary_id());
+                for (unsigned int q = 0; q < fv.n_quadrature_points; ++q)
+                  {
+                    Tensor<1, dim> traction;
+                    for (unsigned int d = 0; d < dim; ++d)
+                      traction[d] = tr.value(fv.quadrature_point(q), d);
+                    for (unsigned int i = 0; i < n; ++i)
+                      F(i) += traction * fv[u].value(i, q) * fv.JxW(q);
+                  }
+              }
+          std::vector<types::global_dof_index> dofs(n);
+          cell->get_dof_indices(dofs);
+          mechanical_hanging.distribute_local_to_global(F, dofs, mechanical_load);
+        }
+    mechanical_load.compress(VectorOperation::add);
+  }
+
+
+
+  // Constraints that do not depend on the contact state, in order of priority:
+  // hanging nodes, prescribed displacements, tied interfaces, rollers. A later
+  // condition never overrides an earlier one on the same DoF; a roller or tie
+  // whose DoFs are all taken already is dropped (a corner with a displacement
+  // condition on both components needs nothing more).
+  template <int dim>
+  void CoupledProblem<dim>::make_fixed_mechanical_constraints(const double t)
+  {
+    mechanical_fixed.clear();
+    mechanical_fixed.reinit(mechanical_relevant);
+    mechanical_fixed.merge(mechanical_hanging);
+    const unsigned int n_slots = prm.body_ids.size();
+    for (const auto &[id, bc] : prm.mechanical_boundaries)
+      if (bc.type == Parameters::MechanicalBoundary::Type::displacement)
+        {
+          ReplicatedFunction<dim> value(bc.value, n_slots);
+          value.set_time(t);
+          std::vector<bool> mask(n_slots * dim, false);
+          for (unsigned int s = 0; s < n_slots; ++s)
+            for (unsigned int d = 0; d < dim; ++d)
+              mask[s * dim + d] = bc.components[d];
+          VectorTools::interpolate_boundary_values(mechanical_dof_handler, id, value,
+                                                   mechanical_fixed, ComponentMask(mask));
+        }
+    for (const auto &c : normal_conditions)
+      {
+        if (c.kind == NormalCondition::Kind::interface && prm.contact.interfaces == "tied")
+          for (unsigned int d = 0; d < dim; ++d)
+            if (!mechanical_fixed.is_constrained(c.dofs_k[d]))
+              {
+                mechanical_fixed.add_line(c.dofs_k[d]);
+                mechanical_fixed.add_entry(c.dofs_k[d], c.dofs_l[d], 1.);
+              }
+        if (c.kind != NormalCondition::Kind::roller)
+          continue;
+        // u.n = 0, solved for the component with the larger |n_c| that is free.
+        unsigned int order[2] = {0, 1};
+        if (std::abs(c.normal[1]) > std::abs(c.normal[0]))
+          std::swap(order[0], order[1]);
+        for (const unsigned int comp : order)
+          if (c.normal[comp] != 0 && !mechanical_fixed.is_constrained(c.dofs_k[comp]))
+            {
+              const auto row = Contact::normal_constraint(c.dofs_k, nullptr, c.normal, 0., comp, false);
+              mechanical_fixed.add_line(row.target);
+              for (const auto &[dof, coefficient] : row.entries)
+                mechanical_fixed.add_entry(row.target, dof, coefficient);
+              break;
+            }
+      }
+    mechanical_fixed.close();
+  }
+
+
+
+  // Every node with a normal condition, found from the cells this rank sees:
+  // roller and obstacle nodes on boundaries of those types, interface nodes on
+  // faces between cells of different bodies (side k is the smaller body id; the
+  // normal points out of it). Each condition's normal averages the faces around
+  // the vertex, so only vertices of locally owned cells are kept: all their
+  // neighbouring cells are owned or ghosts, so the average is complete and every
+  // rank that assembles at the vertex builds the same constraint.
+  template <int dim>
+  void CoupledProblem<dim>::find_normal_conditions()
+  {
+    using Kind = NormalCondition::Kind;
+    std::vector<bool> vertex_of_owned_cell(triangulation.n_vertices(), false);
+    for (const auto &cell : triangulation.active_cell_iterators())
+      if (cell->is_locally_owned())
+        for (const unsigned int v : cell->vertex_indices())
+          vertex_of_owned_cell[cell->vertex_index(v)] = true;
+
+    struct Entry
+    {
+      NormalCondition            condition;
+      Contact::NormalAccumulator normals;
+    };
+    std::map<std::tuple<types::global_dof_index, int, std::string>, Entry> entries;
+    const auto add = [&](const typename DoFHandler<dim>::active_cell_iterator &cell,
+                         const unsigned int                                   face,
+                         const Kind                                           kind,
+                         const std::string                                   &group,
+                         const typename DoFHandler<dim>::active_cell_iterator *partner,
+                         const unsigned int                                   boundary_id) {
+      const auto dofs = vertex_dofs<dim>(cell);
+      const auto a    = cell->face(face)->vertex(0);
+      const auto b    = cell->face(face)->vertex(1);
+      const auto c    = cell->center();
+      for (unsigned int fv = 0; fv < 2; ++fv)
+        {
+          const unsigned int v = GeometryInfo<dim>::face_to_cell_vertices(face, fv);
+          if (!vertex_of_owned_cell[cell->vertex_index(v)])
+            continue;
+          Entry &e = entries[{dofs[v][0], static_cast<int>(kind), group}];
+          e.condition.kind        = kind;
+          e.condition.group       = group;
+          e.condition.boundary_id = boundary_id;
+          e.condition.position    = cell->vertex(v);
+          e.condition.dofs_k      = {dofs[v][0], dofs[v][1]};
+          e.condition.has_partner = (partner != nullptr);
+          if (partner)
+            {
+              const auto partner_dofs = vertex_dofs<dim>(*partner);
+              for (const unsigned int pv : (*partner)->vertex_indices())
+                if ((*partner)->vertex_index(pv) == cell->vertex_index(v))
+                  e.condition.dofs_l = {partner_dofs[pv][0], partner_dofs[pv][1]};
+            }
+          e.normals.add_face({{a[0], a[1]}}, {{b[0], b[1]}}, {{c[0], c[1]}});
+        }
+    };
+
+    for (const auto &cell : mechanical_dof_handler.active_cell_iterators())
+      if (!cell->is_artificial())
+        for (const unsigned int face : cell->face_indices())
+          {
+            if (cell->face(face)->at_boundary())
+              {
+                const auto bc = prm.mechanical_boundaries.find(cell->face(face)->boundary_id());
+                if (bc == prm.mechanical_boundaries.end())
+                  continue;
+                const std::string group = "boundary " + std::to_string(bc->first);
+                if (bc->second.type == Parameters::MechanicalBoundary::Type::roller)
+                  add(cell, face, Kind::roller, group, nullptr, bc->first);
+                else if (bc->second.type == Parameters::MechanicalBoundary::Type::obstacle)
+                  add(cell, face, Kind::obstacle, group, nullptr, bc->first);
+              }
+            else
+              {
+                if (cell->neighbor(face)->is_artificial() ||
+                    cell->neighbor(face)->material_id() == cell->material_id())
+                  continue;
+                if (cell->neighbor(face)->has_children() ||
+                    cell->neighbor(face)->level() != cell->level())
+                  throw std::runtime_error(
+                    "the interface between bodies " + std::to_string(cell->material_id()) +
+                    " and " + std::to_string(cell->neighbor(face)->material_id()) +
+                    " is not conforming (refined differently on its two sides)");
+                const typename DoFHandler<dim>::active_cell_iterator neighbor = cell->neighbor(face);
+                if (cell->material_id() > neighbor->material_id())
+                  continue; // the face is counted from side k
+                const std::string group = "interface " + std::to_string(cell->material_id()) +
+                                          "-" + std::to_string(neighbor->material_id());
+                add(cell, face, Kind::interface, group, &neighbor, 0);
+              }
+          }
+
+    normal_conditions.clear();
+    std::set<std::string> groups;
+    for (auto &[key, e] : entries)
+      {
+        NormalCondition &c = e.condition;
+        const auto       n = e.normals.normal();
+        c.normal           = {n[0], n[1]};
+        c.weight           = e.normals.weight();
+        c.stiffness        = n[0] * n[0] * stiffness_diagonal[c.dofs_k[0]] +
+                      n[1] * n[1] * stiffness_diagonal[c.dofs_k[1]];
+        normal_conditions.push_back(c);
+        if (c.kind != Kind::roller)
+          groups.insert(c.group);
+      }
+    // Every rank reports every group, even one it has no node of.
+    contact_groups.clear();
+    for (const auto &rank_groups :
+         Utilities::MPI::all_gather(mpi_communicator, std::vector<std::string>(groups.begin(), groups.end())))
+      contact_groups.insert(contact_groups.end(), rank_groups.begin(), rank_groups.end());
+    std::sort(contact_groups.begin(), contact_groups.end());
+    contact_groups.erase(std::unique(contact_groups.begin(), contact_groups.end()),
+                         contact_groups.end());
+  }
+
+
+
+  // A body that only contact would hold has a singular stiffness matrix until
+  // its contact closes; refuse it with a clear message instead of a failing solve.
+  template <int dim>
+  void CoupledProblem<dim>::check_bodies_are_held() const
+  {
+    // Tied bodies hold each other; only contact interfaces need every body held.
+    if (prm.contact.interfaces == "tied")
+      return;
+    for (const unsigned int id : prm.body_ids)
+      {
+        std::vector<bool> mask(prm.body_ids.size() * dim, false);
+        for (unsigned int d = 0; d < dim; ++d)
+          mask[body_slot.at(id) * dim + d] = true;
+        const IndexSet body_dofs = DoFTools::extract_dofs(mechanical_dof_handler, ComponentMask(mask));
+        unsigned int   held      = 0;
+        for (const auto dof : body_dofs)
+          if (mechanical_owned.is_element(dof) && mechanical_fixed.is_constrained(dof) &&
+              !mechanical_hanging.is_constrained(dof))
+            ++held;
+        if (Utilities::MPI::sum(held, mpi_communicator) == 0)
+          throw InputError("Boundary conditions/Mechanical boundaries",
+                           "body " + std::to_string(id) +
+                             " has no displacement, roller or tied condition; a body held only "
+                             "by contact has no stiffness until the contact closes");
+      }
+  }
+
+
+
+  template class CoupledProblem<2>;
+} // namespace ContactStefan
