@@ -13,10 +13,11 @@
 // plateau nodes from the residual of their row), and each node moves to the piece
 // of its graph that contains that enthalpy. When no node moves, the discrete
 // problem is solved exactly (up to the linear solver). Because Theta = beta(h) is
-// piecewise linear this is Newton's method on Theta_i = beta(h_i); with an
-// M-matrix it converges monotonically in finitely many steps. Outside that setting
-// it can cycle, which a per-node count of state changes detects; the step then
-// falls back to the nonlinear relaxation iteration, slower but always convergent.
+// piecewise linear this is Newton's method on Theta_i = beta(h_i). Full Newton
+// steps can cycle; an Armijo line search on the step's convex functional makes
+// the iteration globally convergent (see active_set_iteration and
+// doc/algorithms.md). Should it still hit its iteration limit, the step falls
+// back to the nonlinear relaxation iteration, slower but always convergent.
 #include <deal.II/lac/solver_cg.h>
 #include <deal.II/lac/solver_control.h>
 #include <deal.II/lac/trilinos_precondition.h>
@@ -30,8 +31,12 @@
 
 namespace ContactStefan
 {
-  // Assemble  (tau A + diag(m d)) Theta = m g + tau F  from the per-cell operators,
-  // with the current constraints eliminated. d and g are nodal (ghosted vectors).
+  // Assemble  (tau A + diag(m d)) Theta = m g + tau F  with the current
+  // constraints eliminated. tau A and tau F go through the constraints cell by
+  // cell; the lumped mass terms m_i d_i and m_i g_i are added per node afterwards
+  // on the rows that are not constrained, so that with hanging nodes the mass stays
+  // the condensed diagonal m_i (distributing a cell's diagonal mass through
+  // hanging-node constraints would couple the parents). d and g are nodal vectors.
   template <int dim>
   void CoupledProblem<dim>::assemble_enthalpy_system(const bool assemble_matrix)
   {
@@ -52,16 +57,23 @@ namespace ContactStefan
           local_matrix = cell_conductivity[c];
           local_matrix *= time_step;
           for (unsigned int i = 0; i < n; ++i)
-            {
-              local_matrix(i, i) += cell_mass[c](i) * nodal_diagonal_ghosted[dofs[i]];
-              local_rhs(i) = cell_mass[c](i) * nodal_rhs_ghosted[dofs[i]] +
-                             (heat_load_present ? time_step * cell_load[c](i) : 0.);
-            }
+            local_rhs(i) = heat_load_present ? time_step * cell_load[c](i) : 0.;
           if (assemble_matrix)
             constraints.distribute_local_to_global(local_matrix, local_rhs, dofs,
                                                    system_matrix, system_rhs);
           else
             constraints.distribute_local_to_global(local_rhs, dofs, system_rhs, local_matrix);
+        }
+    if (assemble_matrix)
+      system_matrix.compress(VectorOperation::add);
+    system_rhs.compress(VectorOperation::add);
+
+    for (const auto dof : locally_owned_dofs)
+      if (!constraints.is_constrained(dof))
+        {
+          if (assemble_matrix)
+            system_matrix.add(dof, dof, lumped_mass[dof] * nodal_diagonal[dof]);
+          system_rhs[dof] += lumped_mass[dof] * nodal_rhs[dof];
         }
     if (assemble_matrix)
       system_matrix.compress(VectorOperation::add);
@@ -161,8 +173,6 @@ namespace ContactStefan
       }
     nodal_diagonal.compress(VectorOperation::insert);
     nodal_rhs.compress(VectorOperation::insert);
-    nodal_diagonal_ghosted = nodal_diagonal;
-    nodal_rhs_ghosted      = nodal_rhs;
 
     assemble_enthalpy_system(true);
     solve_linear_system(temperature);
@@ -187,80 +197,96 @@ namespace ContactStefan
 
 
 
-  // The fallback: nonlinear relaxation (Berger, Brezis & Rogers 1979; the form the
-  // Nedoma-Dvorak paper writes the step in). With alpha <= min c and
-  // Theta^m = beta(h^m), solve
+  // The relaxation iteration (Berger, Brezis & Rogers 1979; the form the
+  // Nedoma-Dvorak paper writes the step in), the fallback of the active-set
+  // method and, with 'Enthalpy solver = relaxation', a baseline. With
+  // alpha_i <= the smallest heat capacity of node i's law and Theta^m = beta(h^m),
+  // solve
   //     (alpha M + tau A) w = M (h^old - h^m + alpha Theta^m) + tau F
-  // and set h^{m+1} = h^m + alpha (w - Theta^m). The fixed point is the solution of
-  // the step; the iteration contracts because beta is Lipschitz with constant
-  // 1/min c. The matrix is the same in every iteration.
+  // and set h^{m+1} = h^m + alpha (w - Theta^m). Its fixed point solves the step;
+  // it contracts because beta_i is Lipschitz with constant 1/min c_i, but slowly
+  // where tau/h^2 is large, so it stops on the residual of the step equations,
+  // not on the size of the update. The matrix is the same in every iteration:
+  // it is assembled and factorised (or its AMG built) once.
   template <int dim>
   unsigned int CoupledProblem<dim>::relaxation_fallback()
   {
-    TimerOutput::Scope t(timer, "enthalpy step: relaxation fallback");
-    double min_capacity = HUGE_VAL, h_scale = 0;
-    for (const auto &l : laws)
-      {
-        min_capacity = std::min(min_capacity, l.min_heat_capacity());
-        for (unsigned int j = 0; j < l.n_transitions(); ++j)
-          h_scale = std::max(h_scale, l.latent_heat(j));
-      }
-    min_capacity = Utilities::MPI::min(min_capacity, mpi_communicator);
-    h_scale      = std::max(Utilities::MPI::max(h_scale, mpi_communicator),
-                       Utilities::MPI::max(old_enthalpy.linfty_norm(), mpi_communicator));
-    const double alpha = prm.solver.relaxation_parameter_fraction * min_capacity;
-
+    TimerOutput::Scope t(timer, "enthalpy step: relaxation");
+    const double fraction = prm.solver.relaxation_parameter_fraction;
     constraints.clear();
     constraints.reinit(locally_relevant_dofs);
     constraints.merge(dirichlet_constraints);
     constraints.close();
-    nodal_diagonal = alpha;
-    nodal_diagonal_ghosted = nodal_diagonal;
+    for (const auto dof : locally_owned_dofs)
+      nodal_diagonal[dof] = fraction * law(dof).min_heat_capacity();
+    nodal_diagonal.compress(VectorOperation::insert);
 
     TrilinosWrappers::SolverDirect::AdditionalData data(false, prm.solver.direct_solver_type);
-    SolverControl                                  control(1, 0);
-    TrilinosWrappers::SolverDirect                 direct(control, data);
+    SolverControl                                  direct_control(1, 0);
+    TrilinosWrappers::SolverDirect                 direct(direct_control, data);
+    TrilinosWrappers::PreconditionAMG              amg;
+    Vector A_theta(locally_owned_dofs, mpi_communicator);
 
     for (unsigned int m = 1; m <= prm.solver.relaxation_max_iterations; ++m)
       {
         for (const auto dof : locally_owned_dofs)
-          nodal_rhs[dof] = old_enthalpy[dof] - enthalpy[dof] + alpha * law(dof).temperature(enthalpy[dof]);
+          nodal_rhs[dof] = old_enthalpy[dof] - enthalpy[dof] +
+                           nodal_diagonal[dof] * law(dof).temperature(enthalpy[dof]);
         nodal_rhs.compress(VectorOperation::insert);
-        nodal_rhs_ghosted = nodal_rhs;
         assemble_enthalpy_system(m == 1);
         if (prm.solver.linear_solver == "direct")
           {
             if (m == 1)
               direct.initialize(system_matrix);
             direct.solve(temperature, system_rhs);
-            constraints.distribute(temperature);
           }
         else
-          solve_linear_system(temperature);
+          {
+            if (m == 1)
+              {
+                TrilinosWrappers::PreconditionAMG::AdditionalData amg_data;
+                amg_data.elliptic = true;
+                amg.initialize(system_matrix, amg_data);
+              }
+            SolverControl control(prm.solver.cg_max_iterations,
+                                  prm.solver.cg_tolerance * system_rhs.l2_norm());
+            SolverCG<Vector> cg(control);
+            cg.solve(system_matrix, temperature, system_rhs, amg);
+          }
+        constraints.distribute(temperature);
 
-        double local_change = 0;
         for (const auto dof : locally_owned_dofs)
           {
             const EnthalpyLaw &l = law(dof);
-            double             h;
-            if (dirichlet_constraints.is_constrained(dof))
-              h = l.enthalpy(temperature[dof]);
-            else
-              h = enthalpy[dof] + alpha * (temperature[dof] - l.temperature(enthalpy[dof]));
-            local_change  = std::max(local_change, std::abs(h - enthalpy[dof]));
-            enthalpy[dof] = h;
+            enthalpy[dof] = dirichlet_constraints.is_constrained(dof) ?
+                              l.enthalpy(temperature[dof]) :
+                              enthalpy[dof] + nodal_diagonal[dof] *
+                                                (temperature[dof] - l.temperature(enthalpy[dof]));
           }
         enthalpy.compress(VectorOperation::insert);
-        const double change = Utilities::MPI::max(local_change, mpi_communicator);
+        set_nodal_state_from_enthalpy();
+
+        // Residual of the step equations at Theta = beta(h), relative to the
+        // size of their terms.
+        compute_conductivity_residual(temperature_ghosted, A_theta);
+        double residual = 0, scale = 0;
+        for (const auto dof : locally_owned_dofs)
+          if (!dirichlet_constraints.is_constrained(dof))
+            {
+              const double stored = lumped_mass[dof] * (enthalpy[dof] - old_enthalpy[dof]);
+              residual = std::max(residual, std::abs(stored + time_step * (A_theta[dof] - heat_load[dof])));
+              scale    = std::max(scale, std::abs(stored) + time_step * (std::abs(heat_load[dof]) +
+                                                                      std::abs(A_theta[dof])));
+            }
+        residual = Utilities::MPI::max(residual, mpi_communicator);
+        scale    = Utilities::MPI::max(scale, mpi_communicator);
         if (prm.output.verbosity >= 1)
-          pcout << "      relaxation " << m << ": max enthalpy change " << change << std::endl;
-        if (change <= prm.solver.relaxation_tolerance * h_scale)
-          {
-            set_nodal_state_from_enthalpy();
-            return m;
-          }
+          pcout << "      relaxation " << m << ": residual " << residual << " (scale " << scale
+                << ")" << std::endl;
+        if (residual <= prm.solver.relaxation_tolerance * scale)
+          return m;
       }
-    throw std::runtime_error("the relaxation fallback of the enthalpy step did not converge in "
+    throw std::runtime_error("the relaxation iteration of the enthalpy step did not converge in "
                              "'Solver/Relaxation max iterations' = " +
                              std::to_string(prm.solver.relaxation_max_iterations) +
                              " iterations at t = " + std::to_string(time));
@@ -271,16 +297,18 @@ namespace ContactStefan
   // Energy balance of the step. With r = M (h - h^old) + tau A Theta - tau F, the
   // rows of free nodes must vanish; the rows of Dirichlet nodes are the heat that
   // entered through them (the reaction). So
-  //     (stored heat) - (sources and fluxes) - (Dirichlet heat) = sum over free r_i,
-  // which we report relative to the heat moved in the step. It measures how well
-  // the discrete equations, including the enthalpy bookkeeping on the plateaus,
-  // are satisfied.
+  //     (stored heat) - (sources and fluxes) - (Dirichlet heat) = sum over free r_i.
+  // We report sum |r_i| over the free nodes (no cancellation) relative to the heat
+  // moved in the step, and separately count the nodes whose h_i is not in
+  // H_i(Theta_i) (must be zero): together they check the equations and the
+  // enthalpy bookkeeping on the plateaus.
   template <int dim>
   double CoupledProblem<dim>::compute_energy_balance()
   {
     Vector A_theta(locally_owned_dofs, mpi_communicator);
     compute_conductivity_residual(temperature_ghosted, A_theta);
-    double free_sum = 0, scale = 0;
+    double       free_sum = 0, scale = 0;
+    unsigned int inconsistent_nodes = 0;
     for (const auto dof : locally_owned_dofs)
       {
         if (hanging_node_constraints.is_constrained(dof))
@@ -288,13 +316,21 @@ namespace ContactStefan
         const double stored = lumped_mass[dof] * (enthalpy[dof] - old_enthalpy[dof]);
         const double r      = stored + time_step * (A_theta[dof] - heat_load[dof]);
         if (!dirichlet_constraints.is_constrained(dof))
-          free_sum += r;
+          {
+            free_sum += std::abs(r);
+            // h in H(Theta), to round-off relative to the latent and sensible scale.
+            const auto range     = law(dof).enthalpy_range(temperature[dof]);
+            const double slack   = 1e-9 * (1 + std::abs(range.first) + std::abs(range.second));
+            inconsistent_nodes += (enthalpy[dof] < range.first - slack ||
+                                   enthalpy[dof] > range.second + slack);
+          }
         else
           scale += std::abs(r);
         scale += std::abs(stored) + time_step * std::abs(heat_load[dof]);
       }
     free_sum = Utilities::MPI::sum(free_sum, mpi_communicator);
     scale    = Utilities::MPI::sum(scale, mpi_communicator);
+    inconsistent_enthalpy_nodes += Utilities::MPI::sum(inconsistent_nodes, mpi_communicator);
     return scale > 0 ? std::abs(free_sum) / scale : 0.;
   }
 
@@ -376,7 +412,8 @@ namespace ContactStefan
             if (state != static_cast<unsigned int>(phase_state[dof]))
               {
                 phase_state[dof] = state;
-                ++local_changes;
+                // Prescribed nodes follow their data; they are not unknowns.
+                local_changes += is_free(dof);
               }
           }
         z.compress(VectorOperation::insert);
@@ -403,7 +440,9 @@ namespace ContactStefan
   EnthalpyStepReport CoupledProblem<dim>::solve_enthalpy_step()
   {
     EnthalpyStepReport report;
-    if (!active_set_iteration(report))
+    if (prm.solver.enthalpy_solver == "relaxation")
+      report.relaxation_iterations = relaxation_fallback();
+    else if (!active_set_iteration(report))
       {
         pcout << "   Enthalpy step: no convergence in 'Solver/Max active-set iterations' = "
               << prm.solver.max_active_set_iterations << " at t = " << time

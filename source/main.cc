@@ -105,8 +105,10 @@ int main(int argc, char *argv[])
     }
   catch (const std::exception &e)
     {
+      // Run-time failures (a solver that does not converge, a singular
+      // system): deal.II's long texts shortened to one line.
       if (root)
-        std::cerr << "contact-stefan: error: " << e.what() << std::endl;
+        std::cerr << "contact-stefan: error: " << one_line(e.what()) << std::endl;
       return 2;
     }
   return 0;

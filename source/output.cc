@@ -226,6 +226,7 @@ namespace ContactStefan
            step_number > 0 ? double(total_active_set_iterations) / step_number : 0.);
     result("steps with relaxation fallback", steps_with_fallback);
     result("max energy-balance residual", max_energy_residual);
+    result("nodes with h outside H(Theta)", inconsistent_enthalpy_nodes);
     if (exact_temperature)
       {
         result("mesh width", mesh_width);

@@ -1,6 +1,7 @@
 #include <deal.II/base/function_parser.h>
 #include <deal.II/base/utilities.h>
 
+#include <contact-stefan/neumann_solution.h>
 #include <contact-stefan/parameters.h>
 
 #include <cmath>
@@ -89,23 +90,42 @@ namespace ContactStefan
         }
     }
 
-    // deal.II's own parse errors are long multi-line texts; keep the sentence that
-    // says which line, entry and pattern failed, on one line.
-    std::string one_line(const std::string &text)
-    {
-      std::string message = text;
-      const auto  info    = message.find("Additional information:");
-      if (info != std::string::npos)
-        message = message.substr(info + std::string("Additional information:").size());
-      const auto stack = message.find("Stacktrace:");
-      if (stack != std::string::npos)
-        message = message.substr(0, stack);
-      message = std::regex_replace(message, std::regex("-{5,}"), " ");
-      message = std::regex_replace(message, std::regex("\\s+"), " ");
-      message = std::regex_replace(message, std::regex("^ | $"), "");
-      return message;
-    }
+  } // namespace
 
+  std::string one_line(const std::string &text)
+  {
+    std::string message = text;
+    const auto  info    = message.find("Additional information:");
+    if (info != std::string::npos)
+      message = message.substr(info + std::string("Additional information:").size());
+    const auto stack = message.find("Stacktrace:");
+    if (stack != std::string::npos)
+      message = message.substr(0, stack);
+    message = std::regex_replace(message, std::regex("-{5,}"), " ");
+    message = std::regex_replace(message, std::regex("\\s+"), " ");
+    message = std::regex_replace(message, std::regex("^ | $"), "");
+    return message;
+  }
+
+  NeumannSolution neumann_solution(const AllParameters &prm)
+  {
+    const auto         &m = prm.materials.at(prm.exact_solution.body);
+    const EnthalpyLaw   law = m.enthalpy_law();
+    std::vector<double> k, c, rho_L;
+    for (unsigned int p = 0; p <= law.n_transitions(); ++p)
+      {
+        // Isotropic: the shape tensor is a multiple of the identity.
+        k.push_back(m.conductivity(p) * m.anisotropy[0]);
+        c.push_back(law.heat_capacity(p));
+      }
+    for (unsigned int j = 0; j < law.n_transitions(); ++j)
+      rho_L.push_back(law.latent_heat(j));
+    return NeumannSolution(k, c, m.transition_temperatures, rho_L,
+                           prm.exact_solution.hot_temperature, prm.exact_solution.cold_temperature);
+  }
+
+  namespace
+  {
     std::string body_section(const unsigned int id)
     {
       return "Body " + std::to_string(id);
@@ -604,9 +624,12 @@ namespace ContactStefan
       prm.declare_entry("CG max iterations", "1000", Patterns::Integer(1),
                         "Iteration limit of CG; hitting it is an error.");
       prm.declare_entry("Max active-set iterations", "50", Patterns::Integer(1),
-                        "Limit of linear solves of the active-set iterations (plain and "
-                        "nested together) per enthalpy step; reaching it switches to "
-                        "the relaxation fallback.");
+                        "Limit of linear solves of the active-set iteration per enthalpy "
+                        "step; reaching it switches to the relaxation fallback.");
+      prm.declare_entry("Enthalpy solver", "active-set", Patterns::Selection("active-set|relaxation"),
+                        "'active-set': the primal-dual active-set (semismooth Newton) method "
+                        "with line search; 'relaxation': the nonlinear relaxation iteration "
+                        "alone (slow; a baseline for comparisons).");
       prm.declare_entry("Line search sufficient decrease", "1e-4", Patterns::Double(0, 0.5),
                         "Armijo constant sigma of the line search that guards the "
                         "active-set (semismooth Newton) iteration against cycling: a step "
@@ -623,10 +646,11 @@ namespace ContactStefan
                         "alpha = this fraction of the smallest volumetric heat capacity; "
                         "it converges for values in (0, 1].");
       prm.declare_entry("Relaxation tolerance", "1e-10", Patterns::Double(0),
-                        "Fallback stops when the enthalpy update, relative to the "
-                        "enthalpy scale, falls below this.");
+                        "Relaxation stops when the largest nodal residual of the step "
+                        "equations, |m_i (h_i - h_i^old) + tau (A Theta - F)_i|, falls below "
+                        "this times the largest |m_i (h_i - h_i^old)| + tau |F_i| + tau |(A Theta)_i|.");
       prm.declare_entry("Relaxation max iterations", "2000", Patterns::Integer(1),
-                        "Fallback iteration limit; hitting it is an error.");
+                        "Relaxation iteration limit; hitting it is an error.");
       prm.leave_subsection();
     }
 
@@ -638,6 +662,7 @@ namespace ContactStefan
       cg_tolerance                  = prm.get_double("CG tolerance");
       cg_max_iterations             = prm.get_integer("CG max iterations");
       max_active_set_iterations     = prm.get_integer("Max active-set iterations");
+      enthalpy_solver                 = prm.get("Enthalpy solver");
       line_search_sufficient_decrease = prm.get_double("Line search sufficient decrease");
       line_search_min_step          = prm.get_double("Line search minimum step");
       extrapolate_active_set        = prm.get_bool("Extrapolate active set");
@@ -649,6 +674,10 @@ namespace ContactStefan
       require(relaxation_parameter_fraction > 0 && relaxation_parameter_fraction <= 1,
               "Solver/Relaxation parameter", "must lie in (0, 1]");
       require(relaxation_tolerance > 0, "Solver/Relaxation tolerance", "must be > 0");
+      require(line_search_sufficient_decrease > 0 && line_search_sufficient_decrease < 0.5,
+              "Solver/Line search sufficient decrease", "must lie in (0, 0.5)");
+      require(line_search_min_step > 0 && line_search_min_step < 1, "Solver/Line search minimum step",
+              "must lie in (0, 1)");
     }
 
 
@@ -833,7 +862,8 @@ namespace ContactStefan
         const std::string path = "Boundary conditions/" + boundary_section(id);
         prm.enter_subsection(boundary_section(id));
         thermal_boundaries[id].parse(prm, path);
-        check_function(thermal_boundaries[id].value, path + "/Value", exact);
+        check_function(thermal_boundaries[id].value, path + "/Value",
+                       exact && thermal_boundaries[id].type == Parameters::ThermalBoundary::Type::temperature);
         prm.leave_subsection();
       }
     for (const unsigned int id : mechanical_ids)
@@ -893,6 +923,20 @@ namespace ContactStefan
                 "'neumann' needs Geometry/Mesh = rectangle (a strip along x)");
         require(exact_solution.origin <= geometry.lower_left[0], "Exact solution/Origin",
                 "must not lie inside the rectangle");
+        require(body_ids.size() == 1, "Bodies/Body ids",
+                "the Neumann solution is for a single body");
+        require(time.start_time > 0, "Time stepping/Start time",
+                "must be > 0 for the Neumann solution (it is singular at t = 0)");
+        // Build the solution once here, so that data without a similarity
+        // solution is rejected before any work.
+        try
+          {
+            neumann_solution(*this);
+          }
+        catch (const std::exception &e)
+          {
+            throw InputError("Exact solution/Type", std::string("no Neumann solution: ") + e.what());
+          }
       }
   }
 } // namespace ContactStefan

@@ -157,7 +157,7 @@ namespace ContactStefan
                       &heat_load, &phase_state, &nodal_diagonal, &nodal_rhs})
       v->reinit(locally_owned_dofs, mpi_communicator);
     for (Vector *v : {&temperature_ghosted, &enthalpy_ghosted, &phase_state_ghosted,
-                      &nodal_diagonal_ghosted, &nodal_rhs_ghosted})
+                      })
       v->reinit(locally_owned_dofs, locally_relevant_dofs, mpi_communicator);
 
     // Lumped mass: the vertex (trapezoidal) rule makes the Q1 mass matrix
@@ -290,20 +290,7 @@ namespace ContactStefan
   {
     if (prm.exact_solution.type == "neumann")
       {
-        const auto         &m = prm.materials.at(prm.exact_solution.body);
-        const EnthalpyLaw   body_law = m.enthalpy_law();
-        std::vector<double> k, c, rho_L;
-        for (unsigned int p = 0; p <= body_law.n_transitions(); ++p)
-          {
-            // Isotropic: the shape tensor is a multiple of the identity.
-            k.push_back(m.conductivity(p) * m.anisotropy[0]);
-            c.push_back(body_law.heat_capacity(p));
-          }
-        for (unsigned int j = 0; j < body_law.n_transitions(); ++j)
-          rho_L.push_back(body_law.latent_heat(j));
-        neumann = std::make_unique<NeumannSolution>(k, c, m.transition_temperatures, rho_L,
-                                                    prm.exact_solution.hot_temperature,
-                                                    prm.exact_solution.cold_temperature);
+        neumann = std::make_unique<NeumannSolution>(neumann_solution(prm));
         exact_temperature =
           std::make_unique<NeumannFunction<dim>>(*neumann, prm.exact_solution.origin);
       }

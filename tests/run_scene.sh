@@ -48,6 +48,10 @@ fi
 
 statistics=$(sed -n 's/^ *set Statistics file *= *\([^ #]*\).*/\1/p' "$scene")
 directory=$(sed -n 's/^ *set Directory *= *\([^ #]*\).*/\1/p' "$scene")
+statistics=${statistics:-statistics.txt} directory=${directory:-output}
+if [ ! -s "$directory/$statistics" ]; then
+  echo "the run wrote no statistics table at $directory/$statistics"; exit 1
+fi
 {
   grep '^RESULT' stdout.txt | grep -v 'RESULT wall time'
   awk 'NR == 1 { for (i = 1; i <= NF; ++i) if ($i != "wall_time") keep[i] = 1 }
@@ -62,6 +66,9 @@ for requirement in "${requirements[@]}"; do
     value=$(sed -n "s/^RESULT $key = //p" "$out")
     if [ -z "$value" ]; then
       echo "requirement '$requirement': no RESULT line '$key'"; failed=1; continue
+    fi
+    if ! [[ "$value" =~ ^[-+]?[0-9]*\.?[0-9]+([eE][-+]?[0-9]+)?$ ]]; then
+      echo "requirement '$requirement': '$value' is not a number"; failed=1; continue
     fi
     if ! awk -v v="$value" -v b="$bound" -v op="$op" 'BEGIN { exit !(op == "<" ? v < b : v > b) }'; then
       echo "requirement failed: $key = $value, required $op $bound"; failed=1

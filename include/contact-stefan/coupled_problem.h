@@ -187,7 +187,7 @@ namespace ContactStefan
     Vector phase_state, phase_state_ghosted;
     // The per-node coefficients of the linear system of one iteration:
     // row i reads m_i d_i Theta_i + tau (A Theta)_i = m_i g_i + tau F_i.
-    Vector nodal_diagonal, nodal_diagonal_ghosted, nodal_rhs, nodal_rhs_ghosted;
+    Vector nodal_diagonal, nodal_rhs;
 
     // The enthalpy law of each locally relevant node: body laws first, then the
     // mass-weighted sums for nodes shared by bodies with different laws.
@@ -246,6 +246,7 @@ namespace ContactStefan
     double       space_time_error_squared = 0, space_time_norm_squared = 0;
     double       max_energy_residual      = 0;
     unsigned int total_active_set_iterations = 0, steps_with_fallback = 0;
+    unsigned int inconsistent_enthalpy_nodes = 0; // h not in H(Theta) at the end of a step
     unsigned int total_contact_iterations = 0, max_contact_iterations = 0, first_contact_iterations = 0;
   };
 } // namespace ContactStefan

@@ -195,6 +195,7 @@ namespace ContactStefan
       double       cg_tolerance;
       unsigned int cg_max_iterations;
       unsigned int max_active_set_iterations;
+      std::string  enthalpy_solver; // "active-set" or "relaxation"
       double       line_search_sufficient_decrease;
       double       line_search_min_step;
       bool         extrapolate_active_set;
@@ -256,6 +257,12 @@ namespace ContactStefan
     // The handler with every parameter at its default, for --print-parameters.
     static void declare_defaults(ParameterHandler &prm);
   };
+  // deal.II's multi-line exception texts condensed to the sentence that matters.
+  std::string one_line(const std::string &text);
+
+  class NeumannSolution;
+  // The Neumann solution of the exact-solution body's material (Type = neumann).
+  NeumannSolution neumann_solution(const AllParameters &prm);
 } // namespace ContactStefan
 
 #endif
