@@ -115,6 +115,9 @@ namespace ContactStefan
             max_contact_iterations = std::max(max_contact_iterations, contact_report.iterations);
             if (step_number == 1)
               first_contact_iterations = contact_report.iterations;
+            else
+              max_contact_iterations_warm =
+                std::max(max_contact_iterations_warm, contact_report.iterations);
             last_contact_report = contact_report;
           }
 

@@ -134,14 +134,19 @@ namespace ContactStefan
     check_bodies_are_held();
 
     // The sparsity pattern must hold every system the active-set iteration can
-    // produce: build it with every contact condition active.
+    // produce. A constraint changes the couplings only around its own node, so
+    // the union of the patterns with no contact and with every contact active
+    // holds all mixtures (with no contact, a hanging node next to an obstacle node
+    // couples to that node's free DoF; with contact, to the DoFs its constraint
+    // names).
+    DynamicSparsityPattern dsp(mechanical_relevant);
+    DoFTools::make_sparsity_pattern(mechanical_dof_handler, dsp, mechanical_fixed, true);
     for (Vector *v : {&obstacle_active, &interface_active})
       *v = 1.;
     obstacle_active_ghosted  = obstacle_active;
     interface_active_ghosted = interface_active;
     unsigned int skipped     = 0;
     build_contact_constraints(skipped);
-    DynamicSparsityPattern dsp(mechanical_relevant);
     DoFTools::make_sparsity_pattern(mechanical_dof_handler, dsp, mechanical_constraints, true);
     SparsityTools::distribute_sparsity_pattern(dsp, mechanical_owned, mpi_communicator,
                                                mechanical_relevant);

@@ -7,6 +7,7 @@
 #include <deal.II/fe/mapping_q1.h>
 
 #include <deal.II/numerics/data_out.h>
+#include <deal.II/numerics/data_postprocessor.h>
 #include <deal.II/fe/fe_values.h>
 
 #include <deal.II/hp/fe_values.h>
@@ -24,23 +25,149 @@
 
 namespace ContactStefan
 {
+  namespace
+  {
+    // Displacement, stresses and von Mises stress from the hp displacement field:
+    // each cell reads its own body's slot of components (the other slots are
+    // FE_Nothing and vanish).
+    template <int dim>
+    class MechanicalPostprocessor : public DataPostprocessor<dim>
+    {
+    public:
+      MechanicalPostprocessor(const AllParameters &prm, const std::map<unsigned int, unsigned int> &slots)
+        : body_slot(slots)
+      {
+        for (const auto &[id, m] : prm.materials)
+          {
+            C[id] = m.elasticity_tensor();
+            // Plane strain: sigma_zz = C_zzkl e_kl; for isotropic data lambda tr(e).
+            // (Not available for a 2D anisotropic tensor: taken as 0.)
+            lambda[id] = m.elasticity == "anisotropic" ? 0. : C[id][0][0][1][1];
+          }
+      }
+
+      void evaluate_vector_field(const DataPostprocessorInputs::Vector<dim> &inputs,
+                                 std::vector<dealii::Vector<double>>        &computed) const override
+      {
+        const auto         cell = inputs.template get_cell<dim>();
+        const unsigned int id   = cell->material_id();
+        const unsigned int c0   = body_slot.at(id) * dim;
+        for (unsigned int q = 0; q < computed.size(); ++q)
+          {
+            SymmetricTensor<2, dim> strain;
+            for (unsigned int i = 0; i < dim; ++i)
+              for (unsigned int j = i; j < dim; ++j)
+                strain[i][j] = 0.5 * (inputs.solution_gradients[q][c0 + i][j] +
+                                      inputs.solution_gradients[q][c0 + j][i]);
+            const SymmetricTensor<2, dim> sigma = C.at(id) * strain;
+            const double                  szz   = lambda.at(id) * trace(strain);
+            computed[q](0) = inputs.solution_values[q][c0];
+            computed[q](1) = inputs.solution_values[q][c0 + 1];
+            computed[q](2) = sigma[0][0];
+            computed[q](3) = sigma[1][1];
+            computed[q](4) = sigma[0][1];
+            computed[q](5) = std::sqrt(0.5 * ((sigma[0][0] - sigma[1][1]) * (sigma[0][0] - sigma[1][1]) +
+                                              (sigma[1][1] - szz) * (sigma[1][1] - szz) +
+                                              (szz - sigma[0][0]) * (szz - sigma[0][0])) +
+                                       3 * sigma[0][1] * sigma[0][1]);
+          }
+      }
+      std::vector<std::string> get_names() const override
+      {
+        return {"displacement", "displacement", "stress_xx", "stress_yy", "stress_xy", "von_mises"};
+      }
+      std::vector<DataComponentInterpretation::DataComponentInterpretation>
+      get_data_component_interpretation() const override
+      {
+        std::vector<DataComponentInterpretation::DataComponentInterpretation> i(
+          6, DataComponentInterpretation::component_is_scalar);
+        i[0] = i[1] = DataComponentInterpretation::component_is_part_of_vector;
+        return i;
+      }
+      UpdateFlags get_needed_update_flags() const override
+      {
+        return update_values | update_gradients;
+      }
+
+    private:
+      const std::map<unsigned int, unsigned int>        &body_slot;
+      std::map<unsigned int, SymmetricTensor<4, dim>>    C;
+      std::map<unsigned int, double>                     lambda;
+    };
+
+    // A nodal quantity stored at the x DoF of each body's slot (contact pressure,
+    // gap), summed over the slots into one scalar field.
+    template <int dim>
+    class SlotSum : public DataPostprocessorScalar<dim>
+    {
+    public:
+      SlotSum(const std::string &name, const unsigned int n_slots)
+        : DataPostprocessorScalar<dim>(name, update_values)
+        , n_slots(n_slots)
+      {}
+      void evaluate_vector_field(const DataPostprocessorInputs::Vector<dim> &inputs,
+                                 std::vector<dealii::Vector<double>>        &computed) const override
+      {
+        for (unsigned int q = 0; q < computed.size(); ++q)
+          {
+            computed[q](0) = 0;
+            for (unsigned int s = 0; s < n_slots; ++s)
+              computed[q](0) += inputs.solution_values[q][s * dim];
+          }
+      }
+
+    private:
+      const unsigned int n_slots;
+    };
+  } // namespace
+
+
+
   template <int dim>
   void CoupledProblem<dim>::output_vtu(const unsigned int step)
   {
     TimerOutput::Scope t(timer, "output: vtu");
-    Vector phase_index(locally_owned_dofs, mpi_communicator);
-    Vector liquid(locally_owned_dofs, mpi_communicator);
-    for (const auto dof : locally_owned_dofs)
+    DataOut<dim>       data_out;
+    data_out.attach_triangulation(triangulation);
+
+    Vector phase_index_ghosted, liquid_ghosted;
+    if (prm.physics.thermal)
       {
-        phase_index[dof] = law(dof).phase_index(enthalpy[dof]);
-        liquid[dof]      = law(dof).liquid_fraction(enthalpy[dof]);
+        Vector phase_index(locally_owned_dofs, mpi_communicator);
+        Vector liquid(locally_owned_dofs, mpi_communicator);
+        for (const auto dof : locally_owned_dofs)
+          {
+            phase_index[dof] = law(dof).phase_index(enthalpy[dof]);
+            liquid[dof]      = law(dof).liquid_fraction(enthalpy[dof]);
+          }
+        phase_index.compress(VectorOperation::insert);
+        liquid.compress(VectorOperation::insert);
+        phase_index_ghosted.reinit(locally_owned_dofs, locally_relevant_dofs, mpi_communicator);
+        liquid_ghosted.reinit(locally_owned_dofs, locally_relevant_dofs, mpi_communicator);
+        phase_index_ghosted = phase_index;
+        liquid_ghosted      = liquid;
+        data_out.add_data_vector(dof_handler, temperature_ghosted, "temperature");
+        data_out.add_data_vector(dof_handler, enthalpy_ghosted, "enthalpy");
+        data_out.add_data_vector(dof_handler, phase_index_ghosted, "phase_index");
+        data_out.add_data_vector(dof_handler, liquid_ghosted, "liquid_fraction");
       }
-    phase_index.compress(VectorOperation::insert);
-    liquid.compress(VectorOperation::insert);
-    Vector phase_index_ghosted(locally_owned_dofs, locally_relevant_dofs, mpi_communicator);
-    Vector liquid_ghosted(locally_owned_dofs, locally_relevant_dofs, mpi_communicator);
-    phase_index_ghosted = phase_index;
-    liquid_ghosted      = liquid;
+
+    std::unique_ptr<MechanicalPostprocessor<dim>> mechanical;
+    std::unique_ptr<SlotSum<dim>>                 pressure_field, gap_field;
+    Vector                                        pressure_ghosted, gap_ghosted;
+    if (prm.physics.mechanics)
+      {
+        mechanical = std::make_unique<MechanicalPostprocessor<dim>>(prm, body_slot);
+        pressure_field = std::make_unique<SlotSum<dim>>("contact_pressure", prm.body_ids.size());
+        gap_field      = std::make_unique<SlotSum<dim>>("contact_gap", prm.body_ids.size());
+        pressure_ghosted.reinit(mechanical_owned, mechanical_relevant, mpi_communicator);
+        gap_ghosted.reinit(mechanical_owned, mechanical_relevant, mpi_communicator);
+        pressure_ghosted = contact_pressure;
+        gap_ghosted      = contact_gap;
+        data_out.add_data_vector(mechanical_dof_handler, displacement_ghosted, *mechanical);
+        data_out.add_data_vector(mechanical_dof_handler, pressure_ghosted, *pressure_field);
+        data_out.add_data_vector(mechanical_dof_handler, gap_ghosted, *gap_field);
+      }
 
     dealii::Vector<float> body(triangulation.n_active_cells());
     dealii::Vector<float> rank(triangulation.n_active_cells());
@@ -50,15 +177,8 @@ namespace ContactStefan
           body(cell->active_cell_index()) = cell->material_id();
           rank(cell->active_cell_index()) = triangulation.locally_owned_subdomain();
         }
-
-    DataOut<dim> data_out;
-    data_out.attach_dof_handler(dof_handler);
-    data_out.add_data_vector(temperature_ghosted, "temperature");
-    data_out.add_data_vector(enthalpy_ghosted, "enthalpy");
-    data_out.add_data_vector(phase_index_ghosted, "phase_index");
-    data_out.add_data_vector(liquid_ghosted, "liquid_fraction");
-    data_out.add_data_vector(body, "body_id");
-    data_out.add_data_vector(rank, "mpi_rank");
+    data_out.add_data_vector(body, "body_id", DataOut<dim>::type_cell_data);
+    data_out.add_data_vector(rank, "mpi_rank", DataOut<dim>::type_cell_data);
     data_out.build_patches();
 
     const std::string directory = prm.output.directory + "/";
@@ -269,6 +389,7 @@ namespace ContactStefan
     result("displacement dofs", mechanical_dof_handler.n_dofs());
     result("contact iterations first step", first_contact_iterations);
     result("max contact iterations", max_contact_iterations);
+    result("max contact iterations after the first step", max_contact_iterations_warm);
     result("mean contact iterations",
            step_number > 0 ? double(total_contact_iterations) / step_number : 0.);
     result("active contact nodes", last_contact_report.active_nodes);

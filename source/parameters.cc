@@ -687,6 +687,15 @@ namespace ContactStefan
       prm.enter_subsection("Mesh refinement");
       prm.declare_entry("Initial global refinements", "0", Patterns::Integer(0, 12),
                         "Uniform refinements of the coarse mesh before the first step.");
+      prm.declare_entry("Pre-refinement center", "0, 0", Patterns::Anything(),
+                        "Geometric pre-refinement towards a point (e.g. a contact zone): "
+                        "after the global refinements, the cells that reach within "
+                        "Pre-refinement radius of this point are refined ...");
+      prm.declare_entry("Pre-refinement radius", "0", Patterns::Double(0),
+                        "... (m; 0: none) ...");
+      prm.declare_entry("Pre-refinement steps", "0", Patterns::Integer(0, 20),
+                        "... this many times. Creates hanging nodes at the rim of the refined "
+                        "zone; contact interfaces between bodies must not cross that rim.");
       prm.leave_subsection();
     }
 
@@ -694,6 +703,11 @@ namespace ContactStefan
     {
       prm.enter_subsection("Mesh refinement");
       initial_global_refinements = prm.get_integer("Initial global refinements");
+      const auto c = parse_doubles(prm.get("Pre-refinement center"), "Mesh refinement/Pre-refinement center");
+      require(c.size() == 2, "Mesh refinement/Pre-refinement center", "needs two numbers");
+      prerefinement_center = Point<2>(c[0], c[1]);
+      prerefinement_radius = prm.get_double("Pre-refinement radius");
+      prerefinement_steps  = prm.get_integer("Pre-refinement steps");
       prm.leave_subsection();
     }
 

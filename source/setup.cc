@@ -124,9 +124,24 @@ namespace ContactStefan
       if (boundaries.count(id) == 0)
         throw InputError("Boundary conditions/Thermal boundaries",
                          "boundary id " + std::to_string(id) + " does not occur in the mesh");
+    for (const auto &[id, bc] : prm.mechanical_boundaries)
+      if (boundaries.count(id) == 0)
+        throw InputError("Boundary conditions/Mechanical boundaries",
+                         "boundary id " + std::to_string(id) + " does not occur in the mesh");
 
     TimerOutput::Scope t(timer, "setup: mesh");
     triangulation.refine_global(prm.refinement.initial_global_refinements);
+    const auto &r = prm.refinement;
+    if (r.prerefinement_radius > 0)
+      for (unsigned int step = 0; step < r.prerefinement_steps; ++step)
+        {
+          for (const auto &cell : triangulation.active_cell_iterators())
+            if (cell->is_locally_owned() &&
+                cell->center().distance(r.prerefinement_center) <
+                  r.prerefinement_radius + 0.5 * cell->diameter())
+              cell->set_refine_flag();
+          triangulation.execute_coarsening_and_refinement();
+        }
   }
 
 

@@ -248,6 +248,7 @@ namespace ContactStefan
     unsigned int total_active_set_iterations = 0, steps_with_fallback = 0;
     unsigned int inconsistent_enthalpy_nodes = 0; // h not in H(Theta) at the end of a step
     unsigned int total_contact_iterations = 0, max_contact_iterations = 0, first_contact_iterations = 0;
+    unsigned int max_contact_iterations_warm = 0; // over the steps after the first
   };
 } // namespace ContactStefan
 

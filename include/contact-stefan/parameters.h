@@ -210,6 +210,11 @@ namespace ContactStefan
     struct Refinement
     {
       unsigned int initial_global_refinements;
+      // Geometric pre-refinement: after the global refinements, refine the cells
+      // whose centre lies within radius of center, this many times.
+      Point<2>     prerefinement_center;
+      double       prerefinement_radius;
+      unsigned int prerefinement_steps;
 
       static void declare(ParameterHandler &prm);
       void        parse(ParameterHandler &prm);
