@@ -26,6 +26,7 @@ DEFAULT_BINARY = os.path.join(HERE, "..", "build", "contact-stefan")
 # Columns: (RESULT name, header, format, fit a rate?)
 COLUMNS = [
     ("temperature dofs", "DoFs", "{:>9.0f}", False),
+    ("displacement dofs", "DoFs", "{:>9.0f}", False),
     ("time steps", "steps", "{:>6.0f}", False),
     ("wall time", "wall [s]", "{:>9.2f}", False),
     ("mean active-set iterations", "PDAS/step", "{:>9.2f}", False),
@@ -36,6 +37,11 @@ COLUMNS = [
     ("front position error in mesh widths 0", "front0/h", "{:>8.3f}", False),
     ("front position error in mesh widths 1", "front1/h", "{:>8.3f}", False),
     ("max energy-balance residual", "energy res", "{:>10.1e}", False),
+    ("contact iterations first step", "contact it", "{:>10.0f}", False),
+    ("Hertz force P", "P", "{:>10.4e}", False),
+    ("Hertz half-width relative error", "a rel err", "{:>10.3e}", True),
+    ("Hertz peak pressure relative error", "p0 rel err", "{:>10.3e}", True),
+    ("Hertz pressure profile relative L2 error", "p(x) L2", "{:>10.3e}", True),
 ]
 
 
@@ -54,9 +60,9 @@ def get_entry(text, name):
     return m.group(1)
 
 
-def run_level(binary, scene_text, scene_dir, level, np_, workdir):
+def run_level(binary, scene_text, scene_dir, level, np_, workdir, refine_time):
     refinements = int(get_entry(scene_text, "Initial global refinements")) + level
-    tau = float(get_entry(scene_text, "Time step")) / 2**level
+    tau = float(get_entry(scene_text, "Time step")) / (2**level if refine_time else 1)
     text = set_entry(scene_text, "Initial global refinements", str(refinements))
     text = set_entry(text, "Time step", repr(tau))
     text = set_entry(text, "Directory", os.path.join(workdir, f"level-{level}"))
@@ -81,6 +87,11 @@ def run_level(binary, scene_text, scene_dir, level, np_, workdir):
     return results
 
 
+def width(r):
+    """The mesh width of a run: of the whole mesh, or at the contact zone."""
+    return r.get("mesh width", r.get("contact mesh width", float("nan")))
+
+
 def least_squares_rate(h, e):
     x = [math.log(v) for v in h]
     y = [math.log(v) for v in e]
@@ -95,6 +106,8 @@ def main():
     parser.add_argument("--levels", type=int, default=4)
     parser.add_argument("--np", type=int, default=1, help="MPI ranks per run")
     parser.add_argument("--binary", default=DEFAULT_BINARY)
+    parser.add_argument("--no-refine-time", action="store_true",
+                        help="keep the time step (quasi-static scenes: refine h only)")
     parser.add_argument("--markdown", action="store_true", help="print a Markdown table")
     parser.add_argument("--plot", help="write error against wall time to this PNG")
     args = parser.parse_args()
@@ -107,10 +120,13 @@ def main():
     with tempfile.TemporaryDirectory() as workdir:
         for level in range(args.levels):
             rows.append(run_level(args.binary, scene_text, os.path.dirname(os.path.abspath(args.scene)),
-                                  level, args.np, workdir))
+                                  level, args.np, workdir, not args.no_refine_time))
             print(f"level {level} done in {rows[-1]['wall time']:.2f} s", file=sys.stderr)
 
-    have = [c for c in COLUMNS if c[0] in rows[0]]
+    have = []
+    for c in COLUMNS:  # the first DoF column present only
+        if c[0] in rows[0] and not (c[1] == "DoFs" and any(h[1] == "DoFs" for h in have)):
+            have.append(c)
     headers = ["level", "h", "tau"] + [c[1] for c in have]
     rate_cols = [c for c in have if c[3]]
     if args.markdown:
@@ -119,7 +135,7 @@ def main():
     else:
         print("  ".join(f"{h:>9}" for h in headers + [f"rate {c[1]}"[:9] for c in rate_cols]))
     for i, r in enumerate(rows):
-        cells = [f"{i:>9d}", f"{r.get('mesh width', float('nan')):>9.3e}", f"{r['tau']:>9.3e}"]
+        cells = [f"{i:>9d}", f"{width(r):>9.3e}", f"{r['tau']:>9.3e}"]
         cells += [c[2].format(r[c[0]]) for c in have]
         for c in rate_cols:
             if i == 0:
@@ -127,13 +143,14 @@ def main():
             else:
                 cells.append(f"{math.log(rows[i-1][c[0]] / r[c[0]]) / math.log(2):>9.2f}")
         print(("| " + " | ".join(x.strip() for x in cells) + " |") if args.markdown else "  ".join(cells))
-    if "mesh width" in rows[0] and len(rows) > 1:
-        h = [r["mesh width"] for r in rows]
+    if len(rows) > 1 and not math.isnan(width(rows[0])):
+        h = [width(r) for r in rows]
         print()
         for c in rate_cols:
             print(f"least-squares rate of {c[0]}: {least_squares_rate(h, [r[c[0]] for r in rows]):.3f}")
-        print(f"mean active-set iterations over the ladder: "
-              f"{sum(r['mean active-set iterations'] for r in rows) / len(rows):.2f}")
+        if "mean active-set iterations" in rows[0]:
+            print(f"mean active-set iterations over the ladder: "
+                  f"{sum(r['mean active-set iterations'] for r in rows) / len(rows):.2f}")
     if args.plot:
         import matplotlib
         matplotlib.use("Agg")
