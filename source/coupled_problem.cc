@@ -86,6 +86,7 @@ namespace ContactStefan
     if (thermal)
       {
         set_initial_condition();
+        initial_total_enthalpy = total_enthalpy();
         assemble_cell_conductivities();
         accumulate_errors(0);
       }

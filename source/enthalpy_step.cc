@@ -27,6 +27,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <functional>
 
 namespace ContactStefan
@@ -114,10 +115,13 @@ namespace ContactStefan
 
 
 
-  // result = A theta, hanging-node condensed (unconstrained otherwise).
+  // result = A theta, hanging-node condensed (unconstrained otherwise); with
+  // absolute = true, |A| |theta| entrywise, the size of the terms of (A theta)_i
+  // against which its round-off is measured.
   template <int dim>
   void CoupledProblem<dim>::compute_conductivity_residual(const Vector &theta,
-                                                          Vector       &result) const
+                                                          Vector       &result,
+                                                          const bool    absolute) const
   {
     const unsigned int                   n = fe.n_dofs_per_cell();
     std::vector<types::global_dof_index> dofs(n);
@@ -128,8 +132,19 @@ namespace ContactStefan
         {
           cell->get_dof_indices(dofs);
           for (unsigned int i = 0; i < n; ++i)
-            local_theta(i) = theta[dofs[i]];
-          cell_conductivity[cell->active_cell_index()].vmult(local_result, local_theta);
+            local_theta(i) = absolute ? std::abs(theta[dofs[i]]) : theta[dofs[i]];
+          if (absolute)
+            {
+              const LocalMatrix &A = cell_conductivity[cell->active_cell_index()];
+              for (unsigned int i = 0; i < n; ++i)
+                {
+                  local_result(i) = 0;
+                  for (unsigned int j = 0; j < n; ++j)
+                    local_result(i) += std::abs(A(i, j)) * local_theta(j);
+                }
+            }
+          else
+            cell_conductivity[cell->active_cell_index()].vmult(local_result, local_theta);
           hanging_node_constraints.distribute_local_to_global(local_result, dofs, result);
         }
     result.compress(VectorOperation::add);
@@ -225,7 +240,7 @@ namespace ContactStefan
     SolverControl                                  direct_control(1, 0);
     TrilinosWrappers::SolverDirect                 direct(direct_control, data);
     TrilinosWrappers::PreconditionAMG              amg;
-    Vector A_theta(locally_owned_dofs, mpi_communicator);
+    Vector A_theta(locally_owned_dofs, mpi_communicator), A_abs_theta(locally_owned_dofs, mpi_communicator);
 
     for (unsigned int m = 1; m <= prm.solver.relaxation_max_iterations; ++m)
       {
@@ -269,6 +284,7 @@ namespace ContactStefan
         // Residual of the step equations at Theta = beta(h), relative to the
         // size of their terms.
         compute_conductivity_residual(temperature_ghosted, A_theta);
+        compute_conductivity_residual(temperature_ghosted, A_abs_theta, true);
         double residual = 0, scale = 0;
         for (const auto dof : locally_owned_dofs)
           if (!dirichlet_constraints.is_constrained(dof))
@@ -276,7 +292,7 @@ namespace ContactStefan
               const double stored = lumped_mass[dof] * (enthalpy[dof] - old_enthalpy[dof]);
               residual = std::max(residual, std::abs(stored + time_step * (A_theta[dof] - heat_load[dof])));
               scale    = std::max(scale, std::abs(stored) + time_step * (std::abs(heat_load[dof]) +
-                                                                      std::abs(A_theta[dof])));
+                                                                      A_abs_theta[dof]));
             }
         residual = Utilities::MPI::max(residual, mpi_communicator);
         scale    = Utilities::MPI::max(scale, mpi_communicator);
@@ -305,8 +321,9 @@ namespace ContactStefan
   template <int dim>
   double CoupledProblem<dim>::compute_energy_balance()
   {
-    Vector A_theta(locally_owned_dofs, mpi_communicator);
+    Vector A_theta(locally_owned_dofs, mpi_communicator), A_abs_theta(locally_owned_dofs, mpi_communicator);
     compute_conductivity_residual(temperature_ghosted, A_theta);
+    compute_conductivity_residual(temperature_ghosted, A_abs_theta, true);
     double       free_sum = 0, scale = 0;
     unsigned int inconsistent_nodes = 0;
     for (const auto dof : locally_owned_dofs)
@@ -318,15 +335,25 @@ namespace ContactStefan
         if (!dirichlet_constraints.is_constrained(dof))
           {
             free_sum += std::abs(r);
-            // h in H(Theta), to round-off relative to the latent and sensible scale.
-            const auto range     = law(dof).enthalpy_range(temperature[dof]);
-            const double slack   = 1e-9 * (1 + std::abs(range.first) + std::abs(range.second));
-            inconsistent_nodes += (enthalpy[dof] < range.first - slack ||
-                                   enthalpy[dof] > range.second + slack);
+            // h in H([Theta - e, Theta + e]) with e the round-off of Theta: at a
+            // kink a temperature 1e-18 below the transition is on the plateau.
+            const double theta = temperature[dof];
+            const double e     = 64 * std::numeric_limits<double>::epsilon() * (1 + std::abs(theta));
+            const std::pair<double, double> range{law(dof).enthalpy_range(theta - e).first,
+                                                  law(dof).enthalpy_range(theta + e).second};
+            const double slack = 64 * std::numeric_limits<double>::epsilon() *
+                                 (1 + std::abs(range.first) + std::abs(range.second));
+            const bool outside = (enthalpy[dof] < range.first - slack ||
+                                  enthalpy[dof] > range.second + slack);
+            if (outside && prm.output.verbosity >= 2)
+              std::cout << "      node " << dof << ": h = " << enthalpy[dof] << " outside ["
+                        << range.first << ", " << range.second << "] of Theta = " << temperature[dof]
+                        << std::endl;
+            inconsistent_nodes += outside;
           }
         else
           scale += std::abs(r);
-        scale += std::abs(stored) + time_step * std::abs(heat_load[dof]);
+        scale += std::abs(stored) + time_step * (std::abs(heat_load[dof]) + A_abs_theta[dof]);
       }
     free_sum = Utilities::MPI::sum(free_sum, mpi_communicator);
     scale    = Utilities::MPI::sum(scale, mpi_communicator);
@@ -361,14 +388,48 @@ namespace ContactStefan
     };
     Vector h_new(locally_owned_dofs, mpi_communicator);
     Vector z(locally_owned_dofs, mpi_communicator);
+    // The size of enthalpy changes that matter: the largest latent heat or, without
+    // transitions, the sensible heat of a unit temperature change.
+    double enthalpy_scale = 0;
+    for (const auto &l : laws)
+      {
+        enthalpy_scale = std::max(enthalpy_scale, l.max_heat_capacity());
+        for (unsigned int j = 0; j < l.n_transitions(); ++j)
+          enthalpy_scale = std::max(enthalpy_scale, l.latent_heat(j));
+      }
 
     for (unsigned int it = 1; it <= prm.solver.max_active_set_iterations; ++it)
       {
         report.plateau_nodes         = solve_for_pieces(piece_of, h_new);
         report.active_set_iterations = it;
 
+        // A target whose every free node lies on the piece it was computed with
+        // solves the step exactly: take it. (Near convergence the decrease of E
+        // can be below its round-off, so the line search must not judge it.)
+        unsigned int local_inconsistent = 0;
+        for (const auto dof : locally_owned_dofs)
+          if (is_free(dof))
+            local_inconsistent += (law(dof).state_of_enthalpy(h_new[dof]) !=
+                                   static_cast<unsigned int>(phase_state[dof]));
+        const bool target_consistent = Utilities::MPI::sum(local_inconsistent, mpi_communicator) == 0;
+        // A Newton step that moves no enthalpy beyond round-off ends the
+        // iteration even if states flip: that happens where the solution sits
+        // exactly on a kink of H (e.g. an equilibrium at a transition
+        // temperature), where neighbouring pieces give the same (Theta, h).
+        double local_step = 0, local_size = 0;
+        for (const auto dof : locally_owned_dofs)
+          if (is_free(dof))
+            {
+              local_step = std::max(local_step, std::abs(h_new[dof] - enthalpy[dof]));
+              local_size = std::max(local_size, std::abs(h_new[dof]));
+            }
+        const bool step_negligible =
+          it > 1 && Utilities::MPI::max(local_step, mpi_communicator) <=
+                      prm.solver.active_set_step_tolerance *
+                        (Utilities::MPI::max(local_size, mpi_communicator) + enthalpy_scale);
+
         double alpha = 1;
-        if (it > 1)
+        if (it > 1 && !target_consistent && !step_negligible)
           {
             // Slope and the two quadratic coefficients of E along h_new - h.
             double local[3] = {0, 0, 0}; // grad E . d,  d . z,  d . K^{-1} d
@@ -383,21 +444,30 @@ namespace ContactStefan
             double global[3];
             Utilities::MPI::sum(ArrayView<const double>(local, 3), mpi_communicator,
                                 ArrayView<double>(global, 3));
-            const auto decrease = [&](const double a) {
-              double psi = 0;
+            // Armijo: E(alpha) - E(0) <= sigma alpha slope, up to the round-off of
+            // the terms that make up the difference.
+            const double round_off = 64 * std::numeric_limits<double>::epsilon();
+            const auto   armijo_holds = [&](const double a) {
+              double psi[2] = {0, 0}; // sum m (Psi(h + a d) - Psi(h)), sum m (|..| + |..|)
               for (const auto dof : locally_owned_dofs)
                 if (is_free(dof))
                   {
-                    const EnthalpyLaw &l = law(dof);
-                    const double       h = enthalpy[dof];
-                    psi += lumped_mass[dof] *
-                           (l.beta_primitive(h + a * (h_new[dof] - h)) - l.beta_primitive(h));
+                    const EnthalpyLaw &l      = law(dof);
+                    const double       h      = enthalpy[dof];
+                    const double       before = l.beta_primitive(h);
+                    const double       after  = l.beta_primitive(h + a * (h_new[dof] - h));
+                    psi[0] += lumped_mass[dof] * (after - before);
+                    psi[1] += lumped_mass[dof] * (std::abs(after) + std::abs(before));
                   }
-              return a * global[1] + 0.5 * a * a * global[2] +
-                     Utilities::MPI::sum(psi, mpi_communicator);
+              double sums[2];
+              Utilities::MPI::sum(ArrayView<const double>(psi, 2), mpi_communicator,
+                                  ArrayView<double>(sums, 2));
+              const double linear = a * global[1], quadratic = 0.5 * a * a * global[2];
+              return linear + quadratic + sums[0] <=
+                     prm.solver.line_search_sufficient_decrease * a * global[0] +
+                       round_off * (sums[1] + std::abs(linear) + std::abs(quadratic));
             };
-            while (alpha > prm.solver.line_search_min_step &&
-                   decrease(alpha) > prm.solver.line_search_sufficient_decrease * alpha * global[0])
+            while (alpha > prm.solver.line_search_min_step && !armijo_holds(alpha))
               alpha *= 0.5;
           }
         // h <- h + alpha (h_new - h), z <- (1 - alpha) z - alpha Theta_new.
@@ -428,7 +498,7 @@ namespace ContactStefan
           pcout << "      active set " << it << ": " << report.plateau_nodes
                 << " plateau nodes, step " << alpha << ", " << n_changes << " state changes"
                 << std::endl;
-        if (n_changes == 0 && alpha == 1)
+        if ((n_changes == 0 && alpha == 1) || step_negligible)
           return true;
       }
     return false;

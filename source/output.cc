@@ -196,6 +196,19 @@ namespace ContactStefan
 
 
 
+  // sum_i m_i h_i: the heat content (J per unit thickness) of the whole mesh.
+  template <int dim>
+  double CoupledProblem<dim>::total_enthalpy() const
+  {
+    double E = 0;
+    for (const auto dof : locally_owned_dofs)
+      if (!hanging_node_constraints.is_constrained(dof))
+        E += lumped_mass[dof] * enthalpy[dof];
+    return Utilities::MPI::sum(E, mpi_communicator);
+  }
+
+
+
   template <int dim>
   double CoupledProblem<dim>::liquid_area(const double transition_temperature) const
   {
@@ -355,6 +368,45 @@ namespace ContactStefan
         result("relative space-time L2 error temperature",
                std::sqrt(space_time_error_squared / space_time_norm_squared));
         result("max-norm error temperature", last_max_error);
+      }
+    if (prm.exact_solution.type == "equilibrium")
+      {
+        // T_f from the body laws and the body areas alone (no nodal mixtures):
+        // sum_b |body b| H_b(T_f) = E(0), by bisection on the monotone left side.
+        std::map<unsigned int, double> area;
+        for (const auto &cell : triangulation.active_cell_iterators())
+          if (cell->is_locally_owned())
+            area[cell->material_id()] += cell->measure();
+        std::vector<std::pair<double, EnthalpyLaw>> bodies;
+        for (const unsigned int id : prm.body_ids)
+          bodies.emplace_back(Utilities::MPI::sum(area[id], mpi_communicator),
+                              prm.materials.at(id).enthalpy_law());
+        const auto total = [&](const double T) {
+          double E = 0;
+          for (const auto &[A, l] : bodies)
+            E += A * l.enthalpy(T);
+          return E;
+        };
+        double lo = -1, hi = 1;
+        while (total(lo) > initial_total_enthalpy)
+          lo *= 2;
+        while (total(hi) < initial_total_enthalpy)
+          hi *= 2;
+        for (unsigned int i = 0; i < 200 && hi - lo > 0; ++i)
+          {
+            const double mid = 0.5 * (lo + hi);
+            (total(mid) < initial_total_enthalpy ? lo : hi) = mid;
+          }
+        const double T_f       = 0.5 * (lo + hi);
+        double       deviation = 0;
+        for (const auto dof : locally_owned_dofs)
+          deviation = std::max(deviation, std::abs(temperature[dof] - T_f));
+        const double E_end = total_enthalpy();
+        result("equilibrium temperature", T_f);
+        result("max deviation from equilibrium temperature",
+               Utilities::MPI::max(deviation, mpi_communicator));
+        result("relative change of total enthalpy",
+               std::abs(E_end - initial_total_enthalpy) / std::abs(initial_total_enthalpy));
       }
     if (neumann)
       {

@@ -543,12 +543,15 @@ namespace ContactStefan
     void ExactSolution::declare(ParameterHandler &prm)
     {
       prm.enter_subsection("Exact solution");
-      prm.declare_entry("Type", "none", Patterns::Selection("none|neumann|function|hertz|patch"),
+      prm.declare_entry("Type", "none", Patterns::Selection("none|neumann|function|equilibrium|hertz|patch"),
                         "'neumann': the similarity solution of the (multi-)phase Stefan "
                         "problem of one body's material on x > Origin with Theta = Hot "
                         "temperature at x = Origin and Cold temperature initially (a "
                         "rectangle; front positions are reported too). 'function': the "
-                        "temperature given by Function. 'hertz': a rigid cylinder of Cylinder "
+                        "temperature given by Function. 'equilibrium': an insulated system "
+                        "without sources tends to the uniform temperature T_f with "
+                        "sum_b |body b| H_b(T_f) = its initial enthalpy; the run reports how far "
+                        "it is from T_f at the end. 'hertz': a rigid cylinder of Cylinder "
                         "radius pressed into body Body through its obstacle boundary (the "
                         "Hertz half-plane solution for the computed force). 'patch': the C2 "
                         "two-block patch test (height Patch height, top pushed down by Patch "
@@ -630,6 +633,11 @@ namespace ContactStefan
                         "'active-set': the primal-dual active-set (semismooth Newton) method "
                         "with line search; 'relaxation': the nonlinear relaxation iteration "
                         "alone (slow; a baseline for comparisons).");
+      prm.declare_entry("Active-set step tolerance", "1e-12", Patterns::Double(0, 1),
+                        "The active-set iteration also stops when a Newton step changes no "
+                        "nodal enthalpy by more than this times (the largest |h| plus the "
+                        "largest latent heat or heat capacity): the round-off level, reached "
+                        "where the solution sits exactly on a kink of H.");
       prm.declare_entry("Line search sufficient decrease", "1e-4", Patterns::Double(0, 0.5),
                         "Armijo constant sigma of the line search that guards the "
                         "active-set (semismooth Newton) iteration against cycling: a step "
@@ -663,6 +671,7 @@ namespace ContactStefan
       cg_max_iterations             = prm.get_integer("CG max iterations");
       max_active_set_iterations     = prm.get_integer("Max active-set iterations");
       enthalpy_solver                 = prm.get("Enthalpy solver");
+      active_set_step_tolerance       = prm.get_double("Active-set step tolerance");
       line_search_sufficient_decrease = prm.get_double("Line search sufficient decrease");
       line_search_min_step          = prm.get_double("Line search minimum step");
       extrapolate_active_set        = prm.get_bool("Extrapolate active set");
@@ -910,7 +919,18 @@ namespace ContactStefan
     if (exact_solution.type == "hertz" || exact_solution.type == "patch")
       require(physics.mechanics, "Exact solution/Type",
               "'" + exact_solution.type + "' needs Physics/Mechanics = true");
-    if (exact_solution.type == "neumann" || exact_solution.type == "function")
+    if (exact_solution.type == "equilibrium")
+      {
+        for (const auto &[id, bc] : thermal_boundaries)
+          require(bc.type == Parameters::ThermalBoundary::Type::flux && bc.value == "0",
+                  "Exact solution/Type", "'equilibrium' needs insulated boundaries (boundary " +
+                                           std::to_string(id) + " is not)");
+        for (const auto &[id, m] : materials)
+          require(m.heat_source == "0", "Exact solution/Type",
+                  "'equilibrium' needs no heat source (body " + std::to_string(id) + " has one)");
+      }
+    if (exact_solution.type == "neumann" || exact_solution.type == "function" ||
+        exact_solution.type == "equilibrium")
       require(physics.thermal, "Exact solution/Type",
               "'" + exact_solution.type + "' needs Physics/Thermal = true");
     if (exact_solution.type == "hertz" || exact_solution.type == "patch")

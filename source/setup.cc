@@ -335,17 +335,43 @@ namespace ContactStefan
   // depends on the phase, a cell mixes its phases' conductivities with the phase
   // fractions of its nodes at the previous time level (lagging keeps the step
   // linear for a given active set; the scheme stays conservative because A_K is
-  // still symmetric with zero row sums).
+  // still symmetric with zero row sums). Since kappa_K = k_K * (the body's shape
+  // tensor), A_K = k_K * S_K with a shape matrix S_K that is computed once per
+  // mesh; a step only rescales it.
   template <int dim>
   void CoupledProblem<dim>::assemble_cell_conductivities()
   {
     TimerOutput::Scope t(timer, "assemble conductivity");
-    const QGauss<dim>  quadrature(fe.degree + 1);
-    FEValues<dim>      fe_values(fe, quadrature, update_gradients | update_JxW_values);
     const unsigned int n = fe.n_dofs_per_cell();
     std::vector<types::global_dof_index> dofs(n);
-    cell_conductivity.resize(triangulation.n_active_cells());
 
+    if (cell_shape_conductivity.size() != triangulation.n_active_cells())
+      {
+        const QGauss<dim> quadrature(fe.degree + 1);
+        FEValues<dim>     fe_values(fe, quadrature, update_gradients | update_JxW_values);
+        cell_shape_conductivity.assign(triangulation.n_active_cells(), LocalMatrix());
+        for (const auto &cell : dof_handler.active_cell_iterators())
+          if (cell->is_locally_owned())
+            {
+              const auto    &K = prm.materials.at(cell->material_id()).anisotropy;
+              Tensor<2, dim> shape;
+              shape[0][0] = K[0];
+              shape[0][1] = shape[1][0] = K[1];
+              shape[1][1]               = K[2];
+              fe_values.reinit(cell);
+              LocalMatrix &S = cell_shape_conductivity[cell->active_cell_index()];
+              S.reinit(n, n);
+              for (unsigned int q = 0; q < quadrature.size(); ++q)
+                for (unsigned int i = 0; i < n; ++i)
+                  {
+                    const Tensor<1, dim> flux_i = shape * fe_values.shape_grad(i, q);
+                    for (unsigned int j = 0; j < n; ++j)
+                      S(i, j) += flux_i * fe_values.shape_grad(j, q) * fe_values.JxW(q);
+                  }
+            }
+      }
+
+    cell_conductivity.resize(triangulation.n_active_cells());
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
@@ -374,21 +400,9 @@ namespace ContactStefan
                 }
               k /= n;
             }
-          Tensor<2, dim> kappa;
-          kappa[0][0] = k * material.anisotropy[0];
-          kappa[0][1] = kappa[1][0] = k * material.anisotropy[1];
-          kappa[1][1]               = k * material.anisotropy[2];
-
-          fe_values.reinit(cell);
           LocalMatrix &A = cell_conductivity[cell->active_cell_index()];
-          A.reinit(n, n);
-          for (unsigned int q = 0; q < quadrature.size(); ++q)
-            for (unsigned int i = 0; i < n; ++i)
-              {
-                const Tensor<1, dim> flux_i = kappa * fe_values.shape_grad(i, q);
-                for (unsigned int j = 0; j < n; ++j)
-                  A(i, j) += flux_i * fe_values.shape_grad(j, q) * fe_values.JxW(q);
-              }
+          A              = cell_shape_conductivity[cell->active_cell_index()];
+          A *= k;
         }
   }
 

@@ -138,7 +138,8 @@ namespace ContactStefan
     void               assemble_enthalpy_system(const bool assemble_matrix);
     void               solve_linear_system(Vector &solution);
     void               compute_conductivity_residual(const Vector &theta_ghosted,
-                                                     Vector       &result) const;
+                                                     Vector       &result,
+                                                     const bool    absolute = false) const;
     unsigned int
     solve_for_pieces(const std::function<LinearPiece(const types::global_dof_index)> &piece_of,
                      Vector                                                          &h_new);
@@ -156,6 +157,7 @@ namespace ContactStefan
     void   accumulate_errors(const double tau);
     void   print_results();
     double liquid_area(const double transition_temperature) const;
+    double total_enthalpy() const;
 
     // --- data -------------------------------------------------------------
     const AllParameters &prm;
@@ -199,7 +201,7 @@ namespace ContactStefan
 
     // Per-cell operators, by active cell index: conductivity matrix A_K (with the
     // lagged phase mixture), lumped vertex weights m_K and heat load F_K.
-    std::vector<LocalMatrix>            cell_conductivity;
+    std::vector<LocalMatrix>            cell_conductivity, cell_shape_conductivity;
     std::vector<dealii::Vector<double>> cell_mass, cell_load;
 
     // --- Mechanics: displacement on an hp DoFHandler whose element on body b is
@@ -243,6 +245,7 @@ namespace ContactStefan
 
     // Statistics and accumulated errors.
     double last_l2_error = 0, last_l2_norm = 0, last_max_error = 0;
+    double initial_total_enthalpy = 0;
     double       space_time_error_squared = 0, space_time_norm_squared = 0;
     double       max_energy_residual      = 0;
     unsigned int total_active_set_iterations = 0, steps_with_fallback = 0;

@@ -196,6 +196,7 @@ namespace ContactStefan
       unsigned int cg_max_iterations;
       unsigned int max_active_set_iterations;
       std::string  enthalpy_solver; // "active-set" or "relaxation"
+      double       active_set_step_tolerance;
       double       line_search_sufficient_decrease;
       double       line_search_min_step;
       bool         extrapolate_active_set;
