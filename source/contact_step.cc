@@ -75,6 +75,7 @@ namespace ContactStefan
     mechanical_constraints.reinit(mechanical_relevant);
     mechanical_constraints.merge(mechanical_fixed);
     n_skipped = 0;
+    placed_per_group.clear();
     for (const auto &c : normal_conditions)
         {
           const bool is_interface = c.kind == NormalCondition::Kind::interface;
@@ -107,6 +108,8 @@ namespace ContactStefan
               break;
             }
           n_skipped += !placed;
+          if (placed && mechanical_owned.is_element(c.dofs_k[0]))
+            ++placed_per_group[c.group];
         }
     mechanical_constraints.close();
   }

@@ -147,6 +147,15 @@ namespace ContactStefan
     interface_active_ghosted = interface_active;
     unsigned int skipped     = 0;
     build_contact_constraints(skipped);
+    // An obstacle or interface none of whose nodes has a free displacement
+    // component (all prescribed) cannot act: refuse it before any work.
+    for (const auto &group : contact_groups)
+      if (Utilities::MPI::sum(placed_per_group[group], mpi_communicator) == 0)
+        throw InputError(group.rfind("boundary", 0) == 0 ?
+                           "Boundary conditions/Mechanical " + group :
+                           std::string("Contact/Interfaces"),
+                         "no node of this " + std::string(group.rfind("boundary", 0) == 0 ? "obstacle" : "interface") +
+                           " has a free displacement component: prescribed displacements take them all");
     DoFTools::make_sparsity_pattern(mechanical_dof_handler, dsp, mechanical_constraints, true);
     SparsityTools::distribute_sparsity_pattern(dsp, mechanical_owned, mpi_communicator,
                                                mechanical_relevant);

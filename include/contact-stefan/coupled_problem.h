@@ -220,6 +220,7 @@ namespace ContactStefan
     bool                                  mechanical_load_present = false;
     std::vector<NormalCondition>          normal_conditions;
     std::vector<std::string>              contact_groups; // on every rank, sorted
+    std::map<std::string, unsigned int>   placed_per_group; // owned active conditions imposed
     // Active flags (1 or 0) at the x DoF of side k, owned and ghosted, for the
     // obstacle and the interface conditions.
     Vector obstacle_active, obstacle_active_ghosted, interface_active, interface_active_ghosted;
