@@ -145,25 +145,7 @@ namespace ContactStefan
   void CoupledProblem<dim>::solve_mechanical_linear_system()
   {
     TimerOutput::Scope t(timer, "contact step: linear solve");
-    if (prm.solver.linear_solver == "direct")
-      {
-        SolverControl                                  control(1, 0);
-        TrilinosWrappers::SolverDirect::AdditionalData data(prm.output.verbosity >= 2,
-                                                            prm.solver.direct_solver_type);
-        TrilinosWrappers::SolverDirect                 solver(control, data);
-        solver.solve(mechanical_matrix, displacement, mechanical_rhs);
-      }
-    else
-      {
-        SolverControl control(prm.solver.cg_max_iterations,
-                              prm.solver.cg_tolerance * mechanical_rhs.l2_norm());
-        TrilinosWrappers::PreconditionAMG                 amg;
-        TrilinosWrappers::PreconditionAMG::AdditionalData data;
-        data.elliptic = true;
-        amg.initialize(mechanical_matrix, data);
-        SolverCG<Vector> cg(control);
-        cg.solve(mechanical_matrix, displacement, mechanical_rhs, amg);
-      }
+    solve_linear(mechanical_matrix, displacement, mechanical_rhs);
     mechanical_constraints.distribute(displacement);
     displacement_ghosted = displacement;
   }

@@ -83,33 +83,44 @@ namespace ContactStefan
 
 
 
-  // Solve system_matrix x = system_rhs with the selected solver; x holds the
-  // constrained values afterwards.
+  // Solve A x = b with the selected solver ('Solver/Linear solver'): Amesos
+  // direct, or CG preconditioned by ML AMG from the current x. Shared by the
+  // enthalpy and the contact step.
   template <int dim>
-  void CoupledProblem<dim>::solve_linear_system(Vector &solution)
+  void CoupledProblem<dim>::solve_linear(const TrilinosWrappers::SparseMatrix &A,
+                                         Vector                               &x,
+                                         const Vector                         &b) const
   {
-    TimerOutput::Scope t(timer, "enthalpy step: linear solve");
     if (prm.solver.linear_solver == "direct")
       {
         SolverControl                                  control(1, 0);
         TrilinosWrappers::SolverDirect::AdditionalData data(prm.output.verbosity >= 2,
                                                             prm.solver.direct_solver_type);
         TrilinosWrappers::SolverDirect                 solver(control, data);
-        solver.solve(system_matrix, solution, system_rhs);
+        solver.solve(A, x, b);
       }
     else
       {
-        SolverControl control(prm.solver.cg_max_iterations,
-                              prm.solver.cg_tolerance * system_rhs.l2_norm());
+        SolverControl control(prm.solver.cg_max_iterations, prm.solver.cg_tolerance * b.l2_norm());
         TrilinosWrappers::PreconditionAMG                 amg;
         TrilinosWrappers::PreconditionAMG::AdditionalData data;
         data.elliptic = true;
-        amg.initialize(system_matrix, data);
+        amg.initialize(A, data);
         SolverCG<Vector> cg(control);
-        cg.solve(system_matrix, solution, system_rhs, amg);
+        cg.solve(A, x, b, amg);
         if (prm.output.verbosity >= 2)
           pcout << "      CG: " << control.last_step() << " iterations" << std::endl;
       }
+  }
+
+
+
+  // Solve the enthalpy system; x holds the constrained values afterwards.
+  template <int dim>
+  void CoupledProblem<dim>::solve_linear_system(Vector &solution)
+  {
+    TimerOutput::Scope t(timer, "enthalpy step: linear solve");
+    solve_linear(system_matrix, solution, system_rhs);
     constraints.distribute(solution);
   }
 

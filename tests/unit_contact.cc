@@ -3,24 +3,19 @@
 // active-set test, and the Hertz formulas (BENCHMARKS.md C1 numbers).
 #include <contact-stefan/contact.h>
 
+#include "unit_test_tools.h"
+
 #include <cmath>
 #include <cstdio>
 #include <string>
 
 using namespace ContactStefan::Contact;
 
+using UnitTest::check;
+using UnitTest::close;
+
 namespace
 {
-  int failures = 0;
-  void check(const bool ok, const std::string &what)
-  {
-    std::printf("%s: %s\n", ok ? "OK" : "FAILED", what.c_str());
-    failures += !ok;
-  }
-  bool close(const double a, const double b, const double tol = 1e-12)
-  {
-    return std::abs(a - b) <= tol * (1 + std::abs(b));
-  }
   // Apply a constraint row to values u (indexed by DoF) and return the target's value.
   double apply(const ConstraintRow &row, const double *u)
   {
@@ -95,6 +90,5 @@ int main()
           close(h.pressure(0.5 * h.half_width), h.peak_pressure * std::sqrt(0.75)),
         "Hertz: pressure profile");
 
-  std::printf("%d failures\n", failures);
-  return failures == 0 ? 0 : 1;
+  return UnitTest::finish();
 }

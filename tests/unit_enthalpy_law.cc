@@ -4,6 +4,8 @@
 // Prints deterministic lines; returns 1 if any check fails.
 #include <contact-stefan/enthalpy_law.h>
 
+#include "unit_test_tools.h"
+
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -11,20 +13,11 @@
 
 using namespace ContactStefan;
 
+using UnitTest::check;
+using UnitTest::close;
+
 namespace
 {
-  int failures = 0;
-
-  void check(const bool ok, const std::string &what)
-  {
-    std::printf("%s: %s\n", ok ? "OK" : "FAILED", what.c_str());
-    failures += !ok;
-  }
-
-  bool close(const double a, const double b, const double tol = 1e-12)
-  {
-    return std::abs(a - b) <= tol * (1 + std::abs(b));
-  }
 
   template <typename F>
   bool throws(F f)
@@ -145,6 +138,5 @@ int main()
   check(throws([] { EnthalpyLaw({0.}, {1.}, {1.}); }), "rejects a missing phase capacity");
   check(throws([] { EnthalpyLaw::weighted_sum({}); }), "rejects an empty mixture");
 
-  std::printf("%d failures\n", failures);
-  return failures == 0 ? 0 : 1;
+  return UnitTest::finish();
 }

@@ -137,6 +137,7 @@ namespace ContactStefan
     EnthalpyStepReport solve_enthalpy_step();
     void               assemble_enthalpy_system(const bool assemble_matrix);
     void               solve_linear_system(Vector &solution);
+    void               solve_linear(const TrilinosWrappers::SparseMatrix &A, Vector &x, const Vector &b) const;
     void               compute_conductivity_residual(const Vector &theta_ghosted,
                                                      Vector       &result,
                                                      const bool    absolute = false) const;
