@@ -116,6 +116,74 @@ namespace ContactStefan
 
 
 
+  // Every body must be held against rigid motion by the current constraints
+  // (prescribed displacements, rollers, ties and the active contact set), or
+  // its stiffness matrix is singular. For each body and each rigid mode r
+  // (translation in x, in y, rotation about the body's centre) every constraint
+  // line u_i = sum_j a_ij u_j + b_i of that body's DoFs has the homogeneous
+  // residual r_i - sum_j a_ij r_j; the body is held iff these residual vectors
+  // span all three modes, i.e. iff their 3x3 Gram matrix is positive definite.
+  template <int dim>
+  void CoupledProblem<dim>::check_rigid_body_modes() const
+  {
+    const unsigned int n_slots = prm.body_ids.size();
+    std::vector<double> gram(n_slots * 9, 0.);
+    const auto mode = [&](const DofInfo &d, const unsigned int m) {
+      const auto &c = body_frame[d.slot];
+      if (m < 2)
+        return d.component == m ? 1. : 0.;
+      return d.component == 0 ? -(d.position[1] - c.first[1]) / c.second :
+                                (d.position[0] - c.first[0]) / c.second;
+    };
+    for (const auto &[dof, info] : dof_info)
+      if (mechanical_owned.is_element(dof) && mechanical_constraints.is_constrained(dof))
+        {
+          double r[3];
+          for (unsigned int m = 0; m < 3; ++m)
+            {
+              r[m] = mode(info, m);
+              for (const auto &[j, a] : *mechanical_constraints.get_constraint_entries(dof))
+                {
+                  const auto other = dof_info.find(j);
+                  if (other != dof_info.end() && other->second.slot == info.slot)
+                    r[m] -= a * mode(other->second, m);
+                }
+            }
+          for (unsigned int a = 0; a < 3; ++a)
+            for (unsigned int b = 0; b < 3; ++b)
+              gram[info.slot * 9 + a * 3 + b] += r[a] * r[b];
+        }
+    Utilities::MPI::sum(gram, mpi_communicator, gram);
+    const char *names[3] = {"translation in x", "translation in y", "rotation"};
+    for (unsigned int s = 0; s < n_slots; ++s)
+      {
+        // Cholesky of the 3x3 Gram matrix; a vanishing pivot is a free mode.
+        double L[3][3] = {};
+        for (unsigned int i = 0; i < 3; ++i)
+          for (unsigned int j = 0; j <= i; ++j)
+            {
+              double sum = gram[s * 9 + i * 3 + j];
+              for (unsigned int k = 0; k < j; ++k)
+                sum -= L[i][k] * L[j][k];
+              if (i == j)
+                {
+                  if (sum <= prm.contact.rigid_mode_tolerance)
+                    throw std::runtime_error(
+                      "body " + std::to_string(prm.body_ids[s]) + " is not held against " +
+                      names[i] + " at t = " + std::to_string(time) +
+                      " (the elasticity system would be singular): with the current contact "
+                      "set only an open contact would hold it; give it displacement, roller or "
+                      "tied conditions in that direction");
+                  L[i][i] = std::sqrt(sum);
+                }
+              else
+                L[i][j] = sum / L[j][j];
+            }
+      }
+  }
+
+
+
   template <int dim>
   void CoupledProblem<dim>::assemble_mechanical_system()
   {
@@ -196,6 +264,7 @@ namespace ContactStefan
                                    " iterations at t = " + std::to_string(time));
         unsigned int skipped = 0;
         build_contact_constraints(skipped);
+        check_rigid_body_modes();
         assemble_mechanical_system();
         solve_mechanical_linear_system();
         compute_mechanical_residual(residual);

@@ -128,6 +128,37 @@ namespace ContactStefan
                       &stiffness_diagonal})
       v->reinit(mechanical_owned, mechanical_relevant, mpi_communicator);
 
+    // Where each displacement DoF sits, and each body's centre and size.
+    dof_info.clear();
+    std::vector<Point<dim>> lower(n_slots, Point<dim>(HUGE_VAL, HUGE_VAL)),
+      upper(n_slots, Point<dim>(-HUGE_VAL, -HUGE_VAL));
+    for (const auto &cell : mechanical_dof_handler.active_cell_iterators())
+      if (!cell->is_artificial())
+        {
+          const unsigned int slot = body_slot.at(cell->material_id());
+          const auto         dofs = vertex_dofs<dim>(cell);
+          for (const unsigned int v : cell->vertex_indices())
+            {
+              for (unsigned int d = 0; d < dim; ++d)
+                {
+                  dof_info[dofs[v][d]] = {slot, d, cell->vertex(v)};
+                  lower[slot][d]       = std::min(lower[slot][d], cell->vertex(v)[d]);
+                  upper[slot][d]       = std::max(upper[slot][d], cell->vertex(v)[d]);
+                }
+            }
+        }
+    body_frame.resize(n_slots);
+    for (unsigned int s = 0; s < n_slots; ++s)
+      {
+        Point<dim> lo, hi;
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            lo[d] = Utilities::MPI::min(lower[s][d], mpi_communicator);
+            hi[d] = Utilities::MPI::max(upper[s][d], mpi_communicator);
+          }
+        body_frame[s] = {0.5 * (lo + hi), 0.5 * lo.distance(hi)};
+      }
+
     assemble_cell_stiffness();
     find_normal_conditions();
     make_fixed_mechanical_constraints(time);
@@ -160,11 +191,30 @@ namespace ContactStefan
     SparsityTools::distribute_sparsity_pattern(dsp, mechanical_owned, mpi_communicator,
                                                mechanical_relevant);
     mechanical_matrix.reinit(mechanical_owned, mechanical_owned, dsp, mpi_communicator);
-    // A cold start: no node in contact.
+    // Cold start: nodes whose gap is already closed (g <= 0 at the start time)
+    // start in contact, so that bodies stacked on each other start supported.
+    update_condition_gaps();
     for (Vector *v : {&obstacle_active, &interface_active})
       *v = 0.;
+    for (const auto &c : normal_conditions)
+      if (c.kind != NormalCondition::Kind::roller && mechanical_owned.is_element(c.dofs_k[0]))
+        (c.kind == NormalCondition::Kind::interface ? interface_active : obstacle_active)[c.dofs_k[0]] =
+          c.gap <= 0 ? 1. : 0.;
+    obstacle_active.compress(VectorOperation::insert);
+    interface_active.compress(VectorOperation::insert);
     obstacle_active_ghosted  = obstacle_active;
     interface_active_ghosted = interface_active;
+    // A body that nothing but an open contact would hold is refused here,
+    // before any work (the same check guards every contact iteration).
+    build_contact_constraints(skipped);
+    try
+      {
+        check_rigid_body_modes();
+      }
+    catch (const std::exception &e)
+      {
+        throw InputError("Boundary conditions/Mechanical boundaries", e.what());
+      }
 
     unsigned int n_rollers = 0, n_obstacle = 0, n_interface = 0;
     for (const auto &c : normal_conditions)
@@ -405,14 +455,14 @@ namespace ContactStefan
           e.condition.group       = group;
           e.condition.boundary_id = boundary_id;
           e.condition.position    = cell->vertex(v);
-          e.condition.dofs_k      = {dofs[v][0], dofs[v][1]};
+          e.condition.dofs_k      = {{dofs[v][0], dofs[v][1]}};
           e.condition.has_partner = (partner != nullptr);
           if (partner)
             {
               const auto partner_dofs = vertex_dofs<dim>(*partner);
               for (const unsigned int pv : (*partner)->vertex_indices())
                 if ((*partner)->vertex_index(pv) == cell->vertex_index(v))
-                  e.condition.dofs_l = {partner_dofs[pv][0], partner_dofs[pv][1]};
+                  e.condition.dofs_l = {{partner_dofs[pv][0], partner_dofs[pv][1]}};
             }
           e.normals.add_face({{a[0], a[1]}}, {{b[0], b[1]}}, {{c[0], c[1]}});
         }
@@ -459,7 +509,7 @@ namespace ContactStefan
       {
         NormalCondition &c = e.condition;
         const auto       n = e.normals.normal();
-        c.normal           = {n[0], n[1]};
+        c.normal           = {{n[0], n[1]}};
         c.weight           = e.normals.weight();
         c.stiffness        = n[0] * n[0] * stiffness_diagonal[c.dofs_k[0]] +
                       n[1] * n[1] * stiffness_diagonal[c.dofs_k[1]];

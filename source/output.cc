@@ -459,7 +459,7 @@ namespace ContactStefan
           if (c.kind == Kind::obstacle && mechanical_owned.is_element(c.dofs_k[0]))
             {
               const bool active = obstacle_active[c.dofs_k[0]] > 0.5;
-              local.push_back({c.position[0], active ? contact_pressure[c.dofs_k[0]] : 0., c.weight});
+              local.push_back({{c.position[0], active ? static_cast<double>(contact_pressure[c.dofs_k[0]]) : 0., c.weight}});
               local_force += active ? contact_pressure[c.dofs_k[0]] * c.weight : 0.;
             }
         const double P      = Utilities::MPI::sum(local_force, mpi_communicator);

@@ -407,7 +407,7 @@ namespace ContactStefan
                         "Function of x, y, t, or 'exact' for the exact solution.");
     }
 
-    void ThermalBoundary::parse(ParameterHandler &prm, const std::string &path)
+    void ThermalBoundary::parse(ParameterHandler &prm, const std::string & /*path*/)
     {
       type  = prm.get("Type") == "temperature" ? Type::temperature : Type::flux;
       value = prm.get("Value");
@@ -475,6 +475,12 @@ namespace ContactStefan
       prm.declare_entry("Tolerance", "1e-10", Patterns::Double(0),
                         "Activity test threshold, relative to the largest |lambda| + c |d| of "
                         "the step: guards against round-off flipping grazing nodes.");
+      prm.declare_entry("Rigid mode tolerance", "1e-10", Patterns::Double(0),
+                        "Before each contact solve every body must be held against rigid "
+                        "motion by its constraints (incl. the active contact set): the "
+                        "smallest pivot of the Gram matrix of the rigid modes' constraint "
+                        "residuals (modes scaled to unit size) must exceed this; else the "
+                        "run stops with a message naming the body and the free motion.");
       prm.declare_entry("Max set repetitions", "1", Patterns::Integer(1),
                         "Cycling guard: when an active set recurs this often, c is divided by "
                         "ten (the dual update then dominates) and the count restarts.");
@@ -490,6 +496,7 @@ namespace ContactStefan
       max_iterations           = prm.get_integer("Max iterations");
       tolerance                = prm.get_double("Tolerance");
       max_set_repetitions      = prm.get_integer("Max set repetitions");
+      rigid_mode_tolerance     = prm.get_double("Rigid mode tolerance");
       prm.leave_subsection();
       check_function(interface_gap, "Contact/Interface gap", false);
       require(complementarity_constant > 0, "Contact/Complementarity constant", "must be > 0");

@@ -25,10 +25,15 @@ for argument in "$@"; do
   if [[ "$argument" == SET:* ]]; then
     entry=${argument#SET:} path=${entry%%=*} value=${entry#*=}
     section=${path%/*} key=${path##*/}
-    if grep -q "^ *set $key *=" scene.prm; then
+    if [[ "$section" != */* ]] && grep -q "^ *set $key *=" scene.prm; then
       sed -i "s|^\( *set $key *=\).*|\1 $value|" scene.prm
     else
-      printf 'subsection %s\n  set %s = %s\nend\n' "$section" "$key" "$value" >> scene.prm
+      # Append, entering each level of a nested section (A/B/key); a file may
+      # enter a subsection more than once.
+      IFS=/ read -ra levels <<< "$section"
+      for level in "${levels[@]}"; do echo "subsection $level"; done >> scene.prm
+      echo "set $key = $value" >> scene.prm
+      for level in "${levels[@]}"; do echo "end"; done >> scene.prm
     fi
   else
     requirements+=("$argument")

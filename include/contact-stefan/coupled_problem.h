@@ -131,6 +131,7 @@ namespace ContactStefan
     void              solve_mechanical_linear_system();
     void              compute_mechanical_residual(Vector &residual) const;
     void              update_condition_gaps();
+    void              check_rigid_body_modes() const;
     double            normal_displacement_jump(const NormalCondition &c) const;
 
     // --- enthalpy_step.cc -------------------------------------------------
@@ -222,6 +223,15 @@ namespace ContactStefan
     std::vector<NormalCondition>          normal_conditions;
     std::vector<std::string>              contact_groups; // on every rank, sorted
     std::map<std::string, unsigned int>   placed_per_group; // owned active conditions imposed
+    // Body slot, component and position of every locally relevant displacement
+    // DoF, and per slot the centre and size of the body (for its rotation mode).
+    struct DofInfo
+    {
+      unsigned int slot, component;
+      Point<dim>   position;
+    };
+    std::map<types::global_dof_index, DofInfo>      dof_info;
+    std::vector<std::pair<Point<dim>, double>>      body_frame;
     // Active flags (1 or 0) at the x DoF of side k, owned and ghosted, for the
     // obstacle and the interface conditions.
     Vector obstacle_active, obstacle_active_ghosted, interface_active, interface_active_ghosted;

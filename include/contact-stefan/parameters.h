@@ -137,6 +137,7 @@ namespace ContactStefan
       unsigned int max_iterations;
       double       tolerance;
       unsigned int max_set_repetitions;
+      double       rigid_mode_tolerance;
 
       static void declare(ParameterHandler &prm);
       void        parse(ParameterHandler &prm);
