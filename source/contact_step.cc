@@ -76,6 +76,7 @@ namespace ContactStefan
     mechanical_constraints.merge(mechanical_fixed);
     n_skipped = 0;
     placed_per_group.clear();
+    imposed_conditions.clear();
     for (const auto &c : normal_conditions)
         {
           const bool is_interface = c.kind == NormalCondition::Kind::interface;
@@ -108,10 +109,18 @@ namespace ContactStefan
               break;
             }
           n_skipped += !placed;
+          if (placed)
+            imposed_conditions.insert({c.dofs_k[0], static_cast<int>(c.kind)});
           if (placed && mechanical_owned.is_element(c.dofs_k[0]))
             ++placed_per_group[c.group];
         }
     mechanical_constraints.close();
+    // A rank may see a constrained DoF (e.g. the parent of a hanging node) without
+    // a cell at which it could build that DoF's contact condition: take every
+    // locally relevant constraint line from the DoF's owner.
+    if (Utilities::MPI::n_mpi_processes(mpi_communicator) > 1)
+      mechanical_constraints.make_consistent_in_parallel(mechanical_owned, mechanical_relevant,
+                                                         mpi_communicator);
   }
 
 
@@ -255,6 +264,7 @@ namespace ContactStefan
     update_condition_gaps();
 
     Vector                   residual(mechanical_owned, mpi_communicator);
+    complementarity_scale = 1;
     std::map<std::uint64_t, unsigned int> seen_sets; // hash of an active set -> visits
     for (unsigned int it = 1;; ++it)
       {
@@ -338,7 +348,24 @@ namespace ContactStefan
 
         if (changes == 0)
           {
-            // Converged: nodal pressures, gaps and forces for output.
+            // Converged: the set is a fixed point, which with a small c might still
+            // violate the contact conditions; check them with c at full size.
+            double local_violation = 0, local_scale = 0;
+            for (const auto &dec : decisions)
+              {
+                const bool active =
+                  (dec.c->kind == Kind::interface ? interface_active : obstacle_active)[dec.c->dofs_k[0]] > 0.5;
+                const double c_full = dec.c_eff / complementarity_scale;
+                local_violation = std::max(local_violation, active ? -dec.lambda : c_full * dec.d);
+                local_scale     = std::max(local_scale, std::abs(dec.lambda) + c_full * std::abs(dec.d));
+              }
+            const double violation = Utilities::MPI::max(local_violation, mpi_communicator);
+            if (violation > 10 * prm.contact.tolerance * Utilities::MPI::max(local_scale, mpi_communicator))
+              throw std::runtime_error("the contact step converged to a set that violates the contact "
+                                       "conditions by " + std::to_string(violation) +
+                                       " (force units) at t = " + std::to_string(time) +
+                                       "; see 'Contact/Complementarity constant'");
+            // Nodal pressures, gaps and forces for output.
             contact_pressure = 0;
             contact_gap      = 0;
             std::map<std::string, double> forces;
@@ -359,6 +386,11 @@ namespace ContactStefan
           }
         if (++seen_sets[set_hash] > prm.contact.max_set_repetitions)
           {
+            if (report.c_reductions == prm.contact.max_c_reductions)
+              throw std::runtime_error("the contact active set keeps cycling at t = " + std::to_string(time) +
+                                       " after " + std::to_string(report.c_reductions) +
+                                       " reductions of the complementarity constant "
+                                       "('Contact/Max c reductions')");
             complementarity_scale /= 10;
             ++report.c_reductions;
             seen_sets.clear();

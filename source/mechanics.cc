@@ -165,29 +165,89 @@ namespace ContactStefan
     check_bodies_are_held();
 
     // The sparsity pattern must hold every system the active-set iteration can
-    // produce. A constraint changes the couplings only around its own node, so
-    // the union of the patterns with no contact and with every contact active
-    // holds all mixtures (with no contact, a hanging node next to an obstacle node
-    // couples to that node's free DoF; with contact, to the DoFs its constraint
-    // names).
+    // produce, with any mixture of active and inactive nodes. Condensing a cell
+    // couples its DoFs with every DoF their constraints name, recursively. So
+    // each cell's DoFs are closed under "may be constrained in terms of": the
+    // entries of the fixed constraints (hanging nodes, prescribed values, ties,
+    // rollers) and, for a node with a contact condition, all DoFs of the
+    // condition (both bodies, both components); the closure is coupled densely.
+    std::map<types::global_dof_index, std::vector<types::global_dof_index>> condition_dofs;
+    for (const auto &c : normal_conditions)
+      {
+        std::vector<types::global_dof_index> all;
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            all.push_back(static_cast<types::global_dof_index>(c.dofs_k[d]));
+            if (c.has_partner)
+              all.push_back(static_cast<types::global_dof_index>(c.dofs_l[d]));
+          }
+        for (const auto dof : all)
+          condition_dofs[dof].insert(condition_dofs[dof].end(), all.begin(), all.end());
+      }
     DynamicSparsityPattern dsp(mechanical_relevant);
-    DoFTools::make_sparsity_pattern(mechanical_dof_handler, dsp, mechanical_fixed, true);
+    for (const auto &cell : mechanical_dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          std::vector<types::global_dof_index> dofs(cell->get_fe().n_dofs_per_cell());
+          cell->get_dof_indices(dofs);
+          std::set<types::global_dof_index> closure(dofs.begin(), dofs.end());
+          std::vector<types::global_dof_index> work(dofs.begin(), dofs.end());
+          while (!work.empty())
+            {
+              const auto dof = work.back();
+              work.pop_back();
+              std::vector<types::global_dof_index> next;
+              if (const auto *entries = mechanical_fixed.get_constraint_entries(dof))
+                for (const auto &entry : *entries)
+                  next.push_back(entry.first);
+              if (const auto it = condition_dofs.find(dof); it != condition_dofs.end())
+                next.insert(next.end(), it->second.begin(), it->second.end());
+              for (const auto n : next)
+                if (closure.insert(n).second)
+                  work.push_back(n);
+            }
+          const std::vector<types::global_dof_index> columns(closure.begin(), closure.end());
+          for (const auto row : columns)
+            if (mechanical_relevant.is_element(row))
+              dsp.add_entries(row, columns.begin(), columns.end(), true);
+        }
+    unsigned int skipped = 0;
     for (Vector *v : {&obstacle_active, &interface_active})
       *v = 1.;
     obstacle_active_ghosted  = obstacle_active;
     interface_active_ghosted = interface_active;
-    unsigned int skipped     = 0;
     build_contact_constraints(skipped);
     // An obstacle or interface none of whose nodes has a free displacement
     // component (all prescribed) cannot act: refuse it before any work.
     for (const auto &group : contact_groups)
-      if (Utilities::MPI::sum(placed_per_group[group], mpi_communicator) == 0)
+      if (Utilities::MPI::sum(placed_per_group[group], mpi_communicator) == 0 &&
+          !(group.rfind("interface", 0) == 0 && prm.contact.interfaces == "tied"))
         throw InputError(group.rfind("boundary", 0) == 0 ?
                            "Boundary conditions/Mechanical " + group :
                            std::string("Contact/Interfaces"),
                          "no node of this " + std::string(group.rfind("boundary", 0) == 0 ? "obstacle" : "interface") +
                            " has a free displacement component: prescribed displacements take them all");
-    DoFTools::make_sparsity_pattern(mechanical_dof_handler, dsp, mechanical_constraints, true);
+    // Conditions that cannot be imposed even with every node active (all their
+    // components prescribed, e.g. a clamped corner of an obstacle boundary) are
+    // left out: their residual would be a clamp reaction, not a contact force.
+    {
+      std::vector<NormalCondition> kept;
+      unsigned int                 dropped = 0;
+      for (const auto &c : normal_conditions)
+        if (c.kind == NormalCondition::Kind::roller ||
+            (c.kind == NormalCondition::Kind::interface && prm.contact.interfaces == "tied") ||
+            imposed_conditions.count({c.dofs_k[0], static_cast<int>(c.kind)}) == 1)
+          kept.push_back(c);
+        else
+          dropped += mechanical_owned.is_element(c.dofs_k[0]);
+      normal_conditions.swap(kept);
+      dropped = Utilities::MPI::sum(dropped, mpi_communicator);
+      if (dropped > 0)
+        pcout << "Contact: " << dropped
+              << " obstacle/interface node(s) have every displacement component prescribed "
+                 "and are left out of the contact conditions"
+              << std::endl;
+    }
     SparsityTools::distribute_sparsity_pattern(dsp, mechanical_owned, mpi_communicator,
                                                mechanical_relevant);
     mechanical_matrix.reinit(mechanical_owned, mechanical_owned, dsp, mpi_communicator);
@@ -382,32 +442,43 @@ namespace ContactStefan
           VectorTools::interpolate_boundary_values(mechanical_dof_handler, id, value,
                                                    mechanical_fixed, ComponentMask(mask));
         }
-    for (const auto &c : normal_conditions)
-      {
-        if (c.kind == NormalCondition::Kind::interface && prm.contact.interfaces == "tied")
+    // Ties first: u_k = u_l componentwise, or u_l = u_k where u_k is taken.
+    if (prm.contact.interfaces == "tied")
+      for (const auto &c : normal_conditions)
+        if (c.kind == NormalCondition::Kind::interface)
           for (unsigned int d = 0; d < dim; ++d)
-            if (!mechanical_fixed.is_constrained(c.dofs_k[d]))
-              {
-                mechanical_fixed.add_line(c.dofs_k[d]);
-                mechanical_fixed.add_entry(c.dofs_k[d], c.dofs_l[d], 1.);
-              }
-        if (c.kind != NormalCondition::Kind::roller)
-          continue;
-        // u.n = 0, solved for the component with the larger |n_c| that is free.
-        unsigned int order[2] = {0, 1};
-        if (std::abs(c.normal[1]) > std::abs(c.normal[0]))
-          std::swap(order[0], order[1]);
-        for (const unsigned int comp : order)
-          if (c.normal[comp] != 0 && !mechanical_fixed.is_constrained(c.dofs_k[comp]))
             {
-              const auto row = Contact::normal_constraint(c.dofs_k, nullptr, c.normal, 0., comp, false);
-              mechanical_fixed.add_line(row.target);
-              for (const auto &[dof, coefficient] : row.entries)
-                mechanical_fixed.add_entry(row.target, dof, coefficient);
-              break;
+              const auto [target, other] =
+                !mechanical_fixed.is_constrained(c.dofs_k[d]) ? std::pair(c.dofs_k[d], c.dofs_l[d]) :
+                                                                std::pair(c.dofs_l[d], c.dofs_k[d]);
+              if (!mechanical_fixed.is_constrained(target))
+                {
+                  mechanical_fixed.add_line(target);
+                  mechanical_fixed.add_entry(target, other, 1.);
+                }
             }
-      }
+    // Then rollers: u.n = 0, solved for the component with the larger |n_c| that
+    // is free.
+    for (const auto &c : normal_conditions)
+      if (c.kind == NormalCondition::Kind::roller)
+        {
+          unsigned int order[2] = {0, 1};
+          if (std::abs(c.normal[1]) > std::abs(c.normal[0]))
+            std::swap(order[0], order[1]);
+          for (const unsigned int comp : order)
+            if (c.normal[comp] != 0 && !mechanical_fixed.is_constrained(c.dofs_k[comp]))
+              {
+                const auto row = Contact::normal_constraint(c.dofs_k, nullptr, c.normal, 0., comp, false);
+                mechanical_fixed.add_line(row.target);
+                for (const auto &[dof, coefficient] : row.entries)
+                  mechanical_fixed.add_entry(row.target, dof, coefficient);
+                break;
+              }
+        }
     mechanical_fixed.close();
+    if (Utilities::MPI::n_mpi_processes(mpi_communicator) > 1)
+      mechanical_fixed.make_consistent_in_parallel(mechanical_owned, mechanical_relevant,
+                                                   mpi_communicator);
   }
 
 
@@ -505,6 +576,21 @@ namespace ContactStefan
 
     normal_conditions.clear();
     std::set<std::string> groups;
+    // One obstacle condition per vertex: the active flag and the output are kept
+    // per vertex and kind, and a corner of two obstacle boundaries has no single
+    // normal. Refuse it instead of mixing them.
+    std::map<types::global_dof_index, std::string> obstacle_at;
+    for (auto &[key, e] : entries)
+      if (e.condition.kind == Kind::obstacle)
+        {
+          const auto [it, inserted] = obstacle_at.emplace(std::get<0>(key), e.condition.group);
+          if (!inserted)
+            throw InputError("Boundary conditions/Mechanical boundaries",
+                             "the vertex at (" + std::to_string(e.condition.position[0]) + ", " +
+                               std::to_string(e.condition.position[1]) + ") is on two obstacle "
+                               "boundaries (" + it->second + ", " + e.condition.group +
+                               "); give the corner to one of them");
+        }
     for (auto &[key, e] : entries)
       {
         NormalCondition &c = e.condition;

@@ -481,6 +481,9 @@ namespace ContactStefan
                         "smallest pivot of the Gram matrix of the rigid modes' constraint "
                         "residuals (modes scaled to unit size) must exceed this; else the "
                         "run stops with a message naming the body and the free motion.");
+      prm.declare_entry("Max c reductions", "6", Patterns::Integer(0),
+                        "How often per step the cycling remedy may divide c by ten before the "
+                        "step is declared failed. c starts at full size in every step.");
       prm.declare_entry("Max set repetitions", "1", Patterns::Integer(1),
                         "Cycling guard: when an active set recurs this often, c is divided by "
                         "ten (the dual update then dominates) and the count restarts.");
@@ -496,6 +499,7 @@ namespace ContactStefan
       max_iterations           = prm.get_integer("Max iterations");
       tolerance                = prm.get_double("Tolerance");
       max_set_repetitions      = prm.get_integer("Max set repetitions");
+      max_c_reductions         = prm.get_integer("Max c reductions");
       rigid_mode_tolerance     = prm.get_double("Rigid mode tolerance");
       prm.leave_subsection();
       check_function(interface_gap, "Contact/Interface gap", false);

@@ -39,8 +39,10 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <unordered_map>
 #include <functional>
 #include <map>
+#include <set>
 #include <memory>
 #include <vector>
 
@@ -223,6 +225,7 @@ namespace ContactStefan
     std::vector<NormalCondition>          normal_conditions;
     std::vector<std::string>              contact_groups; // on every rank, sorted
     std::map<std::string, unsigned int>   placed_per_group; // owned active conditions imposed
+    std::set<std::pair<std::uint64_t, int>> imposed_conditions; // (dofs_k[0], kind) imposed
     // Body slot, component and position of every locally relevant displacement
     // DoF, and per slot the centre and size of the body (for its rotation mode).
     struct DofInfo
@@ -230,7 +233,7 @@ namespace ContactStefan
       unsigned int slot, component;
       Point<dim>   position;
     };
-    std::map<types::global_dof_index, DofInfo>      dof_info;
+    std::unordered_map<types::global_dof_index, DofInfo> dof_info;
     std::vector<std::pair<Point<dim>, double>>      body_frame;
     // Active flags (1 or 0) at the x DoF of side k, owned and ghosted, for the
     // obstacle and the interface conditions.

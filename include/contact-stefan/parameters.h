@@ -137,6 +137,7 @@ namespace ContactStefan
       unsigned int max_iterations;
       double       tolerance;
       unsigned int max_set_repetitions;
+      unsigned int max_c_reductions;
       double       rigid_mode_tolerance;
 
       static void declare(ParameterHandler &prm);
