@@ -114,81 +114,79 @@ namespace ContactStefan
           if (placed && mechanical_owned.is_element(c.dofs_k[0]))
             ++placed_per_group[c.group];
         }
-    mechanical_constraints.close();
     // A rank may see a constrained DoF (e.g. the parent of a hanging node) without
-    // a cell at which it could build that DoF's contact condition: take every
-    // locally relevant constraint line from the DoF's owner.
+    // a cell at which it could build that DoF's contact condition: exchange the
+    // constraint lines of locally relevant DoFs (deal.II: before close()).
     if (Utilities::MPI::n_mpi_processes(mpi_communicator) > 1)
       mechanical_constraints.make_consistent_in_parallel(mechanical_owned, mechanical_relevant,
                                                          mpi_communicator);
+    mechanical_constraints.close();
   }
 
 
 
-  // Every body must be held against rigid motion by the current constraints
+  // The bodies must be held against rigid motion by the current constraints
   // (prescribed displacements, rollers, ties and the active contact set), or
-  // its stiffness matrix is singular. For each body and each rigid mode r
-  // (translation in x, in y, rotation about the body's centre) every constraint
-  // line u_i = sum_j a_ij u_j + b_i of that body's DoFs has the homogeneous
-  // residual r_i - sum_j a_ij r_j; the body is held iff these residual vectors
-  // span all three modes, i.e. iff their 3x3 Gram matrix is positive definite.
+  // the stiffness matrix is singular. The rigid modes are, per body, translation
+  // in x, in y and rotation about the body's centre (scaled to unit size); a
+  // constraint line u_i = sum_j a_ij u_j + b_i has, for mode r, the homogeneous
+  // residual r_i - sum_j a_ij r_j (entries of any body: a closed contact or a tie
+  // to a held body holds the other one). The assembly is held iff these residual
+  // vectors span all 3 n_bodies modes, i.e. iff their Gram matrix is positive
+  // definite; a failing pivot names the body and the motion.
   template <int dim>
   void CoupledProblem<dim>::check_rigid_body_modes() const
   {
-    const unsigned int n_slots = prm.body_ids.size();
-    std::vector<double> gram(n_slots * 9, 0.);
-    const auto mode = [&](const DofInfo &d, const unsigned int m) {
+    const unsigned int  n_modes = 3 * prm.body_ids.size();
+    std::vector<double> gram(n_modes * n_modes, 0.);
+    const auto          mode = [&](const DofInfo &d, const unsigned int m) {
+      if (m / 3 != d.slot)
+        return 0.;
       const auto &c = body_frame[d.slot];
-      if (m < 2)
-        return d.component == m ? 1. : 0.;
+      if (m % 3 < 2)
+        return d.component == m % 3 ? 1. : 0.;
       return d.component == 0 ? -(d.position[1] - c.first[1]) / c.second :
                                 (d.position[0] - c.first[0]) / c.second;
     };
+    std::vector<double> r(n_modes);
     for (const auto &[dof, info] : dof_info)
       if (mechanical_owned.is_element(dof) && mechanical_constraints.is_constrained(dof))
         {
-          double r[3];
-          for (unsigned int m = 0; m < 3; ++m)
-            {
-              r[m] = mode(info, m);
-              for (const auto &[j, a] : *mechanical_constraints.get_constraint_entries(dof))
-                {
-                  const auto other = dof_info.find(j);
-                  if (other != dof_info.end() && other->second.slot == info.slot)
-                    r[m] -= a * mode(other->second, m);
-                }
-            }
-          for (unsigned int a = 0; a < 3; ++a)
-            for (unsigned int b = 0; b < 3; ++b)
-              gram[info.slot * 9 + a * 3 + b] += r[a] * r[b];
+          for (unsigned int m = 0; m < n_modes; ++m)
+            r[m] = mode(info, m);
+          for (const auto &[j, a] : *mechanical_constraints.get_constraint_entries(dof))
+            if (const auto other = dof_info.find(j); other != dof_info.end())
+              for (unsigned int m = 0; m < n_modes; ++m)
+                r[m] -= a * mode(other->second, m);
+          for (unsigned int a = 0; a < n_modes; ++a)
+            if (r[a] != 0)
+              for (unsigned int b = 0; b < n_modes; ++b)
+                gram[a * n_modes + b] += r[a] * r[b];
         }
     Utilities::MPI::sum(gram, mpi_communicator, gram);
     const char *names[3] = {"translation in x", "translation in y", "rotation"};
-    for (unsigned int s = 0; s < n_slots; ++s)
-      {
-        // Cholesky of the 3x3 Gram matrix; a vanishing pivot is a free mode.
-        double L[3][3] = {};
-        for (unsigned int i = 0; i < 3; ++i)
-          for (unsigned int j = 0; j <= i; ++j)
+    // Cholesky; a pivot at or below the tolerance is a free (combination of) mode(s).
+    std::vector<double> L(n_modes * n_modes, 0.);
+    for (unsigned int i = 0; i < n_modes; ++i)
+      for (unsigned int j = 0; j <= i; ++j)
+        {
+          double sum = gram[i * n_modes + j];
+          for (unsigned int k = 0; k < j; ++k)
+            sum -= L[i * n_modes + k] * L[j * n_modes + k];
+          if (i == j)
             {
-              double sum = gram[s * 9 + i * 3 + j];
-              for (unsigned int k = 0; k < j; ++k)
-                sum -= L[i][k] * L[j][k];
-              if (i == j)
-                {
-                  if (sum <= prm.contact.rigid_mode_tolerance)
-                    throw std::runtime_error(
-                      "body " + std::to_string(prm.body_ids[s]) + " is not held against " +
-                      names[i] + " at t = " + std::to_string(time) +
-                      " (the elasticity system would be singular): with the current contact "
-                      "set only an open contact would hold it; give it displacement, roller or "
-                      "tied conditions in that direction");
-                  L[i][i] = std::sqrt(sum);
-                }
-              else
-                L[i][j] = sum / L[j][j];
+              if (sum <= prm.contact.rigid_mode_tolerance)
+                throw std::runtime_error(
+                  "body " + std::to_string(prm.body_ids[i / 3]) + " is not held against " +
+                  names[i % 3] + " at t = " + std::to_string(time) +
+                  " (the elasticity system would be singular): with the current contact set "
+                  "nothing holds it; give it displacement, roller or tied conditions in that "
+                  "direction");
+              L[i * n_modes + i] = std::sqrt(sum);
             }
-      }
+          else
+            L[i * n_modes + j] = sum / L[j * n_modes + j];
+        }
   }
 
 

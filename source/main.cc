@@ -106,9 +106,16 @@ int main(int argc, char *argv[])
   catch (const std::exception &e)
     {
       // Run-time failures (a solver that does not converge, a singular
-      // system): deal.II's long texts shortened to one line.
-      if (root)
-        std::cerr << "contact-stefan: error: " << one_line(e.what()) << std::endl;
+      // system): deal.II's long texts shortened to one line. Such a failure may
+      // happen on one rank only; the others would wait for it forever, so a
+      // parallel run is aborted.
+      if (Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1)
+        {
+          std::cerr << "contact-stefan: error (rank " << Utilities::MPI::this_mpi_process(MPI_COMM_WORLD)
+                    << "): " << one_line(e.what()) << std::endl;
+          MPI_Abort(MPI_COMM_WORLD, 2);
+        }
+      std::cerr << "contact-stefan: error: " << one_line(e.what()) << std::endl;
       return 2;
     }
   return 0;

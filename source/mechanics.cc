@@ -148,6 +148,7 @@ namespace ContactStefan
             }
         }
     body_frame.resize(n_slots);
+    body_box.resize(n_slots);
     for (unsigned int s = 0; s < n_slots; ++s)
       {
         Point<dim> lo, hi;
@@ -157,6 +158,7 @@ namespace ContactStefan
             hi[d] = Utilities::MPI::max(upper[s][d], mpi_communicator);
           }
         body_frame[s] = {0.5 * (lo + hi), 0.5 * lo.distance(hi)};
+        body_box[s]   = {lo, hi};
       }
 
     assemble_cell_stiffness();
@@ -475,10 +477,10 @@ namespace ContactStefan
                 break;
               }
         }
-    mechanical_fixed.close();
     if (Utilities::MPI::n_mpi_processes(mpi_communicator) > 1)
       mechanical_fixed.make_consistent_in_parallel(mechanical_owned, mechanical_relevant,
                                                    mpi_communicator);
+    mechanical_fixed.close();
   }
 
 

@@ -496,17 +496,20 @@ namespace ContactStefan
       }
     if (exact.type == "patch")
       {
-        // Uniform stress sigma_yy = -E* delta / H when the interface closes
+        // Uniform stress sigma_yy = -(delta - g) / sum_b (H_b / E*_b) (the blocks
+        // act as springs in series; H_b from the mesh) when the interface closes
         // (delta >= gap), zero otherwise; every interface node in contact.
-        const double E_star  = prm.materials.at(exact.body).plane_strain_modulus();
         double gap = -HUGE_VAL; // the (constant) interface gap
         for (const auto &c : normal_conditions)
           if (c.kind == Kind::interface)
             gap = std::max(gap, c.gap);
         gap = Utilities::MPI::max(gap, mpi_communicator);
+        double compliance = 0;
+        for (const unsigned int id : prm.body_ids)
+          compliance += body_height(body_slot.at(id)) / prm.materials.at(id).plane_strain_modulus();
         const bool   closed  = exact.patch_displacement >= gap;
-        const double sigma_y = closed ? -E_star * (exact.patch_displacement - gap) / exact.patch_height : 0.;
-        const double scale   = closed ? std::abs(sigma_y) : E_star * exact.patch_displacement / exact.patch_height;
+        const double sigma_y = closed ? -(exact.patch_displacement - gap) / compliance : 0.;
+        const double scale   = closed ? std::abs(sigma_y) : exact.patch_displacement / compliance;
         double       stress_error = 0, pressure_error = 0, min_gap = HUGE_VAL;
         unsigned int interface_nodes = 0, active = 0;
         const QMidpoint<dim>       midpoint;

@@ -565,10 +565,9 @@ namespace ContactStefan
                         "it is from T_f at the end. 'hertz': a rigid cylinder of Cylinder "
                         "radius pressed into body Body through its obstacle boundary (the "
                         "Hertz half-plane solution for the computed force). 'patch': the C2 "
-                        "two-block patch test (height Patch height, top pushed down by Patch "
-                        "displacement). Errors against it are reported as RESULT lines.");
+                        "patch test of stacked blocks (top pushed down by Patch displacement; "
+                        "the blocks' heights come from the mesh). Errors against it are reported as RESULT lines.");
       prm.declare_entry("Cylinder radius", "1", Patterns::Double(0), "Hertz: R (m).");
-      prm.declare_entry("Patch height", "1", Patterns::Double(0), "Patch test: total height H (m).");
       prm.declare_entry("Patch displacement", "0", Patterns::Double(),
                         "Patch test: downward displacement delta of the top (m).");
       prm.declare_entry("Function", "0", Patterns::Anything(),
@@ -593,7 +592,6 @@ namespace ContactStefan
       cold_temperature = prm.get_double("Cold temperature");
       origin           = prm.get_double("Origin");
       cylinder_radius    = prm.get_double("Cylinder radius");
-      patch_height       = prm.get_double("Patch height");
       patch_displacement = prm.get_double("Patch displacement");
       prm.leave_subsection();
     }
@@ -945,8 +943,23 @@ namespace ContactStefan
       require(physics.thermal, "Exact solution/Type",
               "'" + exact_solution.type + "' needs Physics/Thermal = true");
     if (exact_solution.type == "hertz" || exact_solution.type == "patch")
-      require(materials.count(exact_solution.body) == 1, "Exact solution/Body",
-              "body " + std::to_string(exact_solution.body) + " is not in Bodies/Body ids");
+      {
+        require(materials.count(exact_solution.body) == 1, "Exact solution/Body",
+                "body " + std::to_string(exact_solution.body) + " is not in Bodies/Body ids");
+        // Both closed-form solutions need materials without shear-extension
+        // coupling (C16 = C26 = 0): otherwise no uniform state fits the rollers.
+        for (const auto &[id, m] : materials)
+          require(m.elasticity != "anisotropic" || (m.voigt[2] == 0 && m.voigt[4] == 0),
+                  "Materials/Body " + std::to_string(id) + "/Elasticity tensor",
+                  "the '" + exact_solution.type + "' solution needs C16 = C26 = 0");
+      }
+    // Thermal stress beta (Theta - Theta_0) enters the contact step with the
+    // coupling, which is not implemented yet: refuse data that would need it.
+    if (physics.thermal && physics.mechanics)
+      for (const auto &[id, m] : materials)
+        require(m.thermal_expansion == 0, "Materials/Body " + std::to_string(id) + "/Thermal expansion",
+                "thermal stress (coupling of temperature and mechanics) is not implemented yet; "
+                "set it to 0 or switch one of Physics/Thermal, Physics/Mechanics off");
     if (exact_solution.type == "function")
       check_function(exact_solution.function, "Exact solution/Function", false);
     if (exact_solution.type == "neumann")

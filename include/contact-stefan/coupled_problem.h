@@ -235,6 +235,11 @@ namespace ContactStefan
     };
     std::unordered_map<types::global_dof_index, DofInfo> dof_info;
     std::vector<std::pair<Point<dim>, double>>      body_frame;
+    std::vector<std::pair<Point<dim>, Point<dim>>>  body_box; // bounding box per slot
+    double body_height(const unsigned int slot) const
+    {
+      return body_box[slot].second[1] - body_box[slot].first[1];
+    }
     // Active flags (1 or 0) at the x DoF of side k, owned and ghosted, for the
     // obstacle and the interface conditions.
     Vector obstacle_active, obstacle_active_ghosted, interface_active, interface_active_ghosted;

@@ -174,9 +174,9 @@ namespace ContactStefan
       std::string  function;
       unsigned int body;
       double       hot_temperature, cold_temperature, origin;
-      // "hertz": a rigid cylinder of this radius; "patch": two stacked blocks of
-      // total height H pushed down by delta (the C2 patch test).
-      double       cylinder_radius, patch_height, patch_displacement;
+      // "hertz": a rigid cylinder of this radius; "patch": stacked blocks pushed
+      // down by delta (the C2 patch test).
+      double       cylinder_radius, patch_displacement;
 
       static void declare(ParameterHandler &prm);
       void        parse(ParameterHandler &prm);
