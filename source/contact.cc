@@ -1,5 +1,6 @@
 #include <contact-stefan/contact.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -23,6 +24,7 @@ namespace ContactStefan
       sum[0] += nx;
       sum[1] += ny;
       lumped_weight += 0.5 * length;
+      face_normals.push_back({{nx / length, ny / length}});
     }
 
 
@@ -33,6 +35,17 @@ namespace ContactStefan
       if (!(norm > 0))
         throw std::runtime_error("a contact node has no well-defined normal (opposite faces cancel)");
       return {{sum[0] / norm, sum[1] / norm}};
+    }
+
+
+
+    double NormalAccumulator::max_deviation() const
+    {
+      const Vector2 n         = normal();
+      double        deviation = 0;
+      for (const auto &f : face_normals)
+        deviation = std::max(deviation, std::acos(std::min(1., f[0] * n[0] + f[1] * n[1])));
+      return deviation;
     }
 
 

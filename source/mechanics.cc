@@ -460,9 +460,16 @@ namespace ContactStefan
                 }
             }
     // Then rollers: u.n = 0, solved for the component with the larger |n_c| that
-    // is free.
+    // is free. At a corner of a roller boundary (face normals differing by more
+    // than the corner angle) u.n = 0 must hold for both faces: both components
+    // are fixed, as deal.II's no-normal-flux constraints do.
     for (const auto &c : normal_conditions)
-      if (c.kind == NormalCondition::Kind::roller)
+      if (c.kind == NormalCondition::Kind::roller && c.corner)
+        for (unsigned int d = 0; d < dim; ++d)
+          if (!mechanical_fixed.is_constrained(c.dofs_k[d]))
+            mechanical_fixed.add_line(c.dofs_k[d]);
+    for (const auto &c : normal_conditions)
+      if (c.kind == NormalCondition::Kind::roller && !c.corner)
         {
           unsigned int order[2] = {0, 1};
           if (std::abs(c.normal[1]) > std::abs(c.normal[0]))
@@ -599,6 +606,7 @@ namespace ContactStefan
         const auto       n = e.normals.normal();
         c.normal           = {{n[0], n[1]}};
         c.weight           = e.normals.weight();
+        c.corner           = e.normals.max_deviation() > prm.contact.corner_angle * numbers::PI / 180;
         c.stiffness        = n[0] * n[0] * stiffness_diagonal[c.dofs_k[0]] +
                       n[1] * n[1] * stiffness_diagonal[c.dofs_k[1]];
         normal_conditions.push_back(c);

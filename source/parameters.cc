@@ -475,6 +475,10 @@ namespace ContactStefan
       prm.declare_entry("Tolerance", "1e-10", Patterns::Double(0),
                         "Activity test threshold, relative to the largest |lambda| + c |d| of "
                         "the step: guards against round-off flipping grazing nodes.");
+      prm.declare_entry("Roller corner angle", "20", Patterns::Double(0, 90),
+                        "A roller vertex whose face normals differ from their average by more "
+                        "than this (degrees) is a corner of the roller boundary: both "
+                        "displacement components are fixed there.");
       prm.declare_entry("Rigid mode tolerance", "1e-10", Patterns::Double(0),
                         "Before each contact solve every body must be held against rigid "
                         "motion by its constraints (incl. the active contact set): the "
@@ -501,6 +505,7 @@ namespace ContactStefan
       max_set_repetitions      = prm.get_integer("Max set repetitions");
       max_c_reductions         = prm.get_integer("Max c reductions");
       rigid_mode_tolerance     = prm.get_double("Rigid mode tolerance");
+      corner_angle             = prm.get_double("Roller corner angle");
       prm.leave_subsection();
       check_function(interface_gap, "Contact/Interface gap", false);
       require(complementarity_constant > 0, "Contact/Complementarity constant", "must be > 0");

@@ -2,7 +2,9 @@
 # surface 1) and [4,8]x[0,4] (physical surface 2), unit squares, with physical lines
 # 10 (x = 0), 11 (x = 8) and 12 (top and bottom). Run as
 #   cmake -DOUTPUT=file.msh -P make_two_blocks_msh.cmake
-# The test mesh is generated, never committed.
+# With -DKINK=ON the whole mesh is body 1 and the bottom belongs to line 10 too,
+# so that line 10 has a corner at (0, 0) (the top stays 12).
+# The test meshes are generated, never committed.
 set(nx 8)
 set(ny 4)
 math(EXPR nnx "${nx} + 1")
@@ -31,7 +33,7 @@ foreach(j RANGE ${last_j})
     math(EXPR b "${a} + 1")
     math(EXPR c "${b} + ${nnx}")
     math(EXPR d "${a} + ${nnx}")
-    if(i LESS 4)
+    if(i LESS 4 OR KINK)
       set(body 1)
     else()
       set(body 2)
@@ -47,10 +49,15 @@ foreach(j RANGE ${last_j})
   math(EXPR d "${a} + ${nnx}")
   add_element("1 2 11 11 ${a} ${d}")
 endforeach()
+if(KINK)
+  set(bottom 10)
+else()
+  set(bottom 12)
+endif()
 foreach(i RANGE ${last_i})
   math(EXPR a "${i} + 1")
   math(EXPR b "${a} + 1")
-  add_element("1 2 12 12 ${a} ${b}")
+  add_element("1 2 ${bottom} ${bottom} ${a} ${b}")
   math(EXPR a "${ny} * ${nnx} + ${i} + 1")
   math(EXPR b "${a} + 1")
   add_element("1 2 12 12 ${a} ${b}")

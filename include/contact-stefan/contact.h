@@ -28,10 +28,14 @@ namespace ContactStefan
       void   add_face(const Vector2 &a, const Vector2 &b, const Vector2 &inside);
       Vector2 normal() const;
       double  weight() const { return lumped_weight; }
+      // The largest angle (radians) between a face normal and the averaged
+      // normal: near zero on a smooth boundary, large at a corner.
+      double max_deviation() const;
 
     private:
-      Vector2 sum{{0., 0.}};
-      double  lumped_weight = 0;
+      Vector2              sum{{0., 0.}};
+      double               lumped_weight = 0;
+      std::vector<Vector2> face_normals;
     };
 
     // A normal condition n.(u_k - u_l) <= g (interface), n.u_k <= g (obstacle) or

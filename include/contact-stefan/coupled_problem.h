@@ -93,6 +93,7 @@ namespace ContactStefan
     double                        weight;
     double                        stiffness; // normal diagonal of the stiffness matrix
     double                        gap = 0;   // g at the current time
+    bool                          corner = false; // faces disagree by more than the corner angle
   };
 
   template <int dim>

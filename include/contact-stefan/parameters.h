@@ -139,6 +139,7 @@ namespace ContactStefan
       unsigned int max_set_repetitions;
       unsigned int max_c_reductions;
       double       rigid_mode_tolerance;
+      double       corner_angle;
 
       static void declare(ParameterHandler &prm);
       void        parse(ParameterHandler &prm);
