@@ -349,10 +349,10 @@ namespace ContactStefan
             // h in H([Theta - e, Theta + e]) with e the round-off of Theta: at a
             // kink a temperature 1e-18 below the transition is on the plateau.
             const double theta = temperature[dof];
-            const double e     = 64 * std::numeric_limits<double>::epsilon() * (1 + std::abs(theta));
+            const double e     = round_off_factor * std::numeric_limits<double>::epsilon() * (1 + std::abs(theta));
             const std::pair<double, double> range{law(dof).enthalpy_range(theta - e).first,
                                                   law(dof).enthalpy_range(theta + e).second};
-            const double slack = 64 * std::numeric_limits<double>::epsilon() *
+            const double slack = round_off_factor * std::numeric_limits<double>::epsilon() *
                                  (1 + std::abs(range.first) + std::abs(range.second));
             const bool outside = (enthalpy[dof] < range.first - slack ||
                                   enthalpy[dof] > range.second + slack);
@@ -457,7 +457,7 @@ namespace ContactStefan
                                 ArrayView<double>(global, 3));
             // Armijo: E(alpha) - E(0) <= sigma alpha slope, up to the round-off of
             // the terms that make up the difference.
-            const double round_off = 64 * std::numeric_limits<double>::epsilon();
+            const double round_off = round_off_factor * std::numeric_limits<double>::epsilon();
             const auto   armijo_holds = [&](const double a) {
               double psi[2] = {0, 0}; // sum m (Psi(h + a d) - Psi(h)), sum m (|..| + |..|)
               for (const auto dof : locally_owned_dofs)

@@ -54,9 +54,14 @@ namespace ContactStefan
             parts[d]->initialize("x,y,t", expressions[d], {{"pi", numbers::PI}}, true);
           }
       }
+      void set_time(const double t) override
+      {
+        Function<dim>::set_time(t);
+        for (auto &part : parts)
+          part->set_time(t);
+      }
       double value(const Point<dim> &p, const unsigned int component) const override
       {
-        parts[component % dim]->set_time(this->get_time());
         return parts[component % dim]->value(p);
       }
 
@@ -164,7 +169,6 @@ namespace ContactStefan
     assemble_cell_stiffness();
     find_normal_conditions();
     make_fixed_mechanical_constraints(time);
-    check_bodies_are_held();
 
     // The sparsity pattern must hold every system the active-set iteration can
     // produce, with any mixture of active and inactive nodes. Condensing a cell
@@ -621,35 +625,6 @@ namespace ContactStefan
     std::sort(contact_groups.begin(), contact_groups.end());
     contact_groups.erase(std::unique(contact_groups.begin(), contact_groups.end()),
                          contact_groups.end());
-  }
-
-
-
-  // A body that only contact would hold has a singular stiffness matrix until
-  // its contact closes; refuse it with a clear message instead of a failing solve.
-  template <int dim>
-  void CoupledProblem<dim>::check_bodies_are_held() const
-  {
-    // Tied bodies hold each other; only contact interfaces need every body held.
-    if (prm.contact.interfaces == "tied")
-      return;
-    for (const unsigned int id : prm.body_ids)
-      {
-        std::vector<bool> mask(prm.body_ids.size() * dim, false);
-        for (unsigned int d = 0; d < dim; ++d)
-          mask[body_slot.at(id) * dim + d] = true;
-        const IndexSet body_dofs = DoFTools::extract_dofs(mechanical_dof_handler, ComponentMask(mask));
-        unsigned int   held      = 0;
-        for (const auto dof : body_dofs)
-          if (mechanical_owned.is_element(dof) && mechanical_fixed.is_constrained(dof) &&
-              !mechanical_hanging.is_constrained(dof))
-            ++held;
-        if (Utilities::MPI::sum(held, mpi_communicator) == 0)
-          throw InputError("Boundary conditions/Mechanical boundaries",
-                           "body " + std::to_string(id) +
-                             " has no displacement, roller or tied condition; a body held only "
-                             "by contact has no stiffness until the contact closes");
-      }
   }
 
 

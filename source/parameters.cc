@@ -474,7 +474,9 @@ namespace ContactStefan
                         "Limit of active-set iterations per contact step; reaching it is an error.");
       prm.declare_entry("Tolerance", "1e-10", Patterns::Double(0),
                         "Activity test threshold, relative to the largest |lambda| + c |d| of "
-                        "the step: guards against round-off flipping grazing nodes.");
+                        "the step: guards against round-off flipping grazing nodes. A converged "
+                        "set whose nodes violate the contact conditions (c at full size) by more "
+                        "than 10 times this is an error.");
       prm.declare_entry("Roller corner angle", "20", Patterns::Double(0, 90),
                         "A roller vertex whose face normals differ from their average by more "
                         "than this (degrees) is a corner of the roller boundary: both "

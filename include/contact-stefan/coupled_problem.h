@@ -50,6 +50,10 @@ namespace ContactStefan
 {
   using namespace dealii;
 
+  // Tolerances at the level of floating-point round-off (not parameters): a
+  // quantity computed from terms of size s is exact to round_off_factor * eps * s.
+  constexpr double round_off_factor = 64;
+
   // What one enthalpy step did, for the screen and the statistics table.
   struct EnthalpyStepReport
   {
@@ -125,7 +129,6 @@ namespace ContactStefan
     void assemble_mechanical_load(const double time);
     void make_fixed_mechanical_constraints(const double time);
     void find_normal_conditions();
-    void check_bodies_are_held() const;
 
     // --- contact_step.cc --------------------------------------------------
     ContactStepReport solve_contact_step();
