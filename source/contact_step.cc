@@ -22,7 +22,7 @@
 #include <deal.II/lac/trilinos_solver.h>
 
 #include <contact-stefan/contact.h>
-#include <contact-stefan/coupled_problem.h>
+#include <contact-stefan/mechanical_field.h>
 
 #include <cmath>
 #include <map>
@@ -32,32 +32,24 @@ namespace ContactStefan
 {
   // The gap g of every obstacle and interface node at the current time.
   template <int dim>
-  void CoupledProblem<dim>::update_condition_gaps()
+  void MechanicalField<dim>::update_condition_gaps()
   {
-    std::map<std::string, std::unique_ptr<FunctionParser<dim>>> functions;
+    functions.interface_gap().set_time(time);
+    for (const auto &[id, bc] : prm.mechanical_boundaries)
+      if (bc.type == Parameters::MechanicalBoundary::Type::obstacle)
+        functions.obstacle_gap(id).set_time(time);
     for (auto &c : normal_conditions)
-      {
-        if (c.kind == NormalCondition::Kind::roller)
-          continue;
-        auto &g = functions[c.group];
-        if (!g)
-          {
-            g = std::make_unique<FunctionParser<dim>>(1);
-            g->initialize("x,y,t",
-                          c.kind == NormalCondition::Kind::obstacle ? prm.mechanical_boundaries.at(c.boundary_id).gap :
-                                                                      prm.contact.interface_gap,
-                          {{"pi", numbers::PI}}, true);
-            g->set_time(time);
-          }
-        c.gap = g->value(c.position);
-      }
+      if (c.kind != NormalCondition::Kind::roller)
+        c.gap = (c.kind == NormalCondition::Kind::obstacle ? functions.obstacle_gap(c.boundary_id) :
+                                                             functions.interface_gap())
+                  .value(Point<dim>(c.position));
   }
 
 
 
   // n.(u_k - u_l), or n.u_k without a partner (ghosted displacement).
   template <int dim>
-  double CoupledProblem<dim>::normal_displacement_jump(const NormalCondition &c) const
+  double MechanicalField<dim>::normal_displacement_jump(const NormalCondition &c) const
   {
     double jump = 0;
     for (unsigned int d = 0; d < dim; ++d)
@@ -69,11 +61,11 @@ namespace ContactStefan
 
 
   template <int dim>
-  void CoupledProblem<dim>::build_contact_constraints(unsigned int &n_skipped)
+  void MechanicalField<dim>::build_contact_constraints(unsigned int &n_skipped)
   {
-    mechanical_constraints.clear();
-    mechanical_constraints.reinit(mechanical_relevant);
-    mechanical_constraints.merge(mechanical_fixed);
+    constraints.clear();
+    constraints.reinit(relevant);
+    constraints.merge(fixed_constraints);
     n_skipped = 0;
     placed_per_group.clear();
     imposed_conditions.clear();
@@ -81,9 +73,9 @@ namespace ContactStefan
         {
           const bool is_interface = c.kind == NormalCondition::Kind::interface;
           if (c.kind == NormalCondition::Kind::roller ||
-              (is_interface && prm.contact.interfaces == "tied"))
+              (is_interface && prm.contact.interfaces == Parameters::Contact::Interfaces::tied))
             continue;
-          const Vector &active = is_interface ? interface_active_ghosted : obstacle_active_ghosted;
+          const Vector &active = active_flags_ghosted(c);
           if (active[c.dofs_k[0]] < 0.5)
             continue;
           // Candidates: side k's components by decreasing |n_c|, then the partner's.
@@ -97,30 +89,30 @@ namespace ContactStefan
           for (const auto &[comp, partner] : candidates)
             {
               const auto target = partner ? c.dofs_l[comp] : c.dofs_k[comp];
-              if (c.normal[comp] == 0 || mechanical_constraints.is_constrained(target))
+              if (c.normal[comp] == 0 || constraints.is_constrained(target))
                 continue;
               const auto row = Contact::normal_constraint(c.dofs_k, c.has_partner ? &c.dofs_l : nullptr,
                                                           c.normal, c.gap, comp, partner);
-              mechanical_constraints.add_line(row.target);
+              constraints.add_line(row.target);
               for (const auto &[dof, coefficient] : row.entries)
-                mechanical_constraints.add_entry(row.target, dof, coefficient);
-              mechanical_constraints.set_inhomogeneity(row.target, row.inhomogeneity);
+                constraints.add_entry(row.target, dof, coefficient);
+              constraints.set_inhomogeneity(row.target, row.inhomogeneity);
               placed = true;
               break;
             }
           n_skipped += !placed;
           if (placed)
             imposed_conditions.insert({c.dofs_k[0], static_cast<int>(c.kind)});
-          if (placed && mechanical_owned.is_element(c.dofs_k[0]))
+          if (placed && owned.is_element(c.dofs_k[0]))
             ++placed_per_group[c.group];
         }
     // A rank may see a constrained DoF (e.g. the parent of a hanging node) without
     // a cell at which it could build that DoF's contact condition: exchange the
     // constraint lines of locally relevant DoFs (deal.II: before close()).
     if (Utilities::MPI::n_mpi_processes(mpi_communicator) > 1)
-      mechanical_constraints.make_consistent_in_parallel(mechanical_owned, mechanical_relevant,
+      constraints.make_consistent_in_parallel(owned, relevant,
                                                          mpi_communicator);
-    mechanical_constraints.close();
+    constraints.close();
   }
 
 
@@ -135,7 +127,7 @@ namespace ContactStefan
   // vectors span all 3 n_bodies modes, i.e. iff their Gram matrix is positive
   // definite; a failing pivot names the body and the motion.
   template <int dim>
-  void CoupledProblem<dim>::check_rigid_body_modes() const
+  void MechanicalField<dim>::check_rigid_body_modes() const
   {
     const unsigned int  n_modes = 3 * prm.body_ids.size();
     std::vector<double> gram(n_modes * n_modes, 0.);
@@ -150,11 +142,11 @@ namespace ContactStefan
     };
     std::vector<double> r(n_modes);
     for (const auto &[dof, info] : dof_info)
-      if (mechanical_owned.is_element(dof) && mechanical_constraints.is_constrained(dof))
+      if (owned.is_element(dof) && constraints.is_constrained(dof))
         {
           for (unsigned int m = 0; m < n_modes; ++m)
             r[m] = mode(info, m);
-          for (const auto &[j, a] : *mechanical_constraints.get_constraint_entries(dof))
+          for (const auto &[j, a] : *constraints.get_constraint_entries(dof))
             if (const auto other = dof_info.find(j); other != dof_info.end())
               for (unsigned int m = 0; m < n_modes; ++m)
                 r[m] -= a * mode(other->second, m);
@@ -192,12 +184,13 @@ namespace ContactStefan
 
 
   template <int dim>
-  void CoupledProblem<dim>::assemble_mechanical_system()
+  void MechanicalField<dim>::assemble_system()
   {
     TimerOutput::Scope t(timer, "contact step: assemble");
-    mechanical_matrix = 0;
-    mechanical_rhs    = 0;
-    for (const auto &cell : mechanical_dof_handler.active_cell_iterators())
+    system_matrix = 0;
+    system_rhs    = 0;
+    const bool loaded = functions.mechanical_load_present();
+    for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
           const unsigned int                   n = cell->get_fe().n_dofs_per_cell();
@@ -205,35 +198,39 @@ namespace ContactStefan
           cell->get_dof_indices(dofs);
           const unsigned int     index = cell->active_cell_index();
           dealii::Vector<double> rhs(n);
-          if (mechanical_load_present)
-            rhs = cell_mechanical_load[index];
-          mechanical_constraints.distribute_local_to_global(cell_stiffness[index], rhs, dofs,
-                                                            mechanical_matrix, mechanical_rhs);
+          if (loaded)
+            rhs = cell_load[index];
+          constraints.distribute_local_to_global(cell_stiffness[index], rhs, dofs, system_matrix,
+                                                 system_rhs);
         }
-    mechanical_matrix.compress(VectorOperation::add);
-    mechanical_rhs.compress(VectorOperation::add);
+    system_matrix.compress(VectorOperation::add);
+    system_rhs.compress(VectorOperation::add);
   }
 
 
 
   template <int dim>
-  void CoupledProblem<dim>::solve_mechanical_linear_system()
+  void MechanicalField<dim>::solve_linear_system()
   {
     TimerOutput::Scope t(timer, "contact step: linear solve");
-    solve_linear(mechanical_matrix, displacement, mechanical_rhs);
-    mechanical_constraints.distribute(displacement);
+    linear_solver.initialize(system_matrix);
+    linear_solver.solve(displacement, system_rhs);
+    constraints.distribute(displacement);
     displacement_ghosted = displacement;
   }
 
 
 
-  // residual = K u - f, unconstrained (hanging nodes condensed): the nodal
+  // result = K u (- f), unconstrained (hanging nodes condensed): the nodal
   // contact forces on the contact nodes and the reactions on Dirichlet nodes.
   template <int dim>
-  void CoupledProblem<dim>::compute_mechanical_residual(Vector &residual) const
+  void MechanicalField<dim>::apply_stiffness(const Vector &u_ghosted,
+                                             Vector       &result,
+                                             const bool    with_load) const
   {
-    residual = 0;
-    for (const auto &cell : mechanical_dof_handler.active_cell_iterators())
+    result            = 0;
+    const bool loaded = with_load && functions.mechanical_load_present();
+    for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
           const unsigned int                   n = cell->get_fe().n_dofs_per_cell();
@@ -241,27 +238,124 @@ namespace ContactStefan
           cell->get_dof_indices(dofs);
           dealii::Vector<double> u(n), r(n);
           for (unsigned int i = 0; i < n; ++i)
-            u(i) = displacement_ghosted[dofs[i]];
+            u(i) = u_ghosted[dofs[i]];
           cell_stiffness[cell->active_cell_index()].vmult(r, u);
-          if (mechanical_load_present)
-            r -= cell_mechanical_load[cell->active_cell_index()];
-          mechanical_hanging.distribute_local_to_global(r, dofs, residual);
+          if (loaded)
+            r -= cell_load[cell->active_cell_index()];
+          hanging_node_constraints.distribute_local_to_global(r, dofs, result);
         }
-    residual.compress(VectorOperation::add);
+    result.compress(VectorOperation::add);
   }
 
 
 
   template <int dim>
-  ContactStepReport CoupledProblem<dim>::solve_contact_step()
+  Vector &MechanicalField<dim>::active_flags(const NormalCondition &c)
   {
-    using Kind = NormalCondition::Kind;
-    ContactStepReport report;
-    assemble_mechanical_load(time);
-    make_fixed_mechanical_constraints(time);
-    update_condition_gaps();
+    return c.kind == NormalCondition::Kind::interface ? interface_active : obstacle_active;
+  }
 
-    Vector                   residual(mechanical_owned, mpi_communicator);
+
+
+  template <int dim>
+  const Vector &MechanicalField<dim>::active_flags_ghosted(const NormalCondition &c) const
+  {
+    return c.kind == NormalCondition::Kind::interface ? interface_active_ghosted :
+                                                        obstacle_active_ghosted;
+  }
+
+
+
+  template <int dim>
+  bool MechanicalField<dim>::is_active(const NormalCondition &c) const
+  {
+    return (c.kind == NormalCondition::Kind::interface ? interface_active : obstacle_active)[c.dofs_k[0]] >
+           0.5;
+  }
+
+
+
+  template <int dim>
+  double MechanicalField<dim>::contact_pressure(const NormalCondition &c) const
+  {
+    return pressure[c.dofs_k[0]];
+  }
+
+
+
+  template <int dim>
+  double MechanicalField<dim>::contact_gap(const NormalCondition &c) const
+  {
+    return gap[c.dofs_k[0]];
+  }
+
+
+
+  // For every owned obstacle/interface condition (not tied): the compressive
+  // normal force lambda = -n.(K u - f)_k read off the residual, the gap
+  // violation d = n.(u_k - u_l) - g and the scaled complementarity constant.
+  // scale: the largest |lambda| + c |d| on this rank.
+  template <int dim>
+  std::vector<typename MechanicalField<dim>::Decision>
+  MechanicalField<dim>::contact_decisions(const Vector &residual,
+                                          double       &local_scale,
+                                          double       &max_penetration) const
+  {
+    using Kind      = NormalCondition::Kind;
+    const bool tied = prm.contact.interfaces == Parameters::Contact::Interfaces::tied;
+    std::vector<Decision> decisions;
+    local_scale = 0, max_penetration = 0;
+    for (const auto &c : normal_conditions)
+      if (c.kind != Kind::roller && !(c.kind == Kind::interface && tied) &&
+          owned.is_element(c.dofs_k[0]))
+        {
+          double lambda = 0;
+          for (unsigned int d = 0; d < dim; ++d)
+            lambda -= c.normal[d] * residual[c.dofs_k[d]];
+          const double d = normal_displacement_jump(c) - c.gap;
+          const double c_eff =
+            prm.contact.complementarity_constant * complementarity_scale * c.stiffness;
+          decisions.push_back({&c, lambda, d, c_eff});
+          local_scale     = std::max(local_scale, std::abs(lambda) + c_eff * std::abs(d));
+          max_penetration = std::max(max_penetration, d);
+        }
+    return decisions;
+  }
+
+
+
+  // Nodal pressures and gaps for output, and the forces per group.
+  template <int dim>
+  void MechanicalField<dim>::store_contact_output(const std::vector<Decision> &decisions,
+                                                  ContactStepReport           &report)
+  {
+    pressure = 0;
+    gap      = 0;
+    std::map<std::string, double> forces;
+    double                        max_pressure = 0;
+    for (const auto &dec : decisions)
+      {
+        pressure[dec.c->dofs_k[0]] = dec.lambda / dec.c->weight;
+        gap[dec.c->dofs_k[0]]      = -dec.d;
+        forces[dec.c->group] += dec.lambda;
+        max_pressure = std::max(max_pressure, dec.lambda / dec.c->weight);
+      }
+    pressure.compress(VectorOperation::insert);
+    gap.compress(VectorOperation::insert);
+    for (const auto &group : contact_groups)
+      report.forces[group] = Utilities::MPI::sum(forces[group], mpi_communicator);
+    report.max_pressure = Utilities::MPI::max(max_pressure, mpi_communicator);
+  }
+
+
+
+  // The contact step at the time of begin_time_step(), warm-started from the
+  // current active set.
+  template <int dim>
+  ContactStepReport MechanicalField<dim>::solve()
+  {
+    ContactStepReport report;
+    Vector            residual(owned, mpi_communicator);
     complementarity_scale = 1;
     std::map<std::uint64_t, unsigned int> seen_sets; // hash of an active set -> visits
     for (unsigned int it = 1;; ++it)
@@ -273,41 +367,22 @@ namespace ContactStefan
         unsigned int skipped = 0;
         build_contact_constraints(skipped);
         check_rigid_body_modes();
-        assemble_mechanical_system();
-        solve_mechanical_linear_system();
-        compute_mechanical_residual(residual);
+        assemble_system();
+        solve_linear_system();
+        apply_stiffness(displacement_ghosted, residual, true);
         report.iterations = it;
 
-        // Multipliers, gap violations and the scale of the activity test.
-        struct Decision
-        {
-          const NormalCondition *c;
-          double                 lambda, d, c_eff;
-        };
-        std::vector<Decision> decisions;
-        double                local_scale = 0, max_penetration = 0;
-        for (const auto &c : normal_conditions)
-          if (c.kind != Kind::roller && !(c.kind == Kind::interface && prm.contact.interfaces == "tied") &&
-              mechanical_owned.is_element(c.dofs_k[0]))
-            {
-              double lambda = 0;
-              for (unsigned int d = 0; d < dim; ++d)
-                lambda -= c.normal[d] * residual[c.dofs_k[d]];
-              const double d     = normal_displacement_jump(c) - c.gap;
-              const double c_eff = prm.contact.complementarity_constant * complementarity_scale * c.stiffness;
-              decisions.push_back({&c, lambda, d, c_eff});
-              local_scale     = std::max(local_scale, std::abs(lambda) + c_eff * std::abs(d));
-              max_penetration = std::max(max_penetration, d);
-            }
+        double     local_scale, max_penetration;
+        const auto decisions = contact_decisions(residual, local_scale, max_penetration);
         const double tolerance =
           prm.contact.tolerance * Utilities::MPI::max(local_scale, mpi_communicator);
 
         unsigned int  local_changes = 0, local_active = 0;
-        std::uint64_t local_hash    = 0;
+        std::uint64_t local_hash       = 0;
         double        local_min_lambda = HUGE_VAL;
         for (const auto &dec : decisions)
           {
-            Vector    &active     = dec.c->kind == Kind::interface ? interface_active : obstacle_active;
+            Vector    &active     = active_flags(*dec.c);
             const bool was_active = active[dec.c->dofs_k[0]] > 0.5;
             const bool now_active = Contact::is_active(dec.lambda, dec.d, dec.c_eff, tolerance);
             if (was_active)
@@ -321,7 +396,8 @@ namespace ContactStefan
               {
                 ++local_active;
                 // Order-independent hash of the set: sum of mixed node keys.
-                std::uint64_t key = dec.c->dofs_k[0] * 2 + (dec.c->kind == Kind::interface);
+                std::uint64_t key =
+                  dec.c->dofs_k[0] * 2 + (dec.c->kind == NormalCondition::Kind::interface);
                 key ^= key >> 33;
                 key *= 0xff51afd7ed558ccdULL;
                 key ^= key >> 33;
@@ -339,54 +415,41 @@ namespace ContactStefan
 
         if (prm.output.verbosity >= 1)
           pcout << "      contact " << it << ": " << report.active_nodes << " active, " << changes
-                << " changes, max penetration " << Utilities::MPI::max(max_penetration, mpi_communicator)
-                << ", min active lambda " << Utilities::MPI::min(local_min_lambda, mpi_communicator)
-                << (skipped > 0 ? ", " + std::to_string(skipped) + " conditions without a free DoF" : "")
+                << " changes, max penetration "
+                << Utilities::MPI::max(max_penetration, mpi_communicator) << ", min active lambda "
+                << Utilities::MPI::min(local_min_lambda, mpi_communicator)
+                << (skipped > 0 ? ", " + std::to_string(skipped) + " conditions without a free DoF" :
+                                  "")
                 << std::endl;
 
         if (changes == 0)
           {
             // Converged: the set is a fixed point, which with a small c might still
             // violate the contact conditions; check them with c at full size.
-            double local_violation = 0, local_scale = 0;
+            double local_violation = 0, local_size = 0;
             for (const auto &dec : decisions)
               {
-                const bool active =
-                  (dec.c->kind == Kind::interface ? interface_active : obstacle_active)[dec.c->dofs_k[0]] > 0.5;
+                const bool   active = is_active(*dec.c);
                 const double c_full = dec.c_eff / complementarity_scale;
                 local_violation = std::max(local_violation, active ? -dec.lambda : c_full * dec.d);
-                local_scale     = std::max(local_scale, std::abs(dec.lambda) + c_full * std::abs(dec.d));
+                local_size      = std::max(local_size, std::abs(dec.lambda) + c_full * std::abs(dec.d));
               }
             const double violation = Utilities::MPI::max(local_violation, mpi_communicator);
-            if (violation > 10 * prm.contact.tolerance * Utilities::MPI::max(local_scale, mpi_communicator))
+            if (violation >
+                10 * prm.contact.tolerance * Utilities::MPI::max(local_size, mpi_communicator))
               throw std::runtime_error("the contact step converged to a set that violates the contact "
-                                       "conditions by " + std::to_string(violation) +
-                                       " (force units) at t = " + std::to_string(time) +
-                                       "; see 'Contact/Complementarity constant'");
-            // Nodal pressures, gaps and forces for output.
-            contact_pressure = 0;
-            contact_gap      = 0;
-            std::map<std::string, double> forces;
-            double                        max_pressure = 0;
-            for (const auto &dec : decisions)
-              {
-                contact_pressure[dec.c->dofs_k[0]] = dec.lambda / dec.c->weight;
-                contact_gap[dec.c->dofs_k[0]]      = -dec.d;
-                forces[dec.c->group] += dec.lambda;
-                max_pressure = std::max(max_pressure, dec.lambda / dec.c->weight);
-              }
-            contact_pressure.compress(VectorOperation::insert);
-            contact_gap.compress(VectorOperation::insert);
-            for (const auto &group : contact_groups)
-              report.forces[group] = Utilities::MPI::sum(forces[group], mpi_communicator);
-            report.max_pressure = Utilities::MPI::max(max_pressure, mpi_communicator);
+                                       "conditions by " +
+                                       std::to_string(violation) + " (force units) at t = " +
+                                       std::to_string(time) + "; see 'Contact/Complementarity constant'");
+            store_contact_output(decisions, report);
             break;
           }
         if (++seen_sets[set_hash] > prm.contact.max_set_repetitions)
           {
             if (report.c_reductions == prm.contact.max_c_reductions)
-              throw std::runtime_error("the contact active set keeps cycling at t = " + std::to_string(time) +
-                                       " after " + std::to_string(report.c_reductions) +
+              throw std::runtime_error("the contact active set keeps cycling at t = " +
+                                       std::to_string(time) + " after " +
+                                       std::to_string(report.c_reductions) +
                                        " reductions of the complementarity constant "
                                        "('Contact/Max c reductions')");
             complementarity_scale /= 10;
@@ -401,5 +464,39 @@ namespace ContactStefan
 
 
 
-  template class CoupledProblem<2>;
+  // After the primary state was restored on a new mesh (setup_dofs() first):
+  // hanging-node values from their parents, then the derived contact state from
+  // u: multipliers from the residual, gaps from the displacement jump, and the
+  // active set by the same test as an iteration of solve() (so the next step is
+  // warm-started from it, never from interpolated 0/1 flags).
+  template <int dim>
+  void MechanicalField<dim>::after_transfer()
+  {
+    hanging_node_constraints.distribute(displacement);
+    hanging_node_constraints.distribute(old_displacement);
+    displacement_ghosted = displacement;
+    make_fixed_constraints();
+    update_condition_gaps();
+    Vector residual(owned, mpi_communicator);
+    apply_stiffness(displacement_ghosted, residual, true);
+    complementarity_scale = 1;
+    double     local_scale, max_penetration;
+    const auto decisions = contact_decisions(residual, local_scale, max_penetration);
+    const double tolerance = prm.contact.tolerance * Utilities::MPI::max(local_scale, mpi_communicator);
+    for (Vector *v : {&obstacle_active, &interface_active})
+      *v = 0.;
+    for (const auto &dec : decisions)
+      active_flags(*dec.c)[dec.c->dofs_k[0]] =
+        Contact::is_active(dec.lambda, dec.d, dec.c_eff, tolerance) ? 1. : 0.;
+    obstacle_active.compress(VectorOperation::insert);
+    interface_active.compress(VectorOperation::insert);
+    obstacle_active_ghosted  = obstacle_active;
+    interface_active_ghosted = interface_active;
+    ContactStepReport report;
+    store_contact_output(decisions, report);
+  }
+
+
+
+  template class MechanicalField<2>;
 } // namespace ContactStefan

@@ -18,12 +18,8 @@
 // the iteration globally convergent (see active_set_iteration and
 // doc/algorithms.md). Should it still hit its iteration limit, the step falls
 // back to the nonlinear relaxation iteration, slower but always convergent.
-#include <deal.II/lac/solver_cg.h>
-#include <deal.II/lac/solver_control.h>
-#include <deal.II/lac/trilinos_precondition.h>
-#include <deal.II/lac/trilinos_solver.h>
 
-#include <contact-stefan/coupled_problem.h>
+#include <contact-stefan/thermal_field.h>
 
 #include <algorithm>
 #include <cmath>
@@ -39,7 +35,7 @@ namespace ContactStefan
   // the condensed diagonal m_i (distributing a cell's diagonal mass through
   // hanging-node constraints would couple the parents). d and g are nodal vectors.
   template <int dim>
-  void CoupledProblem<dim>::assemble_enthalpy_system(const bool assemble_matrix)
+  void ThermalField<dim>::assemble_system(const bool assemble_matrix)
   {
     TimerOutput::Scope t(timer, "enthalpy step: assemble");
     const unsigned int n = fe.n_dofs_per_cell();
@@ -58,7 +54,7 @@ namespace ContactStefan
           local_matrix = cell_conductivity[c];
           local_matrix *= time_step;
           for (unsigned int i = 0; i < n; ++i)
-            local_rhs(i) = heat_load_present ? time_step * cell_load[c](i) : 0.;
+            local_rhs(i) = functions.heat_load_present() ? time_step * cell_load[c](i) : 0.;
           if (assemble_matrix)
             constraints.distribute_local_to_global(local_matrix, local_rhs, dofs,
                                                    system_matrix, system_rhs);
@@ -69,7 +65,7 @@ namespace ContactStefan
       system_matrix.compress(VectorOperation::add);
     system_rhs.compress(VectorOperation::add);
 
-    for (const auto dof : locally_owned_dofs)
+    for (const auto dof : owned)
       if (!constraints.is_constrained(dof))
         {
           if (assemble_matrix)
@@ -83,54 +79,11 @@ namespace ContactStefan
 
 
 
-  // Solve A x = b with the selected solver ('Solver/Linear solver'): Amesos
-  // direct, or CG preconditioned by ML AMG from the current x. Shared by the
-  // enthalpy and the contact step.
-  template <int dim>
-  void CoupledProblem<dim>::solve_linear(const TrilinosWrappers::SparseMatrix &A,
-                                         Vector                               &x,
-                                         const Vector                         &b) const
-  {
-    if (prm.solver.linear_solver == "direct")
-      {
-        SolverControl                                  control(1, 0);
-        TrilinosWrappers::SolverDirect::AdditionalData data(prm.output.verbosity >= 2,
-                                                            prm.solver.direct_solver_type);
-        TrilinosWrappers::SolverDirect                 solver(control, data);
-        solver.solve(A, x, b);
-      }
-    else
-      {
-        SolverControl control(prm.solver.cg_max_iterations, prm.solver.cg_tolerance * b.l2_norm());
-        TrilinosWrappers::PreconditionAMG                 amg;
-        TrilinosWrappers::PreconditionAMG::AdditionalData data;
-        data.elliptic = true;
-        amg.initialize(A, data);
-        SolverCG<Vector> cg(control);
-        cg.solve(A, x, b, amg);
-        if (prm.output.verbosity >= 2)
-          pcout << "      CG: " << control.last_step() << " iterations" << std::endl;
-      }
-  }
-
-
-
-  // Solve the enthalpy system; x holds the constrained values afterwards.
-  template <int dim>
-  void CoupledProblem<dim>::solve_linear_system(Vector &solution)
-  {
-    TimerOutput::Scope t(timer, "enthalpy step: linear solve");
-    solve_linear(system_matrix, solution, system_rhs);
-    constraints.distribute(solution);
-  }
-
-
-
   // result = A theta, hanging-node condensed (unconstrained otherwise); with
   // absolute = true, |A| |theta| entrywise, the size of the terms of (A theta)_i
   // against which its round-off is measured.
   template <int dim>
-  void CoupledProblem<dim>::compute_conductivity_residual(const Vector &theta,
+  void ThermalField<dim>::apply_conductivity(const Vector &theta,
                                                           Vector       &result,
                                                           const bool    absolute) const
   {
@@ -170,15 +123,15 @@ namespace ContactStefan
   // node has its enthalpy: from its piece where it is free, from the residual of
   // its row where its temperature was fixed, from the temperature on Dirichlet nodes.
   template <int dim>
-  unsigned int CoupledProblem<dim>::solve_for_pieces(
+  unsigned int ThermalField<dim>::solve_for_pieces(
     const std::function<LinearPiece(const types::global_dof_index)> &piece_of,
     Vector                                                          &h_new)
   {
     constraints.clear();
-    constraints.reinit(locally_relevant_dofs);
+    constraints.reinit(relevant);
     constraints.merge(dirichlet_constraints);
     unsigned int local_fixed = 0;
-    for (const auto dof : locally_relevant_dofs)
+    for (const auto dof : relevant)
       if (!constraints.is_constrained(dof))
         {
           const LinearPiece p = piece_of(dof);
@@ -186,12 +139,12 @@ namespace ContactStefan
             {
               constraints.add_line(dof);
               constraints.set_inhomogeneity(dof, p.temperature);
-              local_fixed += locally_owned_dofs.is_element(dof);
+              local_fixed += owned.is_element(dof);
             }
         }
     constraints.close();
 
-    for (const auto dof : locally_owned_dofs)
+    for (const auto dof : owned)
       {
         const LinearPiece p = piece_of(dof);
         nodal_diagonal[dof] = p.fixed ? 0. : p.capacity;
@@ -200,13 +153,18 @@ namespace ContactStefan
     nodal_diagonal.compress(VectorOperation::insert);
     nodal_rhs.compress(VectorOperation::insert);
 
-    assemble_enthalpy_system(true);
-    solve_linear_system(temperature);
+    assemble_system(true);
+    {
+      TimerOutput::Scope t(timer, "enthalpy step: linear solve");
+      linear_solver.initialize(system_matrix);
+      linear_solver.solve(temperature, system_rhs);
+      constraints.distribute(temperature);
+    }
     temperature_ghosted = temperature;
 
-    Vector A_theta(locally_owned_dofs, mpi_communicator);
-    compute_conductivity_residual(temperature_ghosted, A_theta);
-    for (const auto dof : locally_owned_dofs)
+    Vector A_theta(owned, mpi_communicator);
+    apply_conductivity(temperature_ghosted, A_theta);
+    for (const auto dof : owned)
       {
         const double theta = temperature[dof];
         if (dirichlet_constraints.is_constrained(dof))
@@ -235,53 +193,33 @@ namespace ContactStefan
   // not on the size of the update. The matrix is the same in every iteration:
   // it is assembled and factorised (or its AMG built) once.
   template <int dim>
-  unsigned int CoupledProblem<dim>::relaxation_fallback()
+  unsigned int ThermalField<dim>::relaxation_fallback()
   {
     TimerOutput::Scope t(timer, "enthalpy step: relaxation");
     const double fraction = prm.solver.relaxation_parameter_fraction;
     constraints.clear();
-    constraints.reinit(locally_relevant_dofs);
+    constraints.reinit(relevant);
     constraints.merge(dirichlet_constraints);
     constraints.close();
-    for (const auto dof : locally_owned_dofs)
+    for (const auto dof : owned)
       nodal_diagonal[dof] = fraction * law(dof).min_heat_capacity();
     nodal_diagonal.compress(VectorOperation::insert);
 
-    TrilinosWrappers::SolverDirect::AdditionalData data(false, prm.solver.direct_solver_type);
-    SolverControl                                  direct_control(1, 0);
-    TrilinosWrappers::SolverDirect                 direct(direct_control, data);
-    TrilinosWrappers::PreconditionAMG              amg;
-    Vector A_theta(locally_owned_dofs, mpi_communicator), A_abs_theta(locally_owned_dofs, mpi_communicator);
+    Vector A_theta(owned, mpi_communicator), A_abs_theta(owned, mpi_communicator);
 
     for (unsigned int m = 1; m <= prm.solver.relaxation_max_iterations; ++m)
       {
-        for (const auto dof : locally_owned_dofs)
+        for (const auto dof : owned)
           nodal_rhs[dof] = old_enthalpy[dof] - enthalpy[dof] +
                            nodal_diagonal[dof] * law(dof).temperature(enthalpy[dof]);
         nodal_rhs.compress(VectorOperation::insert);
-        assemble_enthalpy_system(m == 1);
-        if (prm.solver.linear_solver == "direct")
-          {
-            if (m == 1)
-              direct.initialize(system_matrix);
-            direct.solve(temperature, system_rhs);
-          }
-        else
-          {
-            if (m == 1)
-              {
-                TrilinosWrappers::PreconditionAMG::AdditionalData amg_data;
-                amg_data.elliptic = true;
-                amg.initialize(system_matrix, amg_data);
-              }
-            SolverControl control(prm.solver.cg_max_iterations,
-                                  prm.solver.cg_tolerance * system_rhs.l2_norm());
-            SolverCG<Vector> cg(control);
-            cg.solve(system_matrix, temperature, system_rhs, amg);
-          }
+        assemble_system(m == 1);
+        if (m == 1)
+          linear_solver.initialize(system_matrix);
+        linear_solver.solve(temperature, system_rhs);
         constraints.distribute(temperature);
 
-        for (const auto dof : locally_owned_dofs)
+        for (const auto dof : owned)
           {
             const EnthalpyLaw &l = law(dof);
             enthalpy[dof] = dirichlet_constraints.is_constrained(dof) ?
@@ -294,10 +232,10 @@ namespace ContactStefan
 
         // Residual of the step equations at Theta = beta(h), relative to the
         // size of their terms.
-        compute_conductivity_residual(temperature_ghosted, A_theta);
-        compute_conductivity_residual(temperature_ghosted, A_abs_theta, true);
+        apply_conductivity(temperature_ghosted, A_theta);
+        apply_conductivity(temperature_ghosted, A_abs_theta, true);
         double residual = 0, scale = 0;
-        for (const auto dof : locally_owned_dofs)
+        for (const auto dof : owned)
           if (!dirichlet_constraints.is_constrained(dof))
             {
               const double stored = lumped_mass[dof] * (enthalpy[dof] - old_enthalpy[dof]);
@@ -330,14 +268,14 @@ namespace ContactStefan
   // H_i(Theta_i) (must be zero): together they check the equations and the
   // enthalpy bookkeeping on the plateaus.
   template <int dim>
-  double CoupledProblem<dim>::compute_energy_balance()
+  double ThermalField<dim>::compute_energy_balance(unsigned int &inconsistent) const
   {
-    Vector A_theta(locally_owned_dofs, mpi_communicator), A_abs_theta(locally_owned_dofs, mpi_communicator);
-    compute_conductivity_residual(temperature_ghosted, A_theta);
-    compute_conductivity_residual(temperature_ghosted, A_abs_theta, true);
+    Vector A_theta(owned, mpi_communicator), A_abs_theta(owned, mpi_communicator);
+    apply_conductivity(temperature_ghosted, A_theta);
+    apply_conductivity(temperature_ghosted, A_abs_theta, true);
     double       free_sum = 0, scale = 0;
     unsigned int inconsistent_nodes = 0;
-    for (const auto dof : locally_owned_dofs)
+    for (const auto dof : owned)
       {
         if (hanging_node_constraints.is_constrained(dof))
           continue;
@@ -368,7 +306,7 @@ namespace ContactStefan
       }
     free_sum = Utilities::MPI::sum(free_sum, mpi_communicator);
     scale    = Utilities::MPI::sum(scale, mpi_communicator);
-    inconsistent_enthalpy_nodes += Utilities::MPI::sum(inconsistent_nodes, mpi_communicator);
+    inconsistent = Utilities::MPI::sum(inconsistent_nodes, mpi_communicator);
     return scale > 0 ? std::abs(free_sum) / scale : 0.;
   }
 
@@ -389,7 +327,7 @@ namespace ContactStefan
   // accepted this is the plain active-set method; the line search only acts
   // when it would overshoot.
   template <int dim>
-  bool CoupledProblem<dim>::active_set_iteration(EnthalpyStepReport &report)
+  bool ThermalField<dim>::active_set_iteration(EnthalpyStepReport &report)
   {
     const auto piece_of = [&](const types::global_dof_index dof) {
       return law(dof).piece(static_cast<unsigned int>(phase_state_ghosted[dof]));
@@ -397,8 +335,8 @@ namespace ContactStefan
     const auto is_free = [&](const types::global_dof_index dof) {
       return !dirichlet_constraints.is_constrained(dof);
     };
-    Vector h_new(locally_owned_dofs, mpi_communicator);
-    Vector z(locally_owned_dofs, mpi_communicator);
+    Vector h_new(owned, mpi_communicator);
+    Vector z(owned, mpi_communicator);
     // The size of enthalpy changes that matter: the largest latent heat or, without
     // transitions, the sensible heat of a unit temperature change.
     double enthalpy_scale = 0;
@@ -418,7 +356,7 @@ namespace ContactStefan
         // solves the step exactly: take it. (Near convergence the decrease of E
         // can be below its round-off, so the line search must not judge it.)
         unsigned int local_inconsistent = 0;
-        for (const auto dof : locally_owned_dofs)
+        for (const auto dof : owned)
           if (is_free(dof))
             local_inconsistent += (law(dof).state_of_enthalpy(h_new[dof]) !=
                                    static_cast<unsigned int>(phase_state[dof]));
@@ -428,7 +366,7 @@ namespace ContactStefan
         // exactly on a kink of H (e.g. an equilibrium at a transition
         // temperature), where neighbouring pieces give the same (Theta, h).
         double local_step = 0, local_size = 0;
-        for (const auto dof : locally_owned_dofs)
+        for (const auto dof : owned)
           if (is_free(dof))
             {
               local_step = std::max(local_step, std::abs(h_new[dof] - enthalpy[dof]));
@@ -444,7 +382,7 @@ namespace ContactStefan
           {
             // Slope and the two quadratic coefficients of E along h_new - h.
             double local[3] = {0, 0, 0}; // grad E . d,  d . z,  d . K^{-1} d
-            for (const auto dof : locally_owned_dofs)
+            for (const auto dof : owned)
               if (is_free(dof))
                 {
                   const double d = lumped_mass[dof] * (h_new[dof] - enthalpy[dof]);
@@ -460,7 +398,7 @@ namespace ContactStefan
             const double round_off = round_off_factor * std::numeric_limits<double>::epsilon();
             const auto   armijo_holds = [&](const double a) {
               double psi[2] = {0, 0}; // sum m (Psi(h + a d) - Psi(h)), sum m (|..| + |..|)
-              for (const auto dof : locally_owned_dofs)
+              for (const auto dof : owned)
                 if (is_free(dof))
                   {
                     const EnthalpyLaw &l      = law(dof);
@@ -483,7 +421,7 @@ namespace ContactStefan
           }
         // h <- h + alpha (h_new - h), z <- (1 - alpha) z - alpha Theta_new.
         unsigned int local_changes = 0;
-        for (const auto dof : locally_owned_dofs)
+        for (const auto dof : owned)
           {
             z[dof]        = (1 - alpha) * z[dof] - alpha * temperature[dof];
             enthalpy[dof] = enthalpy[dof] + alpha * (h_new[dof] - enthalpy[dof]);
@@ -518,10 +456,10 @@ namespace ContactStefan
 
 
   template <int dim>
-  EnthalpyStepReport CoupledProblem<dim>::solve_enthalpy_step()
+  EnthalpyStepReport ThermalField<dim>::solve()
   {
     EnthalpyStepReport report;
-    if (prm.solver.enthalpy_solver == "relaxation")
+    if (prm.solver.enthalpy_solver == Parameters::Solver::EnthalpySolver::relaxation)
       report.relaxation_iterations = relaxation_fallback();
     else if (!active_set_iteration(report))
       {
@@ -530,15 +468,15 @@ namespace ContactStefan
               << "; switching to the relaxation fallback" << std::endl;
         report.relaxation_iterations = relaxation_fallback();
         unsigned int local_plateau   = 0;
-        for (const auto dof : locally_owned_dofs)
+        for (const auto dof : owned)
           local_plateau += EnthalpyLaw::is_plateau(static_cast<unsigned int>(phase_state[dof]));
         report.plateau_nodes = Utilities::MPI::sum(local_plateau, mpi_communicator);
       }
-    report.energy_residual = compute_energy_balance();
+    report.energy_residual = compute_energy_balance(report.inconsistent_nodes);
     return report;
   }
 
 
 
-  template class CoupledProblem<2>;
+  template class ThermalField<2>;
 } // namespace ContactStefan

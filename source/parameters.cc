@@ -1,6 +1,7 @@
 #include <deal.II/base/function_parser.h>
 #include <deal.II/base/utilities.h>
 
+#include <contact-stefan/materials.h>
 #include <contact-stefan/neumann_solution.h>
 #include <contact-stefan/parameters.h>
 
@@ -67,7 +68,7 @@ namespace ContactStefan
                         const std::string &path,
                         const bool         exact_allowed)
     {
-      if (expression == "exact")
+      if (is_exact_keyword(expression))
         {
           require(exact_allowed, path, "'exact' needs 'Exact solution/Type' = neumann or function");
           return;
@@ -107,21 +108,27 @@ namespace ContactStefan
     return message;
   }
 
-  NeumannSolution neumann_solution(const AllParameters &prm)
+  bool is_zero_expression(const std::string &expression)
   {
-    const auto         &m = prm.materials.at(prm.exact_solution.body);
-    const EnthalpyLaw   law = m.enthalpy_law();
-    std::vector<double> k, c, rho_L;
-    for (unsigned int p = 0; p <= law.n_transitions(); ++p)
+    // An expression that names none of x, y, t (nor muparser's random numbers)
+    // is a constant; it is zero if it evaluates to zero.
+    static const std::regex variable("(^|[^A-Za-z0-9_])(x|y|t|rand|rand_seed)([^A-Za-z0-9_]|$)");
+    if (is_exact_keyword(expression) || std::regex_search(expression, variable))
+      return false;
+    std::streambuf *const cerr_buffer = std::cerr.rdbuf(nullptr);
+    try
       {
-        // Isotropic: the shape tensor is a multiple of the identity.
-        k.push_back(m.conductivity(p) * m.anisotropy[0]);
-        c.push_back(law.heat_capacity(p));
+        FunctionParser<2> f(1);
+        f.initialize("x,y,t", expression, {{"pi", numbers::PI}}, true);
+        const double value = f.value(Point<2>());
+        std::cerr.rdbuf(cerr_buffer);
+        return value == 0;
       }
-    for (unsigned int j = 0; j < law.n_transitions(); ++j)
-      rho_L.push_back(law.latent_heat(j));
-    return NeumannSolution(k, c, m.transition_temperatures, rho_L,
-                           prm.exact_solution.hot_temperature, prm.exact_solution.cold_temperature);
+    catch (...)
+      {
+        std::cerr.rdbuf(cerr_buffer);
+        return false;
+      }
   }
 
   namespace
@@ -172,7 +179,7 @@ namespace ContactStefan
     void Geometry::parse(ParameterHandler &prm, const std::string &prm_directory)
     {
       prm.enter_subsection("Geometry");
-      mesh_type = prm.get("Mesh");
+      mesh_type = prm.get("Mesh") == "gmsh" ? MeshType::gmsh : MeshType::rectangle;
       const auto ll = parse_doubles(prm.get("Lower left corner"), "Geometry/Lower left corner");
       const auto ur = parse_doubles(prm.get("Upper right corner"), "Geometry/Upper right corner");
       require(ll.size() == 2, "Geometry/Lower left corner", "needs two numbers");
@@ -200,7 +207,7 @@ namespace ContactStefan
                   "Geometry/Layer interfaces", "must be increasing");
         }
       mesh_file = prm.get("Mesh file");
-      if (mesh_type == "gmsh")
+      if (mesh_type == MeshType::gmsh)
         {
           require(!mesh_file.empty(), "Geometry/Mesh file", "is empty but Mesh = gmsh");
           if (mesh_file.front() != '/')
@@ -272,20 +279,23 @@ namespace ContactStefan
       heat_source = prm.get("Heat source");
       check_function(heat_source, path + "/Heat source", false);
 
-      elasticity        = prm.get("Elasticity");
+      const std::string e = prm.get("Elasticity");
+      elasticity          = e == "isotropic" ? Elasticity::isotropic :
+                            e == "lame"      ? Elasticity::lame :
+                                               Elasticity::anisotropic;
       youngs_modulus    = prm.get_double("Youngs modulus");
       poisson_ratio     = prm.get_double("Poisson ratio");
       lame_lambda       = prm.get_double("Lame lambda");
       lame_mu           = prm.get_double("Lame mu");
       thermal_expansion = prm.get_double("Thermal expansion");
       voigt = parse_doubles(prm.get("Elasticity tensor"), path + "/Elasticity tensor");
-      if (elasticity == "isotropic")
+      if (elasticity == Elasticity::isotropic)
         {
           require(youngs_modulus > 0, path + "/Youngs modulus", "must be > 0, got " + str(youngs_modulus));
           require(poisson_ratio > -1 && poisson_ratio < 0.5, path + "/Poisson ratio",
                   "must lie in (-1, 0.5), got " + str(poisson_ratio));
         }
-      else if (elasticity == "lame")
+      else if (elasticity == Elasticity::lame)
         {
           require(lame_mu > 0, path + "/Lame mu", "must be > 0, got " + str(lame_mu));
           require(lame_lambda > -2 * lame_mu / 3, path + "/Lame lambda",
@@ -338,65 +348,6 @@ namespace ContactStefan
               path + "/Conductivities",
               "needs one value per phase (" + std::to_string(n + 1) + ") or a single value");
     }
-
-    SymmetricTensor<4, 2> BodyMaterial::elasticity_tensor() const
-    {
-      SymmetricTensor<4, 2> C;
-      if (elasticity == "anisotropic")
-        {
-          // Voigt index of (i, j): xx -> 0, yy -> 1, xy -> 2.
-          const double V[3][3] = {{voigt[0], voigt[1], voigt[2]},
-                                  {voigt[1], voigt[3], voigt[4]},
-                                  {voigt[2], voigt[4], voigt[5]}};
-          const unsigned int index[2][2] = {{0, 2}, {2, 1}};
-          for (unsigned int i = 0; i < 2; ++i)
-            for (unsigned int j = i; j < 2; ++j)
-              for (unsigned int k = 0; k < 2; ++k)
-                for (unsigned int l = k; l < 2; ++l)
-                  C[i][j][k][l] = V[index[i][j]][index[k][l]];
-          return C;
-        }
-      const double lambda =
-        elasticity == "lame" ? lame_lambda :
-                               youngs_modulus * poisson_ratio /
-                                 ((1 + poisson_ratio) * (1 - 2 * poisson_ratio));
-      const double mu = elasticity == "lame" ? lame_mu : youngs_modulus / (2 * (1 + poisson_ratio));
-      for (unsigned int i = 0; i < 2; ++i)
-        for (unsigned int j = i; j < 2; ++j)
-          for (unsigned int k = 0; k < 2; ++k)
-            for (unsigned int l = k; l < 2; ++l)
-              C[i][j][k][l] = (i == j && k == l ? lambda : 0.) +
-                              mu * ((i == k && j == l ? 1. : 0.) + (i == l && j == k ? 1. : 0.));
-      return C;
-    }
-
-    double BodyMaterial::plane_strain_modulus() const
-    {
-      if (elasticity == "isotropic")
-        return youngs_modulus / (1 - poisson_ratio * poisson_ratio);
-      if (elasticity == "lame")
-        {
-          const double E  = lame_mu * (3 * lame_lambda + 2 * lame_mu) / (lame_lambda + lame_mu);
-          const double nu = lame_lambda / (2 * (lame_lambda + lame_mu));
-          return E / (1 - nu * nu);
-        }
-      // Uniaxial plane-strain stiffness in y with free x: C22 - C12^2 / C11.
-      return voigt[3] - voigt[1] * voigt[1] / voigt[0];
-    }
-
-
-
-    EnthalpyLaw BodyMaterial::enthalpy_law() const
-    {
-      std::vector<double> rho_L, rho_c;
-      for (const double l : latent_heats)
-        rho_L.push_back(density * l);
-      for (const double c : heat_capacities)
-        rho_c.push_back(density * c);
-      return EnthalpyLaw(transition_temperatures, rho_L, rho_c);
-    }
-
-
 
     void ThermalBoundary::declare(ParameterHandler &prm)
     {
@@ -499,7 +450,7 @@ namespace ContactStefan
     void Contact::parse(ParameterHandler &prm)
     {
       prm.enter_subsection("Contact");
-      interfaces               = prm.get("Interfaces");
+      interfaces = prm.get("Interfaces") == "tied" ? Interfaces::tied : Interfaces::contact;
       interface_gap            = prm.get("Interface gap");
       complementarity_constant = prm.get_double("Complementarity constant");
       max_iterations           = prm.get_integer("Max iterations");
@@ -551,7 +502,7 @@ namespace ContactStefan
     void InitialCondition::parse(ParameterHandler &prm)
     {
       prm.enter_subsection("Initial conditions");
-      variable = prm.get("Variable");
+      variable = prm.get("Variable") == "enthalpy" ? Variable::enthalpy : Variable::temperature;
       function = prm.get("Function");
       prm.leave_subsection();
     }
@@ -592,7 +543,13 @@ namespace ContactStefan
     void ExactSolution::parse(ParameterHandler &prm)
     {
       prm.enter_subsection("Exact solution");
-      type             = prm.get("Type");
+      type_name = prm.get("Type");
+      type      = type_name == "neumann"     ? Type::neumann :
+                  type_name == "function"    ? Type::function :
+                  type_name == "equilibrium" ? Type::equilibrium :
+                  type_name == "hertz"       ? Type::hertz :
+                  type_name == "patch"       ? Type::patch :
+                                               Type::none;
       function         = prm.get("Function");
       body             = prm.get_integer("Body");
       hot_temperature  = prm.get_double("Hot temperature");
@@ -681,12 +638,14 @@ namespace ContactStefan
     void Solver::parse(ParameterHandler &prm)
     {
       prm.enter_subsection("Solver");
-      linear_solver                 = prm.get("Linear solver");
+      linear_solver = prm.get("Linear solver") == "direct" ? LinearSolverType::direct :
+                                                             LinearSolverType::cg_amg;
       direct_solver_type            = prm.get("Direct solver type");
       cg_tolerance                  = prm.get_double("CG tolerance");
       cg_max_iterations             = prm.get_integer("CG max iterations");
       max_active_set_iterations     = prm.get_integer("Max active-set iterations");
-      enthalpy_solver                 = prm.get("Enthalpy solver");
+      enthalpy_solver = prm.get("Enthalpy solver") == "relaxation" ? EnthalpySolver::relaxation :
+                                                                     EnthalpySolver::active_set;
       active_set_step_tolerance       = prm.get_double("Active-set step tolerance");
       line_search_sufficient_decrease = prm.get_double("Line search sufficient decrease");
       line_search_min_step          = prm.get_double("Line search minimum step");
@@ -884,7 +843,8 @@ namespace ContactStefan
 
     geometry.parse(prm, prm_directory);
     exact_solution.parse(prm);
-    const bool exact = exact_solution.type == "neumann" || exact_solution.type == "function";
+    using Exact      = Parameters::ExactSolution::Type;
+    const bool exact = exact_solution.type == Exact::neumann || exact_solution.type == Exact::function;
 
     prm.enter_subsection("Materials");
     for (const unsigned int id : body_ids)
@@ -917,8 +877,8 @@ namespace ContactStefan
 
     initial_condition.parse(prm);
     check_function(initial_condition.function, "Initial conditions/Function", exact);
-    require(!(exact && initial_condition.function == "exact" &&
-              initial_condition.variable != "temperature"),
+    require(!(exact && is_exact_keyword(initial_condition.function) &&
+              initial_condition.variable != Parameters::InitialCondition::Variable::temperature),
             "Initial conditions/Variable", "must be 'temperature' when Function = exact");
 
     time.parse(prm);
@@ -926,39 +886,39 @@ namespace ContactStefan
     refinement.parse(prm);
     output.parse(prm);
 
-    if (geometry.mesh_type == "rectangle")
+    if (geometry.mesh_type == Parameters::Geometry::MeshType::rectangle)
       require(geometry.layer_interfaces.size() + 1 == body_ids.size(), "Bodies/Body ids",
               "a rectangle with " + std::to_string(geometry.layer_interfaces.size()) +
                 " layer interfaces has bodies 0.." +
                 std::to_string(geometry.layer_interfaces.size()));
 
-    if (exact_solution.type == "hertz" || exact_solution.type == "patch")
+    if (exact_solution.type == Exact::hertz || exact_solution.type == Exact::patch)
       require(physics.mechanics, "Exact solution/Type",
-              "'" + exact_solution.type + "' needs Physics/Mechanics = true");
-    if (exact_solution.type == "equilibrium")
+              "'" + exact_solution.type_name + "' needs Physics/Mechanics = true");
+    if (exact_solution.type == Exact::equilibrium)
       {
         for (const auto &[id, bc] : thermal_boundaries)
-          require(bc.type == Parameters::ThermalBoundary::Type::flux && bc.value == "0",
+          require(bc.type == Parameters::ThermalBoundary::Type::flux && is_zero_expression(bc.value),
                   "Exact solution/Type", "'equilibrium' needs insulated boundaries (boundary " +
                                            std::to_string(id) + " is not)");
         for (const auto &[id, m] : materials)
-          require(m.heat_source == "0", "Exact solution/Type",
+          require(is_zero_expression(m.heat_source), "Exact solution/Type",
                   "'equilibrium' needs no heat source (body " + std::to_string(id) + " has one)");
       }
-    if (exact_solution.type == "neumann" || exact_solution.type == "function" ||
-        exact_solution.type == "equilibrium")
+    if (exact_solution.type == Exact::neumann || exact_solution.type == Exact::function ||
+        exact_solution.type == Exact::equilibrium)
       require(physics.thermal, "Exact solution/Type",
-              "'" + exact_solution.type + "' needs Physics/Thermal = true");
-    if (exact_solution.type == "hertz" || exact_solution.type == "patch")
+              "'" + exact_solution.type_name + "' needs Physics/Thermal = true");
+    if (exact_solution.type == Exact::hertz || exact_solution.type == Exact::patch)
       {
         require(materials.count(exact_solution.body) == 1, "Exact solution/Body",
                 "body " + std::to_string(exact_solution.body) + " is not in Bodies/Body ids");
         // Both closed-form solutions need materials without shear-extension
         // coupling (C16 = C26 = 0): otherwise no uniform state fits the rollers.
         for (const auto &[id, m] : materials)
-          require(m.elasticity != "anisotropic" || (m.voigt[2] == 0 && m.voigt[4] == 0),
+          require(m.elasticity != Parameters::BodyMaterial::Elasticity::anisotropic || (m.voigt[2] == 0 && m.voigt[4] == 0),
                   "Materials/Body " + std::to_string(id) + "/Elasticity tensor",
-                  "the '" + exact_solution.type + "' solution needs C16 = C26 = 0");
+                  "the '" + exact_solution.type_name + "' solution needs C16 = C26 = 0");
       }
     // Thermal stress beta (Theta - Theta_0) enters the contact step with the
     // coupling, which is not implemented yet: refuse data that would need it.
@@ -967,9 +927,9 @@ namespace ContactStefan
         require(m.thermal_expansion == 0, "Materials/Body " + std::to_string(id) + "/Thermal expansion",
                 "thermal stress (coupling of temperature and mechanics) is not implemented yet; "
                 "set it to 0 or switch one of Physics/Thermal, Physics/Mechanics off");
-    if (exact_solution.type == "function")
+    if (exact_solution.type == Exact::function)
       check_function(exact_solution.function, "Exact solution/Function", false);
-    if (exact_solution.type == "neumann")
+    if (exact_solution.type == Exact::neumann)
       {
         const std::string path = "Exact solution/Body";
         require(materials.count(exact_solution.body) == 1, path,
@@ -982,9 +942,9 @@ namespace ContactStefan
         require(exact_solution.cold_temperature <= m.transition_temperatures.front(),
                 "Exact solution/Cold temperature",
                 "must not exceed the lowest transition temperature");
-        require(m.conductivity_is_isotropic(), "Materials/Body " + std::to_string(exact_solution.body) +
+        require(conductivity_is_isotropic(m), "Materials/Body " + std::to_string(exact_solution.body) +
                   "/Conductivity anisotropy", "the Neumann solution needs an isotropic conductivity");
-        require(geometry.mesh_type == "rectangle", "Exact solution/Type",
+        require(geometry.mesh_type == Parameters::Geometry::MeshType::rectangle, "Exact solution/Type",
                 "'neumann' needs Geometry/Mesh = rectangle (a strip along x)");
         require(exact_solution.origin <= geometry.lower_left[0], "Exact solution/Origin",
                 "must not lie inside the rectangle");

@@ -1,6 +1,6 @@
 // Unit test of the pure pieces of the contact step: averaged nodal normals and
 // lumped boundary weights, the constraint row of a normal condition, the
-// active-set test, and the Hertz formulas (BENCHMARKS.md C1 numbers).
+// active-set test, and the Hertz formulas (numbers of C1 in doc/benchmarks.md).
 #include <contact-stefan/contact.h>
 
 #include "unit_test_tools.h"
@@ -81,7 +81,7 @@ int main()
           !is_active(1e-14, 0., 1., 1e-12),
         "active if lambda + c d exceeds the tolerance");
 
-  // Hertz: BENCHMARKS.md C1 (R = 1, E = 1, nu = 0.3, P = 1e-3).
+  // Hertz: doc/benchmarks.md C1 (R = 1, E = 1, nu = 0.3, P = 1e-3).
   const Hertz h(1e-3, 1., 1. / (1 - 0.09));
   std::printf("Hertz half-width %.10f, peak pressure %.10f\n", h.half_width, h.peak_pressure);
   check(close(h.half_width, 0.0340389187, 1e-9) && close(h.peak_pressure, 0.0187027026, 1e-9),

@@ -14,9 +14,6 @@
 
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/point.h>
-#include <deal.II/base/symmetric_tensor.h>
-
-#include <contact-stefan/enthalpy_law.h>
 
 #include <map>
 #include <stdexcept>
@@ -47,7 +44,11 @@ namespace ContactStefan
       // 2 (bottom), 3 (top), optionally cut into horizontal layers that are bodies
       // 0, 1, ... from the bottom. "gmsh": a .msh file whose physical surfaces give
       // the body (material) ids and physical lines the boundary ids.
-      std::string               mesh_type;
+      enum class MeshType
+      {
+        rectangle,
+        gmsh
+      } mesh_type;
       Point<2>                  lower_left, upper_right;
       std::vector<unsigned int> subdivisions;
       std::vector<double>       layer_interfaces;
@@ -70,24 +71,18 @@ namespace ContactStefan
       std::string         heat_source;             // W/m^3, function of x, y, t
       // Elastic data (plane strain): isotropic by (E, nu) or Lame (lambda, mu),
       // or a general anisotropic tensor in Voigt form; thermal expansion alpha.
-      std::string         elasticity;
+      enum class Elasticity
+      {
+        isotropic,
+        lame,
+        anisotropic
+      } elasticity;
       double              youngs_modulus, poisson_ratio, lame_lambda, lame_mu;
       std::vector<double> voigt; // C11, C12, C16, C22, C26, C66
       double              thermal_expansion;
       std::string         body_force[2];
-      // The elasticity tensor C_ijkl and, for isotropic data, E and nu.
-      SymmetricTensor<4, 2> elasticity_tensor() const;
-      double                plane_strain_modulus() const; // E / (1 - nu^2), or C22 fallback
-
-      EnthalpyLaw enthalpy_law() const;
-      double      conductivity(const unsigned int phase) const
-      {
-        return conductivities.size() == 1 ? conductivities[0] : conductivities[phase];
-      }
-      bool conductivity_is_isotropic() const
-      {
-        return anisotropy[1] == 0 && anisotropy[0] == anisotropy[2];
-      }
+      // The physics derived from these numbers (elasticity tensor, enthalpy law,
+      // conductivity per phase) is in materials.h.
 
       static void declare(ParameterHandler &prm);
       void        parse(ParameterHandler &prm, const std::string &path);
@@ -131,7 +126,11 @@ namespace ContactStefan
     struct Contact
     {
       // Where two bodies share faces: "contact" (frictionless Signorini) or "tied".
-      std::string  interfaces;
+      enum class Interfaces
+      {
+        contact,
+        tied
+      } interfaces;
       std::string  interface_gap;
       double       complementarity_constant;
       unsigned int max_iterations;
@@ -158,7 +157,11 @@ namespace ContactStefan
       // "temperature": Theta(x, 0); on a transition temperature a node starts at the
       // lower end of the plateau. "enthalpy": H(x, 0), which can place a body inside
       // a plateau.
-      std::string variable;
+      enum class Variable
+      {
+        temperature,
+        enthalpy
+      } variable;
       std::string function;
 
       static void declare(ParameterHandler &prm);
@@ -171,7 +174,16 @@ namespace ContactStefan
       // "none"; "neumann": the Neumann similarity solution of the body's
       // (multi-)phase Stefan problem on x > x0, melting from x = x0; "function":
       // a given Theta(x, y, t), e.g. a manufactured or steady solution.
-      std::string  type;
+      enum class Type
+      {
+        none,
+        neumann,
+        function,
+        equilibrium,
+        hertz,
+        patch
+      } type;
+      std::string  type_name; // as written in the file, for messages
       std::string  function;
       unsigned int body;
       double       hot_temperature, cold_temperature, origin;
@@ -193,12 +205,20 @@ namespace ContactStefan
 
     struct Solver
     {
-      std::string  linear_solver; // "direct" or "cg-amg"
+      enum class LinearSolverType
+      {
+        direct,
+        cg_amg
+      } linear_solver;
       std::string  direct_solver_type;
       double       cg_tolerance;
       unsigned int cg_max_iterations;
       unsigned int max_active_set_iterations;
-      std::string  enthalpy_solver; // "active-set" or "relaxation"
+      enum class EnthalpySolver
+      {
+        active_set,
+        relaxation
+      } enthalpy_solver;
       double       active_set_step_tolerance;
       double       line_search_sufficient_decrease;
       double       line_search_min_step;
@@ -269,9 +289,16 @@ namespace ContactStefan
   // deal.II's multi-line exception texts condensed to the sentence that matters.
   std::string one_line(const std::string &text);
 
-  class NeumannSolution;
-  // The Neumann solution of the exact-solution body's material (Type = neumann).
-  NeumannSolution neumann_solution(const AllParameters &prm);
+  // True if a function expression of x, y, t is identically zero: it names no
+  // variable (and no random function) and evaluates to 0 ("0", "0.0", "2*0", "1e-400").
+  // Decided from the parsed expression, never from its spelling.
+  bool is_zero_expression(const std::string &expression);
+
+  // The keyword that stands for the configured exact solution in a function entry.
+  inline bool is_exact_keyword(const std::string &expression)
+  {
+    return expression == "exact";
+  }
 } // namespace ContactStefan
 
 #endif

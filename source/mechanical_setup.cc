@@ -1,5 +1,5 @@
-// Mechanics set-up: the displacement space, the elasticity operators, the loads,
-// the fixed constraints and the nodes that carry a normal condition.
+// MechanicalField: set-up of the displacement space, the elasticity operators,
+// the loads, the fixed constraints and the nodes that carry a normal condition.
 //
 // Multibody design (see doc/contact.md): one connected triangulation, the
 // temperature on a scalar FE_Q(1) space, the displacement on an hp DoFHandler
@@ -8,12 +8,12 @@
 // vertex therefore carries one displacement per body, and the contact condition
 // between the two is a constraint between DoFs of the same vertex, which every
 // MPI rank that sees the vertex can build from its own cells.
-#include <deal.II/base/function_parser.h>
 #include <deal.II/base/quadrature_lib.h>
 
 #include <deal.II/dofs/dof_tools.h>
 
 #include <deal.II/fe/fe_nothing.h>
+#include <deal.II/fe/fe_q.h>
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/fe/fe_values.h>
 
@@ -26,10 +26,7 @@
 #include <deal.II/numerics/vector_tools.h>
 
 #include <contact-stefan/contact.h>
-#include <contact-stefan/coupled_problem.h>
-
-#include <boost/serialization/string.hpp>
-#include <boost/serialization/vector.hpp>
+#include <contact-stefan/mechanical_field.h>
 
 #include <map>
 #include <set>
@@ -39,34 +36,23 @@ namespace ContactStefan
 {
   namespace
   {
-    // A vector function of x, y, t given per displacement component, replicated
-    // into every body's slot of components.
+    // A two-component function of x, y, t replicated into every body's slot of
+    // components (the hp element has n_slots * dim components).
     template <int dim>
-    class ReplicatedFunction : public Function<dim>
+    class Replicated : public Function<dim>
     {
     public:
-      ReplicatedFunction(const std::string (&expressions)[2], const unsigned int n_slots)
+      Replicated(const Function<dim> &f, const unsigned int n_slots)
         : Function<dim>(n_slots * dim)
-      {
-        for (unsigned int d = 0; d < dim; ++d)
-          {
-            parts[d] = std::make_unique<FunctionParser<dim>>(1);
-            parts[d]->initialize("x,y,t", expressions[d], {{"pi", numbers::PI}}, true);
-          }
-      }
-      void set_time(const double t) override
-      {
-        Function<dim>::set_time(t);
-        for (auto &part : parts)
-          part->set_time(t);
-      }
+        , f(f)
+      {}
       double value(const Point<dim> &p, const unsigned int component) const override
       {
-        return parts[component % dim]->value(p);
+        return f.value(p, component % dim);
       }
 
     private:
-      std::unique_ptr<FunctionParser<dim>> parts[dim];
+      const Function<dim> &f;
     };
 
     // The DoFs of each vertex of a cell: dofs[v][d] is displacement component d
@@ -78,10 +64,11 @@ namespace ContactStefan
       const auto                          &fe = cell->get_fe();
       std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
       cell->get_dof_indices(dofs);
-      std::array<std::array<types::global_dof_index, dim>, GeometryInfo<dim>::vertices_per_cell> result;
+      std::array<std::array<types::global_dof_index, dim>, GeometryInfo<dim>::vertices_per_cell>
+        result;
       for (unsigned int i = 0; i < fe.n_dofs_per_cell(); ++i)
         {
-          const auto [component, vertex] = fe.system_to_component_index(i);
+          const auto [component, vertex]  = fe.system_to_component_index(i);
           result[vertex][component % dim] = dofs[i];
         }
       return result;
@@ -91,66 +78,99 @@ namespace ContactStefan
 
 
   template <int dim>
-  void CoupledProblem<dim>::setup_mechanical_system()
+  MechanicalField<dim>::MechanicalField(const AllParameters                             &prm,
+                                        const Materials                                 &materials,
+                                        SceneFunctions<dim>                             &functions,
+                                        const parallel::distributed::Triangulation<dim> &triangulation,
+                                        TimerOutput                                     &timer,
+                                        const ConditionalOStream                        &pcout)
+    : prm(prm)
+    , materials(materials)
+    , functions(functions)
+    , triangulation(triangulation)
+    , mpi_communicator(triangulation.get_communicator())
+    , timer(timer)
+    , pcout(pcout)
+    , dof_handler(triangulation)
+    , linear_solver(prm.solver, prm.output.verbosity, pcout, "elasticity")
+    , time(prm.time.start_time)
   {
-    TimerOutput::Scope t(timer, "setup: mechanics");
+    assert_two_dimensional<dim>();
+    // Element b: FE_Q(1)^dim in slot b, FE_Nothing^dim in every other slot.
     const unsigned int n_slots = prm.body_ids.size();
-    mechanical_dof_handler.reinit(triangulation);
-    body_slot.clear();
     for (unsigned int s = 0; s < n_slots; ++s)
-      body_slot[prm.body_ids[s]] = s;
+      slot_of_body[prm.body_ids[s]] = s;
+    const FE_Q<dim>       q1(1);
+    const FE_Nothing<dim> nothing;
+    for (unsigned int b = 0; b < n_slots; ++b)
+      {
+        std::vector<const FiniteElement<dim> *> elements;
+        std::vector<unsigned int>               multiplicities;
+        for (unsigned int s = 0; s < n_slots; ++s)
+          {
+            elements.push_back(s == b ? static_cast<const FiniteElement<dim> *>(&q1) : &nothing);
+            multiplicities.push_back(dim);
+          }
+        fe.push_back(FESystem<dim>(elements, multiplicities));
+      }
+  }
 
-    if (mechanical_fe.size() == 0)
-      for (unsigned int b = 0; b < n_slots; ++b)
-        {
-          std::vector<const FiniteElement<dim> *> elements;
-          std::vector<unsigned int>               multiplicities;
-          const FE_Q<dim>                         q1(1);
-          const FE_Nothing<dim>                   nothing;
-          for (unsigned int s = 0; s < n_slots; ++s)
-            {
-              elements.push_back(s == b ? static_cast<const FiniteElement<dim> *>(&q1) : &nothing);
-              multiplicities.push_back(dim);
-            }
-          mechanical_fe.push_back(FESystem<dim>(elements, multiplicities));
-        }
-    for (const auto &cell : mechanical_dof_handler.active_cell_iterators())
+
+
+  // Everything that depends on the mesh, rebuilt from scratch.
+  template <int dim>
+  void MechanicalField<dim>::setup_dofs()
+  {
+    TimerOutput::Scope t(timer, "setup: mechanical field");
+    for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
-        cell->set_active_fe_index(body_slot.at(cell->material_id()));
-    mechanical_dof_handler.distribute_dofs(mechanical_fe);
-    mechanical_owned = mechanical_dof_handler.locally_owned_dofs();
-    DoFTools::extract_locally_relevant_dofs(mechanical_dof_handler, mechanical_relevant);
+        cell->set_active_fe_index(slot_of_body.at(cell->material_id()));
+    dof_handler.distribute_dofs(fe);
+    owned = dof_handler.locally_owned_dofs();
+    DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
 
-    mechanical_hanging.clear();
-    mechanical_hanging.reinit(mechanical_relevant);
-    DoFTools::make_hanging_node_constraints(mechanical_dof_handler, mechanical_hanging);
-    mechanical_hanging.close();
+    hanging_node_constraints.clear();
+    hanging_node_constraints.reinit(relevant);
+    DoFTools::make_hanging_node_constraints(dof_handler, hanging_node_constraints);
+    hanging_node_constraints.close();
 
-    for (Vector *v : {&mechanical_rhs, &mechanical_load, &displacement, &obstacle_active,
-                      &interface_active, &contact_pressure, &contact_gap})
-      v->reinit(mechanical_owned, mpi_communicator);
-    for (Vector *v : {&displacement_ghosted, &obstacle_active_ghosted, &interface_active_ghosted,
-                      &stiffness_diagonal})
-      v->reinit(mechanical_owned, mechanical_relevant, mpi_communicator);
+    for (Vector *v : {&system_rhs, &load, &displacement, &old_displacement, &obstacle_active,
+                      &interface_active, &pressure, &gap})
+      v->reinit(owned, mpi_communicator);
+    for (Vector *v :
+         {&displacement_ghosted, &obstacle_active_ghosted, &interface_active_ghosted, &stiffness_diagonal})
+      v->reinit(owned, relevant, mpi_communicator);
+    cell_load.assign(triangulation.n_active_cells(), dealii::Vector<double>());
 
-    // Where each displacement DoF sits, and each body's centre and size.
+    make_body_frames();
+    assemble_cell_stiffness();
+    find_normal_conditions();
+    make_fixed_constraints();
+    make_sparsity_pattern();
+  }
+
+
+
+  // Where each displacement DoF sits, and each body's centre, size and box.
+  template <int dim>
+  void MechanicalField<dim>::make_body_frames()
+  {
+    const unsigned int n_slots = prm.body_ids.size();
     dof_info.clear();
     std::vector<Point<dim>> lower(n_slots, Point<dim>(HUGE_VAL, HUGE_VAL)),
       upper(n_slots, Point<dim>(-HUGE_VAL, -HUGE_VAL));
-    for (const auto &cell : mechanical_dof_handler.active_cell_iterators())
+    for (const auto &cell : dof_handler.active_cell_iterators())
       if (!cell->is_artificial())
         {
-          const unsigned int slot = body_slot.at(cell->material_id());
+          const unsigned int slot = slot_of_body.at(cell->material_id());
           const auto         dofs = vertex_dofs<dim>(cell);
           for (const unsigned int v : cell->vertex_indices())
-            {
-              for (unsigned int d = 0; d < dim; ++d)
-                {
-                  dof_info[dofs[v][d]] = {slot, d, cell->vertex(v)};
-                  lower[slot][d]       = std::min(lower[slot][d], cell->vertex(v)[d]);
-                  upper[slot][d]       = std::max(upper[slot][d], cell->vertex(v)[d]);
-                }
-            }
+            for (unsigned int d = 0; d < dim; ++d)
+              {
+                dof_info[dofs[v][d]] = {slot, d, cell->vertex(v)};
+                lower[slot][d]       = std::min(lower[slot][d], cell->vertex(v)[d]);
+                upper[slot][d]       = std::max(upper[slot][d], cell->vertex(v)[d]);
+              }
         }
     body_frame.resize(n_slots);
     body_box.resize(n_slots);
@@ -165,18 +185,24 @@ namespace ContactStefan
         body_frame[s] = {0.5 * (lo + hi), 0.5 * lo.distance(hi)};
         body_box[s]   = {lo, hi};
       }
+  }
 
-    assemble_cell_stiffness();
-    find_normal_conditions();
-    make_fixed_mechanical_constraints(time);
 
-    // The sparsity pattern must hold every system the active-set iteration can
-    // produce, with any mixture of active and inactive nodes. Condensing a cell
-    // couples its DoFs with every DoF their constraints name, recursively. So
-    // each cell's DoFs are closed under "may be constrained in terms of": the
-    // entries of the fixed constraints (hanging nodes, prescribed values, ties,
-    // rollers) and, for a node with a contact condition, all DoFs of the
-    // condition (both bodies, both components); the closure is coupled densely.
+
+  // The sparsity pattern must hold every system the active-set iteration can
+  // produce, with any mixture of active and inactive nodes. Condensing a cell
+  // couples its DoFs with every DoF their constraints name, recursively. So
+  // each cell's DoFs are closed under "may be constrained in terms of": the
+  // entries of the fixed constraints (hanging nodes, prescribed values, ties,
+  // rollers) and, for a node with a contact condition, all DoFs of the
+  // condition (both bodies, both components); the closure is coupled densely.
+  // Then the conditions that cannot be imposed even with every node active are
+  // left out (all their components prescribed, e.g. a clamped corner of an
+  // obstacle boundary): their residual would be a clamp reaction, not a
+  // contact force.
+  template <int dim>
+  void MechanicalField<dim>::make_sparsity_pattern()
+  {
     std::map<types::global_dof_index, std::vector<types::global_dof_index>> condition_dofs;
     for (const auto &c : normal_conditions)
       {
@@ -190,20 +216,20 @@ namespace ContactStefan
         for (const auto dof : all)
           condition_dofs[dof].insert(condition_dofs[dof].end(), all.begin(), all.end());
       }
-    DynamicSparsityPattern dsp(mechanical_relevant);
-    for (const auto &cell : mechanical_dof_handler.active_cell_iterators())
+    DynamicSparsityPattern dsp(relevant);
+    for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
           std::vector<types::global_dof_index> dofs(cell->get_fe().n_dofs_per_cell());
           cell->get_dof_indices(dofs);
-          std::set<types::global_dof_index> closure(dofs.begin(), dofs.end());
+          std::set<types::global_dof_index>    closure(dofs.begin(), dofs.end());
           std::vector<types::global_dof_index> work(dofs.begin(), dofs.end());
           while (!work.empty())
             {
               const auto dof = work.back();
               work.pop_back();
               std::vector<types::global_dof_index> next;
-              if (const auto *entries = mechanical_fixed.get_constraint_entries(dof))
+              if (const auto *entries = fixed_constraints.get_constraint_entries(dof))
                 for (const auto &entry : *entries)
                   next.push_back(entry.first);
               if (const auto it = condition_dofs.find(dof); it != condition_dofs.end())
@@ -214,64 +240,100 @@ namespace ContactStefan
             }
           const std::vector<types::global_dof_index> columns(closure.begin(), closure.end());
           for (const auto row : columns)
-            if (mechanical_relevant.is_element(row))
+            if (relevant.is_element(row))
               dsp.add_entries(row, columns.begin(), columns.end(), true);
         }
-    unsigned int skipped = 0;
+
+    // Every node active: which conditions can be imposed at all.
     for (Vector *v : {&obstacle_active, &interface_active})
       *v = 1.;
     obstacle_active_ghosted  = obstacle_active;
     interface_active_ghosted = interface_active;
+    unsigned int skipped     = 0;
     build_contact_constraints(skipped);
-    // An obstacle or interface none of whose nodes has a free displacement
-    // component (all prescribed) cannot act: refuse it before any work.
+    imposable_per_group = placed_per_group;
+    const bool   tied   = prm.contact.interfaces == Parameters::Contact::Interfaces::tied;
+    std::vector<NormalCondition> kept;
+    unsigned int                 dropped = 0;
+    for (const auto &c : normal_conditions)
+      if (c.kind == NormalCondition::Kind::roller || (c.kind == NormalCondition::Kind::interface && tied) ||
+          imposed_conditions.count({c.dofs_k[0], static_cast<int>(c.kind)}) == 1)
+        kept.push_back(c);
+      else
+        dropped += owned.is_element(c.dofs_k[0]);
+    normal_conditions.swap(kept);
+    n_dropped_conditions = Utilities::MPI::sum(dropped, mpi_communicator);
+    for (Vector *v : {&obstacle_active, &interface_active, &obstacle_active_ghosted, &interface_active_ghosted})
+      *v = 0.;
+
+    SparsityTools::distribute_sparsity_pattern(dsp, owned, mpi_communicator, relevant);
+    system_matrix.reinit(owned, owned, dsp, mpi_communicator);
+  }
+
+
+
+  template <int dim>
+  std::string MechanicalField<dim>::describe() const
+  {
+    unsigned int n_rollers = 0, n_obstacle = 0, n_interface = 0;
+    for (const auto &c : normal_conditions)
+      if (owned.is_element(c.dofs_k[0]))
+        (c.kind == NormalCondition::Kind::roller   ? n_rollers :
+         c.kind == NormalCondition::Kind::obstacle ? n_obstacle :
+                                                     n_interface)++;
+    return "Mechanics: " + std::to_string(dof_handler.n_dofs()) + " displacement DoFs in " +
+           std::to_string(prm.body_ids.size()) + " body(ies); " +
+           std::to_string(Utilities::MPI::sum(n_obstacle, mpi_communicator)) + " obstacle, " +
+           std::to_string(Utilities::MPI::sum(n_interface, mpi_communicator)) + " interface (" +
+           (prm.contact.interfaces == Parameters::Contact::Interfaces::tied ? "tied" : "contact") +
+           ") and " + std::to_string(Utilities::MPI::sum(n_rollers, mpi_communicator)) +
+           " roller nodes" +
+           (n_dropped_conditions == 0 ?
+              std::string() :
+              "\nContact: " + std::to_string(n_dropped_conditions) +
+                " obstacle/interface node(s) have every displacement component prescribed and "
+                "are left out of the contact conditions");
+  }
+
+
+
+  // Cold start at t0: nodes whose gap is already closed (g <= 0) start in
+  // contact, so that bodies stacked on each other start supported. Then the
+  // input checks that need the mesh: every obstacle and interface must have a
+  // node with a free displacement component, and every body must be held
+  // against rigid motion by its constraints and the initial contact set.
+  template <int dim>
+  void MechanicalField<dim>::initialize(const double t0)
+  {
+    time = t0;
+    displacement         = 0;
+    old_displacement     = 0;
+    displacement_ghosted = 0;
+    make_fixed_constraints();
+    const bool tied = prm.contact.interfaces == Parameters::Contact::Interfaces::tied;
     for (const auto &group : contact_groups)
-      if (Utilities::MPI::sum(placed_per_group[group], mpi_communicator) == 0 &&
-          !(group.rfind("interface", 0) == 0 && prm.contact.interfaces == "tied"))
-        throw InputError(group.rfind("boundary", 0) == 0 ?
-                           "Boundary conditions/Mechanical " + group :
-                           std::string("Contact/Interfaces"),
-                         "no node of this " + std::string(group.rfind("boundary", 0) == 0 ? "obstacle" : "interface") +
-                           " has a free displacement component: prescribed displacements take them all");
-    // Conditions that cannot be imposed even with every node active (all their
-    // components prescribed, e.g. a clamped corner of an obstacle boundary) are
-    // left out: their residual would be a clamp reaction, not a contact force.
-    {
-      std::vector<NormalCondition> kept;
-      unsigned int                 dropped = 0;
-      for (const auto &c : normal_conditions)
-        if (c.kind == NormalCondition::Kind::roller ||
-            (c.kind == NormalCondition::Kind::interface && prm.contact.interfaces == "tied") ||
-            imposed_conditions.count({c.dofs_k[0], static_cast<int>(c.kind)}) == 1)
-          kept.push_back(c);
-        else
-          dropped += mechanical_owned.is_element(c.dofs_k[0]);
-      normal_conditions.swap(kept);
-      dropped = Utilities::MPI::sum(dropped, mpi_communicator);
-      if (dropped > 0)
-        pcout << "Contact: " << dropped
-              << " obstacle/interface node(s) have every displacement component prescribed "
-                 "and are left out of the contact conditions"
-              << std::endl;
-    }
-    SparsityTools::distribute_sparsity_pattern(dsp, mechanical_owned, mpi_communicator,
-                                               mechanical_relevant);
-    mechanical_matrix.reinit(mechanical_owned, mechanical_owned, dsp, mpi_communicator);
-    // Cold start: nodes whose gap is already closed (g <= 0 at the start time)
-    // start in contact, so that bodies stacked on each other start supported.
+      if (Utilities::MPI::sum(imposable_per_group[group], mpi_communicator) == 0 &&
+          !(group.rfind("interface", 0) == 0 && tied))
+        {
+          const bool boundary = group.rfind("boundary", 0) == 0;
+          throw InputError(boundary ? "Boundary conditions/Mechanical " + group :
+                                      std::string("Contact/Interfaces"),
+                           "no node of this " + std::string(boundary ? "obstacle" : "interface") +
+                             " has a free displacement component: prescribed displacements "
+                             "take them all");
+        }
+
     update_condition_gaps();
     for (Vector *v : {&obstacle_active, &interface_active})
       *v = 0.;
     for (const auto &c : normal_conditions)
-      if (c.kind != NormalCondition::Kind::roller && mechanical_owned.is_element(c.dofs_k[0]))
-        (c.kind == NormalCondition::Kind::interface ? interface_active : obstacle_active)[c.dofs_k[0]] =
-          c.gap <= 0 ? 1. : 0.;
+      if (c.kind != NormalCondition::Kind::roller && owned.is_element(c.dofs_k[0]))
+        active_flags(c)[c.dofs_k[0]] = c.gap <= 0 ? 1. : 0.;
     obstacle_active.compress(VectorOperation::insert);
     interface_active.compress(VectorOperation::insert);
     obstacle_active_ghosted  = obstacle_active;
     interface_active_ghosted = interface_active;
-    // A body that nothing but an open contact would hold is refused here,
-    // before any work (the same check guards every contact iteration).
+    unsigned int skipped     = 0;
     build_contact_constraints(skipped);
     try
       {
@@ -281,19 +343,36 @@ namespace ContactStefan
       {
         throw InputError("Boundary conditions/Mechanical boundaries", e.what());
       }
+  }
 
-    unsigned int n_rollers = 0, n_obstacle = 0, n_interface = 0;
-    for (const auto &c : normal_conditions)
-      if (mechanical_owned.is_element(c.dofs_k[0]))
-        (c.kind == NormalCondition::Kind::roller   ? n_rollers :
-         c.kind == NormalCondition::Kind::obstacle ? n_obstacle :
-                                                     n_interface)++;
-    pcout << "Mechanics: " << mechanical_dof_handler.n_dofs() << " displacement DoFs in "
-          << n_slots << " body(ies); "
-          << Utilities::MPI::sum(n_obstacle, mpi_communicator) << " obstacle, "
-          << Utilities::MPI::sum(n_interface, mpi_communicator) << " interface ("
-          << prm.contact.interfaces << ") and "
-          << Utilities::MPI::sum(n_rollers, mpi_communicator) << " roller nodes" << std::endl;
+
+
+  template <int dim>
+  void MechanicalField<dim>::begin_time_step(const double t, const double tau)
+  {
+    time             = t;
+    time_step        = tau;
+    old_displacement = displacement;
+    assemble_load();
+    make_fixed_constraints();
+    update_condition_gaps();
+  }
+
+
+
+  template <int dim>
+  std::vector<Vector *> MechanicalField<dim>::primary_state()
+  {
+    return {&displacement, &old_displacement};
+  }
+
+
+
+  template <int dim>
+  double MechanicalField<dim>::body_height(const unsigned int body) const
+  {
+    const auto &box = body_box[slot_of_body.at(body)];
+    return box.second[1] - box.first[1];
   }
 
 
@@ -302,31 +381,26 @@ namespace ContactStefan
   // material is linear) and the diagonal of K, which scales the complementarity
   // constant per node.
   template <int dim>
-  void CoupledProblem<dim>::assemble_cell_stiffness()
+  void MechanicalField<dim>::assemble_cell_stiffness()
   {
     const hp::QCollection<dim> quadrature(QGauss<dim>(2));
-    hp::FEValues<dim>          hp_fe_values(mechanical_fe, quadrature,
-                                   update_gradients | update_JxW_values);
+    hp::FEValues<dim>          hp_fe_values(fe, quadrature, update_gradients | update_JxW_values);
     cell_stiffness.assign(triangulation.n_active_cells(), LocalMatrix());
-    Vector diagonal(mechanical_owned, mpi_communicator);
-    std::map<unsigned int, SymmetricTensor<4, dim>> C;
-    for (const auto &[id, m] : prm.materials)
-      C[id] = m.elasticity_tensor();
-
-    for (const auto &cell : mechanical_dof_handler.active_cell_iterators())
+    Vector diagonal(owned, mpi_communicator);
+    for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
           hp_fe_values.reinit(cell);
-          const FEValues<dim> &fe_values = hp_fe_values.get_present_fe_values();
-          const FEValuesExtractors::Vector u(body_slot.at(cell->material_id()) * dim);
+          const FEValues<dim>             &fe_values = hp_fe_values.get_present_fe_values();
+          const FEValuesExtractors::Vector u(slot_of_body.at(cell->material_id()) * dim);
           const unsigned int               n = cell->get_fe().n_dofs_per_cell();
           LocalMatrix                     &K = cell_stiffness[cell->active_cell_index()];
           K.reinit(n, n);
-          const SymmetricTensor<4, dim> &C_cell = C.at(cell->material_id());
+          const SymmetricTensor<4, dim> &C = materials[cell->material_id()].elasticity;
           for (unsigned int q = 0; q < fe_values.n_quadrature_points; ++q)
             for (unsigned int i = 0; i < n; ++i)
               {
-                const SymmetricTensor<2, dim> sigma_i = C_cell * fe_values[u].symmetric_gradient(i, q);
+                const SymmetricTensor<2, dim> sigma_i = C * fe_values[u].symmetric_gradient(i, q);
                 for (unsigned int j = 0; j < n; ++j)
                   K(i, j) += sigma_i * fe_values[u].symmetric_gradient(j, q) * fe_values.JxW(q);
               }
@@ -335,7 +409,7 @@ namespace ContactStefan
           dealii::Vector<double> d(n);
           for (unsigned int i = 0; i < n; ++i)
             d(i) = K(i, i);
-          mechanical_hanging.distribute_local_to_global(d, dofs, diagonal);
+          hanging_node_constraints.distribute_local_to_global(d, dofs, diagonal);
         }
     diagonal.compress(VectorOperation::add);
     stiffness_diagonal = diagonal;
@@ -343,54 +417,39 @@ namespace ContactStefan
 
 
 
-  // Body forces and tractions at time t: F_K per cell and their condensed sum.
+  // Body forces and tractions at the current time: F_K per cell and their
+  // condensed sum. Skipped when the scene has none.
   template <int dim>
-  void CoupledProblem<dim>::assemble_mechanical_load(const double t)
+  void MechanicalField<dim>::assemble_load()
   {
     TimerOutput::Scope t_(timer, "contact step: assemble load");
-    mechanical_load = 0;
-    cell_mechanical_load.assign(triangulation.n_active_cells(), dealii::Vector<double>());
-    mechanical_load_present = false;
-    for (const auto &[id, m] : prm.materials)
-      mechanical_load_present |= (m.body_force[0] != "0" || m.body_force[1] != "0");
-    for (const auto &[id, bc] : prm.mechanical_boundaries)
-      mechanical_load_present |= (bc.type == Parameters::MechanicalBoundary::Type::traction &&
-                                  (bc.value[0] != "0" || bc.value[1] != "0"));
-    if (!mechanical_load_present)
+    load = 0;
+    if (!functions.mechanical_load_present())
       return;
 
-    const unsigned int n_slots = prm.body_ids.size();
-    std::map<unsigned int, std::unique_ptr<ReplicatedFunction<dim>>> forces, tractions;
-    for (const auto &[id, m] : prm.materials)
-      {
-        forces[id] = std::make_unique<ReplicatedFunction<dim>>(m.body_force, n_slots);
-        forces[id]->set_time(t);
-      }
+    using Type = Parameters::MechanicalBoundary::Type;
+    for (const unsigned int id : prm.body_ids)
+      functions.body_force(id).set_time(time);
     for (const auto &[id, bc] : prm.mechanical_boundaries)
-      if (bc.type == Parameters::MechanicalBoundary::Type::traction)
-        {
-          tractions[id] = std::make_unique<ReplicatedFunction<dim>>(bc.value, n_slots);
-          tractions[id]->set_time(t);
-        }
+      if (bc.type == Type::traction)
+        functions.mechanical_boundary(id).set_time(time);
 
     const hp::QCollection<dim>     quadrature(QGauss<dim>(2));
     const hp::QCollection<dim - 1> face_quadrature(QGauss<dim - 1>(2));
-    hp::FEValues<dim>              hp_fe_values(mechanical_fe, quadrature,
+    hp::FEValues<dim>              hp_fe_values(fe, quadrature,
                                    update_values | update_quadrature_points | update_JxW_values);
-    hp::FEFaceValues<dim>          hp_face_values(mechanical_fe, face_quadrature,
-                                         update_values | update_quadrature_points |
-                                           update_JxW_values);
-    for (const auto &cell : mechanical_dof_handler.active_cell_iterators())
+    hp::FEFaceValues<dim>          hp_face_values(fe, face_quadrature,
+                                         update_values | update_quadrature_points | update_JxW_values);
+    for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
-          const unsigned int slot = body_slot.at(cell->material_id());
-          const FEValuesExtractors::Vector u(slot * dim);
+          const FEValuesExtractors::Vector u(slot_of_body.at(cell->material_id()) * dim);
           const unsigned int               n = cell->get_fe().n_dofs_per_cell();
-          dealii::Vector<double>          &F = cell_mechanical_load[cell->active_cell_index()];
+          dealii::Vector<double>          &F = cell_load[cell->active_cell_index()];
           F.reinit(n);
           hp_fe_values.reinit(cell);
           const FEValues<dim> &fe_values = hp_fe_values.get_present_fe_values();
-          const auto          &f         = *forces.at(cell->material_id());
+          const auto          &f         = functions.body_force(cell->material_id());
           for (unsigned int q = 0; q < fe_values.n_quadrature_points; ++q)
             {
               Tensor<1, dim> force;
@@ -400,12 +459,14 @@ namespace ContactStefan
                 F(i) += force * fe_values[u].value(i, q) * fe_values.JxW(q);
             }
           for (const unsigned int face : cell->face_indices())
-            if (cell->face(face)->at_boundary() &&
-                tractions.count(cell->face(face)->boundary_id()) == 1)
+            if (cell->face(face)->at_boundary())
               {
+                const auto bc = prm.mechanical_boundaries.find(cell->face(face)->boundary_id());
+                if (bc == prm.mechanical_boundaries.end() || bc->second.type != Type::traction)
+                  continue;
                 hp_face_values.reinit(cell, face);
                 const FEFaceValues<dim> &fv = hp_face_values.get_present_fe_values();
-                const auto              &tr = *tractions.at(cell->face(face)->boundary_id());
+                const auto              &tr = functions.mechanical_boundary(bc->first);
                 for (unsigned int q = 0; q < fv.n_quadrature_points; ++q)
                   {
                     Tensor<1, dim> traction;
@@ -417,9 +478,9 @@ namespace ContactStefan
               }
           std::vector<types::global_dof_index> dofs(n);
           cell->get_dof_indices(dofs);
-          mechanical_hanging.distribute_local_to_global(F, dofs, mechanical_load);
+          hanging_node_constraints.distribute_local_to_global(F, dofs, load);
         }
-    mechanical_load.compress(VectorOperation::add);
+    load.compress(VectorOperation::add);
   }
 
 
@@ -430,37 +491,38 @@ namespace ContactStefan
   // whose DoFs are all taken already is dropped (a corner with a displacement
   // condition on both components needs nothing more).
   template <int dim>
-  void CoupledProblem<dim>::make_fixed_mechanical_constraints(const double t)
+  void MechanicalField<dim>::make_fixed_constraints()
   {
-    mechanical_fixed.clear();
-    mechanical_fixed.reinit(mechanical_relevant);
-    mechanical_fixed.merge(mechanical_hanging);
+    fixed_constraints.clear();
+    fixed_constraints.reinit(relevant);
+    fixed_constraints.merge(hanging_node_constraints);
     const unsigned int n_slots = prm.body_ids.size();
     for (const auto &[id, bc] : prm.mechanical_boundaries)
       if (bc.type == Parameters::MechanicalBoundary::Type::displacement)
         {
-          ReplicatedFunction<dim> value(bc.value, n_slots);
-          value.set_time(t);
-          std::vector<bool> mask(n_slots * dim, false);
+          Function<dim> &f = functions.mechanical_boundary(id);
+          f.set_time(time);
+          const Replicated<dim> value(f, n_slots);
+          std::vector<bool>     mask(n_slots * dim, false);
           for (unsigned int s = 0; s < n_slots; ++s)
             for (unsigned int d = 0; d < dim; ++d)
               mask[s * dim + d] = bc.components[d];
-          VectorTools::interpolate_boundary_values(mechanical_dof_handler, id, value,
-                                                   mechanical_fixed, ComponentMask(mask));
+          VectorTools::interpolate_boundary_values(dof_handler, id, value, fixed_constraints,
+                                                   ComponentMask(mask));
         }
     // Ties first: u_k = u_l componentwise, or u_l = u_k where u_k is taken.
-    if (prm.contact.interfaces == "tied")
+    if (prm.contact.interfaces == Parameters::Contact::Interfaces::tied)
       for (const auto &c : normal_conditions)
         if (c.kind == NormalCondition::Kind::interface)
           for (unsigned int d = 0; d < dim; ++d)
             {
-              const auto [target, other] =
-                !mechanical_fixed.is_constrained(c.dofs_k[d]) ? std::pair(c.dofs_k[d], c.dofs_l[d]) :
-                                                                std::pair(c.dofs_l[d], c.dofs_k[d]);
-              if (!mechanical_fixed.is_constrained(target))
+              const auto [target, other] = !fixed_constraints.is_constrained(c.dofs_k[d]) ?
+                                             std::pair(c.dofs_k[d], c.dofs_l[d]) :
+                                             std::pair(c.dofs_l[d], c.dofs_k[d]);
+              if (!fixed_constraints.is_constrained(target))
                 {
-                  mechanical_fixed.add_line(target);
-                  mechanical_fixed.add_entry(target, other, 1.);
+                  fixed_constraints.add_line(target);
+                  fixed_constraints.add_entry(target, other, 1.);
                 }
             }
     // Then rollers: u.n = 0, solved for the component with the larger |n_c| that
@@ -470,8 +532,8 @@ namespace ContactStefan
     for (const auto &c : normal_conditions)
       if (c.kind == NormalCondition::Kind::roller && c.corner)
         for (unsigned int d = 0; d < dim; ++d)
-          if (!mechanical_fixed.is_constrained(c.dofs_k[d]))
-            mechanical_fixed.add_line(c.dofs_k[d]);
+          if (!fixed_constraints.is_constrained(c.dofs_k[d]))
+            fixed_constraints.add_line(c.dofs_k[d]);
     for (const auto &c : normal_conditions)
       if (c.kind == NormalCondition::Kind::roller && !c.corner)
         {
@@ -479,23 +541,19 @@ namespace ContactStefan
           if (std::abs(c.normal[1]) > std::abs(c.normal[0]))
             std::swap(order[0], order[1]);
           for (const unsigned int comp : order)
-            if (c.normal[comp] != 0 && !mechanical_fixed.is_constrained(c.dofs_k[comp]))
+            if (c.normal[comp] != 0 && !fixed_constraints.is_constrained(c.dofs_k[comp]))
               {
                 const auto row = Contact::normal_constraint(c.dofs_k, nullptr, c.normal, 0., comp, false);
-                mechanical_fixed.add_line(row.target);
+                fixed_constraints.add_line(row.target);
                 for (const auto &[dof, coefficient] : row.entries)
-                  mechanical_fixed.add_entry(row.target, dof, coefficient);
+                  fixed_constraints.add_entry(row.target, dof, coefficient);
                 break;
               }
         }
     if (Utilities::MPI::n_mpi_processes(mpi_communicator) > 1)
-      mechanical_fixed.make_consistent_in_parallel(mechanical_owned, mechanical_relevant,
-                                                   mpi_communicator);
-    mechanical_fixed.close();
+      fixed_constraints.make_consistent_in_parallel(owned, relevant, mpi_communicator);
+    fixed_constraints.close();
   }
-
-
-
   // Every node with a normal condition, found from the cells this rank sees:
   // roller and obstacle nodes on boundaries of those types, interface nodes on
   // faces between cells of different bodies (side k is the smaller body id; the
@@ -504,7 +562,7 @@ namespace ContactStefan
   // neighbouring cells are owned or ghosts, so the average is complete and every
   // rank that assembles at the vertex builds the same constraint.
   template <int dim>
-  void CoupledProblem<dim>::find_normal_conditions()
+  void MechanicalField<dim>::find_normal_conditions()
   {
     using Kind = NormalCondition::Kind;
     std::vector<bool> vertex_of_owned_cell(triangulation.n_vertices(), false);
@@ -552,7 +610,7 @@ namespace ContactStefan
         }
     };
 
-    for (const auto &cell : mechanical_dof_handler.active_cell_iterators())
+    for (const auto &cell : dof_handler.active_cell_iterators())
       if (!cell->is_artificial())
         for (const unsigned int face : cell->face_indices())
           {
@@ -629,5 +687,5 @@ namespace ContactStefan
 
 
 
-  template class CoupledProblem<2>;
+  template class MechanicalField<2>;
 } // namespace ContactStefan

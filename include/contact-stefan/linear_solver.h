@@ -1,0 +1,56 @@
+// One linear solver for both fields: initialise with a matrix once, solve with it
+// as often as needed. 'Solver/Linear solver' chooses a sparse direct solver
+// (Trilinos Amesos: the factorisation is computed in initialize()) or CG
+// preconditioned by ML algebraic multigrid (the hierarchy is built in
+// initialize()); both are warm-started from the x they are given.
+#ifndef contact_stefan_linear_solver_h
+#define contact_stefan_linear_solver_h
+
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/lac/solver_control.h>
+#include <deal.II/lac/trilinos_precondition.h>
+#include <deal.II/lac/trilinos_solver.h>
+#include <deal.II/lac/trilinos_sparse_matrix.h>
+
+#include <contact-stefan/common.h>
+#include <contact-stefan/parameters.h>
+
+#include <memory>
+#include <string>
+
+namespace ContactStefan
+{
+  class LinearSolver
+  {
+  public:
+    // name: which system, for messages ("enthalpy", "elasticity").
+    LinearSolver(const Parameters::Solver &parameters,
+                 const unsigned int        verbosity,
+                 const ConditionalOStream &pcout,
+                 const std::string        &name);
+
+    // Factorise A, or build the AMG hierarchy of A. A must stay alive and
+    // unchanged until the next initialize().
+    void initialize(const TrilinosWrappers::SparseMatrix &A);
+    // Solve A x = b with the matrix of the last initialize().
+    void solve(Vector &x, const Vector &b);
+    // Iterations of the last solve (1 for the direct solver).
+    unsigned int last_iterations() const
+    {
+      return iterations;
+    }
+
+  private:
+    const Parameters::Solver                       &prm;
+    const unsigned int                              verbosity;
+    const ConditionalOStream                       &pcout;
+    const std::string                               name;
+    const TrilinosWrappers::SparseMatrix           *matrix = nullptr;
+    SolverControl                                   direct_control;
+    std::unique_ptr<TrilinosWrappers::SolverDirect> direct;
+    TrilinosWrappers::PreconditionAMG               amg;
+    unsigned int                                    iterations = 0;
+  };
+} // namespace ContactStefan
+
+#endif

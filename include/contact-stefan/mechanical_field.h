@@ -1,0 +1,246 @@
+// MechanicalField: the displacement field and the contact step.
+//
+// It owns everything of the elasticity/contact problem on the shared
+// triangulation: the hp DoFHandler (FE_Q(1)^2 in each body's slot, FE_Nothing
+// elsewhere, so that each body has its own displacement on an interface), the
+// fixed constraints (hanging nodes, prescribed displacements, ties, rollers),
+// the contact constraints of the current active set, the stiffness matrix, the
+// per-cell stiffness and load, the nodes that carry a normal condition and the
+// per-body frames of the rigid-mode check. The coupled problem drives it through
+// the step contract of doc/architecture.md:
+//
+//   setup_dofs()             mesh-dependent structures: DoFs, cell stiffness,
+//                            normal conditions, body frames, the sparsity pattern
+//   initialize(t0)           cold-start active set (closed where the gap is <= 0)
+//                            and the input checks that need the mesh
+//   begin_time_step(t, tau)  old displacement; loads, prescribed displacements
+//                            and gaps at t
+//   solve()                  the contact step (primal-dual active set); repeatable
+//   primary_state()          u and u_old: all that survives a mesh change
+//   after_transfer()         contact set, pressures and gaps re-derived from u
+//
+// Set-up is in mechanical_setup.cc, the contact step in contact_step.cc;
+// doc/contact.md explains the design.
+#ifndef contact_stefan_mechanical_field_h
+#define contact_stefan_mechanical_field_h
+
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/index_set.h>
+#include <deal.II/base/timer.h>
+
+#include <deal.II/distributed/tria.h>
+
+#include <deal.II/dofs/dof_handler.h>
+
+#include <deal.II/hp/fe_collection.h>
+
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/trilinos_sparse_matrix.h>
+#include <deal.II/lac/vector.h>
+
+#include <deal.II/numerics/data_out.h>
+#include <deal.II/numerics/data_postprocessor.h>
+
+#include <contact-stefan/common.h>
+#include <contact-stefan/linear_solver.h>
+#include <contact-stefan/materials.h>
+#include <contact-stefan/parameters.h>
+#include <contact-stefan/scene_functions.h>
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace ContactStefan
+{
+  // What one contact step did.
+  struct ContactStepReport
+  {
+    unsigned int iterations   = 0;
+    unsigned int active_nodes = 0; // obstacle and interface nodes in contact
+    unsigned int changes      = 0; // summed over the iterations
+    unsigned int c_reductions = 0; // cycling remedies applied
+    double       max_pressure = 0;
+    // Total compressive normal force per obstacle boundary / interface.
+    std::map<std::string, double> forces;
+  };
+
+  // A node with a normal condition: a roller (u.n = 0), a rigid obstacle
+  // (u.n <= g) or a contact interface between bodies k and l
+  // ((u_k - u_l).n <= g, n pointing out of body k, k the smaller body id).
+  struct NormalCondition
+  {
+    enum class Kind
+    {
+      roller,
+      interface,
+      obstacle
+    } kind;
+    std::string                  group;       // "boundary N" or "interface k-l"
+    unsigned int                 boundary_id; // roller and obstacle nodes
+    Point<2>                     position;
+    std::array<std::uint64_t, 2> dofs_k, dofs_l;
+    bool                         has_partner;
+    std::array<double, 2>        normal;
+    double                       weight;
+    double                       stiffness; // normal diagonal of the stiffness matrix
+    double                       gap    = 0;     // g at the current time
+    bool                         corner = false; // faces disagree by more than the corner angle
+  };
+
+  template <int dim>
+  class MechanicalField
+  {
+  public:
+    MechanicalField(const AllParameters                             &prm,
+                    const Materials                                 &materials,
+                    SceneFunctions<dim>                             &functions,
+                    const parallel::distributed::Triangulation<dim> &triangulation,
+                    TimerOutput                                     &timer,
+                    const ConditionalOStream                        &pcout);
+
+    // --- the step contract ----------------------------------------------------
+    void                  setup_dofs();
+    void                  initialize(const double t0);
+    void                  begin_time_step(const double t, const double tau);
+    ContactStepReport     solve();
+    std::vector<Vector *> primary_state(); // {u, u_old}, owned vectors
+    void                  after_transfer();
+    // Adds displacement, stresses, von Mises stress, contact pressure and gap.
+    void add_output(DataOut<dim> &data_out) const;
+
+    // --- queries ----------------------------------------------------------------
+    const DoFHandler<dim> &get_dof_handler() const
+    {
+      return dof_handler;
+    }
+    const Vector &get_displacement() const // ghosted
+    {
+      return displacement_ghosted;
+    }
+    const std::vector<NormalCondition> &get_normal_conditions() const
+    {
+      return normal_conditions;
+    }
+    // Every obstacle boundary and interface ("boundary N", "interface k-l"),
+    // the same sorted list on every rank.
+    const std::vector<std::string> &get_contact_groups() const
+    {
+      return contact_groups;
+    }
+    bool is_active(const NormalCondition &c) const; // owned condition in contact
+    double contact_pressure(const NormalCondition &c) const; // owned condition
+    double contact_gap(const NormalCondition &c) const;      // owned condition
+    unsigned int body_slot(const unsigned int body) const
+    {
+      return slot_of_body.at(body);
+    }
+    // Height of the bounding box of a body (the patch test's compliance).
+    double body_height(const unsigned int body) const;
+    // How many roller, obstacle and interface nodes the field found.
+    std::string describe() const;
+    // result = K u - f (hanging nodes condensed) for the displacement u
+    // (ghosted): the residual from which contact forces are read.
+    void apply_stiffness(const Vector &u_ghosted, Vector &result, const bool with_load) const;
+
+  private:
+    using LocalMatrix = FullMatrix<double>;
+
+    // mechanical_setup.cc
+    void assemble_cell_stiffness();
+    void find_normal_conditions();
+    void make_body_frames();
+    void make_sparsity_pattern();
+    void assemble_load();
+    void make_fixed_constraints();
+
+    // contact_step.cc
+    void   update_condition_gaps();
+    void   build_contact_constraints(unsigned int &n_skipped);
+    void   check_rigid_body_modes() const;
+    void   assemble_system();
+    void   solve_linear_system();
+    double normal_displacement_jump(const NormalCondition &c) const;
+    Vector       &active_flags(const NormalCondition &c);
+    const Vector &active_flags_ghosted(const NormalCondition &c) const;
+    struct Decision
+    {
+      const NormalCondition *c;
+      double                 lambda, d, c_eff;
+    };
+    std::vector<Decision> contact_decisions(const Vector &residual,
+                                            double       &local_scale,
+                                            double       &max_penetration) const;
+    void store_contact_output(const std::vector<Decision> &decisions, ContactStepReport &report);
+
+    const AllParameters                             &prm;
+    const Materials                                 &materials;
+    SceneFunctions<dim>                             &functions;
+    const parallel::distributed::Triangulation<dim> &triangulation;
+    const MPI_Comm                                   mpi_communicator;
+    TimerOutput                                     &timer;
+    const ConditionalOStream                        &pcout;
+
+    std::map<unsigned int, unsigned int> slot_of_body; // material id -> slot
+    hp::FECollection<dim>                fe;
+    DoFHandler<dim>                      dof_handler;
+    IndexSet                             owned, relevant;
+
+    // Hanging nodes alone; plus prescribed displacements, ties and rollers
+    // (rebuilt each step); plus the active contact set (each iteration).
+    AffineConstraints<double>      hanging_node_constraints, fixed_constraints, constraints;
+    TrilinosWrappers::SparseMatrix system_matrix;
+    Vector                         system_rhs, load, stiffness_diagonal;
+    LinearSolver                   linear_solver;
+
+    // Primary state.
+    Vector displacement, old_displacement;
+    // Derived state: the ghosted displacement; the active flags (1 or 0 at the
+    // x DoF of side k) of the obstacle and interface conditions, owned and
+    // ghosted; nodal contact pressure and gap for output (at the same DoF).
+    Vector displacement_ghosted;
+    Vector obstacle_active, obstacle_active_ghosted, interface_active, interface_active_ghosted;
+    Vector pressure, gap;
+
+    // Per-cell operators by active cell index.
+    std::vector<LocalMatrix>            cell_stiffness;
+    std::vector<dealii::Vector<double>> cell_load;
+
+    std::vector<NormalCondition> normal_conditions;
+    std::vector<std::string>     contact_groups;
+    // Conditions that can be imposed (imposed with every node active, the set
+    // of setup_dofs()), by (x DoF of side k, kind); and per group the owned
+    // conditions imposed by the last build_contact_constraints().
+    std::set<std::pair<std::uint64_t, int>> imposed_conditions;
+    std::map<std::string, unsigned int>     placed_per_group;
+    std::map<std::string, unsigned int>     imposable_per_group; // with every node active
+    unsigned int                            n_dropped_conditions = 0;
+
+    // Body slot, component and position of every locally relevant displacement
+    // DoF, and per slot the centre and size of the body (for its rotation mode)
+    // and its bounding box.
+    struct DofInfo
+    {
+      unsigned int slot, component;
+      Point<dim>   position;
+    };
+    std::unordered_map<types::global_dof_index, DofInfo> dof_info;
+    std::vector<std::pair<Point<dim>, double>>           body_frame;
+    std::vector<std::pair<Point<dim>, Point<dim>>>       body_box;
+
+    double complementarity_scale = 1; // divided by 10 per cycling remedy
+    double time = 0, time_step = 0;
+
+    // Output, alive until the next add_output().
+    mutable Vector                                               output_pressure, output_gap;
+    mutable std::vector<std::unique_ptr<DataPostprocessor<dim>>> output_postprocessors;
+  };
+} // namespace ContactStefan
+
+#endif

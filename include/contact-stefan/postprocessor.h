@@ -1,0 +1,92 @@
+// Postprocessor: everything a run reports. The VTU/PVD fields (each field adds
+// its own), the per-step statistics table, the errors against an exact solution
+// accumulated over the run, and the RESULT lines that end a run. It reads the
+// fields through their const queries and never changes them.
+#ifndef contact_stefan_postprocessor_h
+#define contact_stefan_postprocessor_h
+
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/timer.h>
+
+#include <deal.II/distributed/tria.h>
+
+#include <contact-stefan/common.h>
+#include <contact-stefan/materials.h>
+#include <contact-stefan/mechanical_field.h>
+#include <contact-stefan/parameters.h>
+#include <contact-stefan/scene_functions.h>
+#include <contact-stefan/thermal_field.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace ContactStefan
+{
+  template <int dim>
+  class Postprocessor
+  {
+  public:
+    // Creates the output directory and checks that it is writable (an
+    // InputError naming Output/Directory otherwise), before any work is done.
+    Postprocessor(const AllParameters                             &prm,
+                  const Materials                                 &materials,
+                  SceneFunctions<dim>                             &functions,
+                  const parallel::distributed::Triangulation<dim> &triangulation,
+                  TimerOutput                                     &timer,
+                  const ConditionalOStream                        &pcout);
+
+    // The fields to report on (either may be null: that physics is off).
+    void attach(const ThermalField<dim> *thermal, const MechanicalField<dim> *mechanical);
+
+    // At the start time: the initial state's errors, statistics row 0, VTU 0.
+    void start(const double time, const double wall_time);
+    // After a time step.
+    void end_step(const unsigned int        step,
+                  const double              time,
+                  const double              time_step,
+                  const bool                last_step,
+                  const EnthalpyStepReport &thermal_report,
+                  const ContactStepReport  &contact_report,
+                  const double              wall_time);
+    // The RESULT lines.
+    void print_results(const unsigned int n_steps, const double time) const;
+
+  private:
+    void   accumulate_errors(const double time, const double tau);
+    void   write_statistics_row(const unsigned int        step,
+                                const double              time,
+                                const EnthalpyStepReport &report,
+                                const ContactStepReport  &contact_report,
+                                const double              wall_time) const;
+    void   output_vtu(const unsigned int step, const double time);
+    void   print_thermal_results(const unsigned int n_steps, const double time) const;
+    void   print_mechanical_results(const unsigned int n_steps) const;
+    double mesh_width() const;
+
+    const AllParameters                             &prm;
+    const Materials                                 &materials;
+    SceneFunctions<dim>                             &functions;
+    const parallel::distributed::Triangulation<dim> &triangulation;
+    const MPI_Comm                                   mpi_communicator;
+    TimerOutput                                     &timer;
+    const ConditionalOStream                        &pcout;
+    const ThermalField<dim>                         *thermal    = nullptr;
+    const MechanicalField<dim>                      *mechanical = nullptr;
+
+    std::vector<std::pair<double, std::string>> pvd_records;
+
+    // Accumulated over the run.
+    double       initial_total_enthalpy = 0;
+    double       last_l2_error = 0, last_l2_norm = 0, last_max_error = 0;
+    double       space_time_error_squared = 0, space_time_norm_squared = 0;
+    double       max_energy_residual         = 0;
+    unsigned int total_active_set_iterations = 0, steps_with_fallback = 0;
+    unsigned int inconsistent_enthalpy_nodes = 0;
+    unsigned int total_contact_iterations = 0, max_contact_iterations = 0;
+    unsigned int first_contact_iterations = 0, max_contact_iterations_warm = 0;
+    ContactStepReport last_contact_report;
+  };
+} // namespace ContactStefan
+
+#endif

@@ -1,0 +1,99 @@
+// Every function of x, y, t that a scene's parameter file gives, parsed once:
+// heat sources, thermal boundary data, the initial condition and the exact
+// solution for the thermal field; body forces, boundary displacements and
+// tractions, obstacle and interface gaps for the mechanical field. Each knows
+// whether it is identically zero (from the parsed expression, not its spelling),
+// so that a field can skip the work of a load that is not there.
+//
+// A user sets the time of a function before evaluating it (Function::set_time);
+// the functions are shared, so every evaluation site sets it.
+#ifndef contact_stefan_scene_functions_h
+#define contact_stefan_scene_functions_h
+
+#include <deal.II/base/function.h>
+
+#include <contact-stefan/common.h>
+#include <contact-stefan/neumann_solution.h>
+#include <contact-stefan/parameters.h>
+
+#include <map>
+#include <memory>
+#include <string>
+
+namespace ContactStefan
+{
+  template <int dim>
+  class SceneFunctions
+  {
+  public:
+    explicit SceneFunctions(const AllParameters &prm);
+
+    // --- thermal -------------------------------------------------------------
+    Function<dim> &heat_source(const unsigned int body)
+    {
+      return *heat_sources.at(body);
+    }
+    // Value of a thermal boundary (temperature or inward flux).
+    Function<dim> &thermal_boundary(const unsigned int id)
+    {
+      return *thermal_boundaries.at(id);
+    }
+    // Some body has a heat source or some flux boundary a nonzero flux.
+    bool heat_load_present() const
+    {
+      return heat_load;
+    }
+    Function<dim> &initial_condition()
+    {
+      return *initial;
+    }
+    // The exact temperature (Exact solution/Type = neumann or function), or null.
+    Function<dim> *exact_temperature()
+    {
+      return exact.get();
+    }
+    const NeumannSolution *neumann() const
+    {
+      return neumann_solution.get();
+    }
+
+    // --- mechanics (two components each) -----------------------------------------
+    Function<dim> &body_force(const unsigned int body)
+    {
+      return *body_forces.at(body);
+    }
+    // Displacement or traction of a mechanical boundary.
+    Function<dim> &mechanical_boundary(const unsigned int id)
+    {
+      return *mechanical_values.at(id);
+    }
+    Function<dim> &obstacle_gap(const unsigned int id)
+    {
+      return *obstacle_gaps.at(id);
+    }
+    Function<dim> &interface_gap()
+    {
+      return *interface;
+    }
+    // Some body force or some traction is not identically zero.
+    bool mechanical_load_present() const
+    {
+      return mechanical_load;
+    }
+
+  private:
+    // A fresh copy of the exact temperature (each user sets its own time).
+    std::unique_ptr<Function<dim>> make_exact() const;
+    std::unique_ptr<Function<dim>> function_or_exact(const std::string &expression) const;
+
+    const AllParameters                                   &prm;
+    std::unique_ptr<NeumannSolution>                       neumann_solution;
+    std::unique_ptr<Function<dim>>                         exact, initial, interface;
+    std::map<unsigned int, std::unique_ptr<Function<dim>>> heat_sources, thermal_boundaries;
+    std::map<unsigned int, std::unique_ptr<Function<dim>>> body_forces, mechanical_values,
+      obstacle_gaps;
+    bool heat_load = false, mechanical_load = false;
+  };
+} // namespace ContactStefan
+
+#endif

@@ -1,0 +1,195 @@
+// ThermalField: the temperature/enthalpy field and the enthalpy (Stefan) step.
+//
+// It owns everything of the heat problem on the shared triangulation: the scalar
+// FE_Q(1) DoFHandler, the hanging-node, Dirichlet and plateau constraints, the
+// system matrix, the nodal vectors, the enthalpy law of every node and the
+// per-cell operators (lumped mass, conductivity, heat load). The coupled problem
+// drives it through the step contract of doc/architecture.md:
+//
+//   setup_dofs()             mesh-dependent structures; rebuilds every per-cell
+//                            cache and every nodal law (call after any mesh change)
+//   initialize(t0)           initial enthalpy from the initial condition
+//   begin_time_step(t, tau)  old enthalpy, warm start of the phase states, the
+//                            conductivity (if it depends on the phase), heat load
+//                            and Dirichlet data at t
+//   solve()                  the enthalpy step; repeatable within a time step
+//   primary_state()          h and h_old: all that survives a mesh change
+//   after_transfer()         temperature and phase states re-derived from h
+//
+// The enthalpy step itself (the primal-dual active-set method with its line
+// search, and the relaxation fallback) is in enthalpy_step.cc; the set-up in
+// thermal_setup.cc. doc/algorithms.md explains the method.
+#ifndef contact_stefan_thermal_field_h
+#define contact_stefan_thermal_field_h
+
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/index_set.h>
+#include <deal.II/base/timer.h>
+
+#include <deal.II/distributed/tria.h>
+
+#include <deal.II/dofs/dof_handler.h>
+
+#include <deal.II/fe/fe_q.h>
+
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/trilinos_sparse_matrix.h>
+#include <deal.II/lac/vector.h>
+
+#include <deal.II/numerics/data_out.h>
+
+#include <contact-stefan/common.h>
+#include <contact-stefan/enthalpy_law.h>
+#include <contact-stefan/linear_solver.h>
+#include <contact-stefan/materials.h>
+#include <contact-stefan/parameters.h>
+#include <contact-stefan/scene_functions.h>
+
+#include <functional>
+#include <map>
+#include <vector>
+
+namespace ContactStefan
+{
+  // What one enthalpy step did, for the screen and the statistics table.
+  struct EnthalpyStepReport
+  {
+    unsigned int active_set_iterations = 0;
+    unsigned int damped_steps          = 0; // iterations whose Newton step was shortened
+    unsigned int relaxation_iterations = 0; // > 0 only if the fallback ran
+    unsigned int plateau_nodes         = 0;
+    unsigned int state_changes         = 0; // summed over the iterations
+    double       energy_residual       = 0; // relative, see compute_energy_balance()
+    unsigned int inconsistent_nodes    = 0; // free nodes with h not in H(Theta) at the end
+  };
+
+  template <int dim>
+  class ThermalField
+  {
+  public:
+    ThermalField(const AllParameters                             &prm,
+                 const Materials                                 &materials,
+                 SceneFunctions<dim>                             &functions,
+                 const parallel::distributed::Triangulation<dim> &triangulation,
+                 TimerOutput                                     &timer,
+                 const ConditionalOStream                        &pcout);
+
+    // --- the step contract ----------------------------------------------------
+    void               setup_dofs();
+    void               initialize(const double t0);
+    void               begin_time_step(const double t, const double tau);
+    EnthalpyStepReport solve();
+    std::vector<Vector *> primary_state(); // {h, h_old}, owned vectors
+    void                  after_transfer();
+    // Adds temperature, enthalpy, phase index and liquid fraction. The vectors
+    // stay alive in this object until the next call.
+    void add_output(DataOut<dim> &data_out) const;
+
+    // --- queries ----------------------------------------------------------------
+    const DoFHandler<dim> &get_dof_handler() const
+    {
+      return dof_handler;
+    }
+    const Vector &get_temperature() const // ghosted
+    {
+      return temperature_ghosted;
+    }
+    const Vector &get_enthalpy() const // owned
+    {
+      return enthalpy;
+    }
+    const Vector &get_lumped_mass() const // owned, hanging nodes condensed
+    {
+      return lumped_mass;
+    }
+    const EnthalpyLaw &law(const types::global_dof_index dof) const;
+    bool               phase_change_present() const
+    {
+      return materials.phase_change_present();
+    }
+    // sum_i m_i h_i: the heat content (J per unit thickness) of the mesh.
+    double total_enthalpy() const;
+    // sum_i m_i (fraction of node i through the transition at T).
+    double liquid_area(const double transition_temperature) const;
+    // sum_i m_i (liquid fraction of node i): the melt area.
+    double melt_area() const;
+    // A one-line description of what the field will do, for the start of a run.
+    std::string describe() const;
+    // result = A theta (hanging-node condensed): the conductivity operator of
+    // the last assembly; with absolute, |A| |theta| entrywise.
+    void apply_conductivity(const Vector &theta_ghosted,
+                            Vector       &result,
+                            const bool    absolute = false) const;
+
+  private:
+    using LocalMatrix = FullMatrix<double>;
+
+    // thermal_setup.cc
+    void setup_nodal_enthalpy_laws();
+    void assemble_cell_conductivities();
+    void assemble_heat_load();
+    void make_dirichlet_constraints();
+    void set_nodal_state_from_enthalpy();
+
+    // enthalpy_step.cc
+    void         assemble_system(const bool assemble_matrix);
+    unsigned int solve_for_pieces(
+      const std::function<LinearPiece(const types::global_dof_index)> &piece_of,
+      Vector                                                          &h_new);
+    bool         active_set_iteration(EnthalpyStepReport &report);
+    unsigned int relaxation_fallback();
+    double       compute_energy_balance(unsigned int &inconsistent_nodes) const;
+
+    const AllParameters                             &prm;
+    const Materials                                 &materials;
+    SceneFunctions<dim>                             &functions;
+    const parallel::distributed::Triangulation<dim> &triangulation;
+    const MPI_Comm                                   mpi_communicator;
+    TimerOutput                                     &timer;
+    const ConditionalOStream                        &pcout;
+
+    const FE_Q<dim> fe;
+    DoFHandler<dim> dof_handler;
+    IndexSet        owned, relevant;
+
+    // Hanging-node constraints alone, the Dirichlet ones on top (rebuilt each
+    // step), and the full set of one active-set iteration (plus the plateau nodes).
+    AffineConstraints<double> hanging_node_constraints, dirichlet_constraints, constraints;
+
+    TrilinosWrappers::SparseMatrix system_matrix;
+    Vector                         system_rhs;
+    LinearSolver                   linear_solver;
+
+    // Primary state: the nodal enthalpy now and at the previous time level.
+    Vector enthalpy, old_enthalpy;
+    // Derived state: Theta = beta(h) and the phase state of each node (stored as
+    // a double so that it travels with the ghost exchange), owned and ghosted.
+    Vector temperature, temperature_ghosted, enthalpy_ghosted;
+    Vector phase_state, phase_state_ghosted;
+    // Per-node data: lumped mass m_i, heat load F_i of the step, and the
+    // coefficients of one iteration's system m_i d_i Theta_i + tau (A Theta)_i =
+    // m_i g_i + tau F_i.
+    Vector lumped_mass, heat_load, nodal_diagonal, nodal_rhs;
+
+    // The enthalpy law of each locally relevant node: body laws first, then the
+    // mass-weighted sums for nodes shared by bodies with different laws.
+    std::vector<EnthalpyLaw>             laws;
+    std::vector<unsigned int>            law_of_node; // index within `relevant`
+    std::map<unsigned int, unsigned int> law_of_body;
+
+    // Per-cell operators by active cell index: the conductivity shape matrix
+    // S_K (per mesh), A_K = k_K S_K (with the lagged phase mixture), the lumped
+    // vertex weights m_K and the heat load F_K.
+    std::vector<LocalMatrix>            cell_shape_conductivity, cell_conductivity;
+    std::vector<dealii::Vector<double>> cell_mass, cell_load;
+
+    double time = 0, time_step = 0, previous_time_step = 0;
+    bool   first_step = true; // no previous step to extrapolate from
+
+    // Output fields, alive until the next add_output().
+    mutable Vector output_phase_index, output_liquid_fraction;
+  };
+} // namespace ContactStefan
+
+#endif

@@ -1,0 +1,63 @@
+#include <deal.II/lac/solver_cg.h>
+
+#include <contact-stefan/linear_solver.h>
+
+#include <stdexcept>
+
+namespace ContactStefan
+{
+  using LinearSolverType = Parameters::Solver::LinearSolverType;
+
+  LinearSolver::LinearSolver(const Parameters::Solver &parameters,
+                             const unsigned int        verbosity,
+                             const ConditionalOStream &pcout,
+                             const std::string        &name)
+    : prm(parameters)
+    , verbosity(verbosity)
+    , pcout(pcout)
+    , name(name)
+    , direct_control(1, 0)
+  {}
+
+
+
+  void LinearSolver::initialize(const TrilinosWrappers::SparseMatrix &A)
+  {
+    matrix = &A;
+    if (prm.linear_solver == LinearSolverType::direct)
+      {
+        direct = std::make_unique<TrilinosWrappers::SolverDirect>(
+          direct_control,
+          TrilinosWrappers::SolverDirect::AdditionalData(verbosity >= 2, prm.direct_solver_type));
+        direct->initialize(A);
+      }
+    else
+      {
+        TrilinosWrappers::PreconditionAMG::AdditionalData data;
+        data.elliptic = true;
+        amg.initialize(A, data);
+      }
+  }
+
+
+
+  void LinearSolver::solve(Vector &x, const Vector &b)
+  {
+    if (matrix == nullptr)
+      throw std::logic_error("LinearSolver::solve() before initialize()");
+    if (prm.linear_solver == LinearSolverType::direct)
+      {
+        direct->solve(x, b);
+        iterations = 1;
+      }
+    else
+      {
+        SolverControl    control(prm.cg_max_iterations, prm.cg_tolerance * b.l2_norm());
+        SolverCG<Vector> cg(control);
+        cg.solve(*matrix, x, b, amg);
+        iterations = control.last_step();
+        if (verbosity >= 2)
+          pcout << "      CG (" << name << "): " << iterations << " iterations" << std::endl;
+      }
+  }
+} // namespace ContactStefan

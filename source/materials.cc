@@ -1,0 +1,148 @@
+#include <contact-stefan/materials.h>
+#include <contact-stefan/neumann_solution.h>
+
+namespace ContactStefan
+{
+  using Elasticity = Parameters::BodyMaterial::Elasticity;
+
+  SymmetricTensor<4, 2> elasticity_tensor(const Parameters::BodyMaterial &m)
+  {
+    SymmetricTensor<4, 2> C;
+    if (m.elasticity == Elasticity::anisotropic)
+      {
+        // Voigt index of (i, j): xx -> 0, yy -> 1, xy -> 2.
+        const auto        &v       = m.voigt;
+        const double       V[3][3] = {{v[0], v[1], v[2]}, {v[1], v[3], v[4]}, {v[2], v[4], v[5]}};
+        const unsigned int index[2][2] = {{0, 2}, {2, 1}};
+        for (unsigned int i = 0; i < 2; ++i)
+          for (unsigned int j = i; j < 2; ++j)
+            for (unsigned int k = 0; k < 2; ++k)
+              for (unsigned int l = k; l < 2; ++l)
+                C[i][j][k][l] = V[index[i][j]][index[k][l]];
+        return C;
+      }
+    const double E = m.youngs_modulus, nu = m.poisson_ratio;
+    const double lambda = m.elasticity == Elasticity::lame ? m.lame_lambda :
+                                                             E * nu / ((1 + nu) * (1 - 2 * nu));
+    const double mu     = m.elasticity == Elasticity::lame ? m.lame_mu : E / (2 * (1 + nu));
+    for (unsigned int i = 0; i < 2; ++i)
+      for (unsigned int j = i; j < 2; ++j)
+        for (unsigned int k = 0; k < 2; ++k)
+          for (unsigned int l = k; l < 2; ++l)
+            C[i][j][k][l] = (i == j && k == l ? lambda : 0.) +
+                            mu * ((i == k && j == l ? 1. : 0.) + (i == l && j == k ? 1. : 0.));
+    return C;
+  }
+
+
+
+  double plane_strain_modulus(const Parameters::BodyMaterial &m)
+  {
+    if (m.elasticity == Elasticity::isotropic)
+      return m.youngs_modulus / (1 - m.poisson_ratio * m.poisson_ratio);
+    if (m.elasticity == Elasticity::lame)
+      {
+        const double l = m.lame_lambda, mu = m.lame_mu;
+        const double E  = mu * (3 * l + 2 * mu) / (l + mu);
+        const double nu = l / (2 * (l + mu));
+        return E / (1 - nu * nu);
+      }
+    return m.voigt[3] - m.voigt[1] * m.voigt[1] / m.voigt[0];
+  }
+
+
+
+  EnthalpyLaw enthalpy_law(const Parameters::BodyMaterial &m)
+  {
+    std::vector<double> rho_L, rho_c;
+    for (const double l : m.latent_heats)
+      rho_L.push_back(m.density * l);
+    for (const double c : m.heat_capacities)
+      rho_c.push_back(m.density * c);
+    return EnthalpyLaw(m.transition_temperatures, rho_L, rho_c);
+  }
+
+
+
+  bool conductivity_is_isotropic(const Parameters::BodyMaterial &m)
+  {
+    return m.anisotropy[1] == 0 && m.anisotropy[0] == m.anisotropy[2];
+  }
+
+
+
+  Material::Material(const Parameters::BodyMaterial &m)
+    : elasticity(elasticity_tensor(m))
+    , plane_strain_modulus(ContactStefan::plane_strain_modulus(m))
+    , out_of_plane_lambda(m.elasticity == Elasticity::anisotropic ? 0. : elasticity[0][0][1][1])
+    , enthalpy_law(ContactStefan::enthalpy_law(m))
+  {
+    conductivity_shape[0][0] = m.anisotropy[0];
+    conductivity_shape[0][1] = conductivity_shape[1][0] = m.anisotropy[1];
+    conductivity_shape[1][1]                            = m.anisotropy[2];
+    // One value means the same in every phase.
+    const unsigned int n_phases = enthalpy_law.n_transitions() + 1;
+    conductivities = m.conductivities.size() == 1 ? std::vector<double>(n_phases, m.conductivities[0]) :
+                                                    m.conductivities;
+  }
+
+
+
+  bool Material::conductivity_depends_on_phase() const
+  {
+    for (const double k : conductivities)
+      if (k != conductivities[0])
+        return true;
+    return false;
+  }
+
+
+
+  Materials::Materials(const AllParameters &prm)
+  {
+    for (const auto &[id, m] : prm.materials)
+      materials.emplace(id, Material(m));
+  }
+
+
+
+  bool Materials::conductivity_depends_on_phase() const
+  {
+    for (const auto &[id, m] : materials)
+      if (m.conductivity_depends_on_phase())
+        return true;
+    return false;
+  }
+
+
+
+  bool Materials::phase_change_present() const
+  {
+    for (const auto &[id, m] : materials)
+      if (m.enthalpy_law.n_transitions() > 0)
+        return true;
+    return false;
+  }
+
+
+
+  NeumannSolution neumann_solution(const AllParameters &prm)
+  {
+    const Material      m(prm.materials.at(prm.exact_solution.body));
+    const EnthalpyLaw  &law = m.enthalpy_law;
+    std::vector<double> k, c, rho_L, T;
+    for (unsigned int p = 0; p <= law.n_transitions(); ++p)
+      {
+        // Isotropic: the shape tensor is a multiple of the identity.
+        k.push_back(m.conductivity(p) * m.conductivity_shape[0][0]);
+        c.push_back(law.heat_capacity(p));
+      }
+    for (unsigned int j = 0; j < law.n_transitions(); ++j)
+      {
+        rho_L.push_back(law.latent_heat(j));
+        T.push_back(law.transition_temperature(j));
+      }
+    return NeumannSolution(k, c, T, rho_L, prm.exact_solution.hot_temperature,
+                           prm.exact_solution.cold_temperature);
+  }
+} // namespace ContactStefan

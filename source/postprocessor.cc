@@ -1,0 +1,519 @@
+// Postprocessor: VTU/PVD fields, the per-step statistics table, and the errors
+// against an exact solution that end a verification run as RESULT lines.
+#include <deal.II/base/quadrature_lib.h>
+
+#include <deal.II/fe/fe_values.h>
+
+#include <deal.II/hp/fe_values.h>
+#include <deal.II/hp/q_collection.h>
+
+#include <deal.II/numerics/data_out.h>
+#include <deal.II/numerics/vector_tools.h>
+
+#include <contact-stefan/contact.h>
+#include <contact-stefan/postprocessor.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <stdexcept>
+
+namespace ContactStefan
+{
+  using ExactType = Parameters::ExactSolution::Type;
+
+  template <int dim>
+  Postprocessor<dim>::Postprocessor(const AllParameters                             &prm,
+                                    const Materials                                 &materials,
+                                    SceneFunctions<dim>                             &functions,
+                                    const parallel::distributed::Triangulation<dim> &triangulation,
+                                    TimerOutput                                     &timer,
+                                    const ConditionalOStream                        &pcout)
+    : prm(prm)
+    , materials(materials)
+    , functions(functions)
+    , triangulation(triangulation)
+    , mpi_communicator(triangulation.get_communicator())
+    , timer(timer)
+    , pcout(pcout)
+  {
+    // The output directory must be usable before any work is done. Rank 0 checks
+    // and every rank learns the verdict, so that all of them stop together.
+    std::string problem;
+    if (Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
+      {
+        std::error_code error;
+        std::filesystem::create_directories(prm.output.directory, error);
+        const std::string probe = prm.output.directory + "/.contact-stefan-write-test";
+        if (error || !std::filesystem::is_directory(prm.output.directory))
+          problem = "cannot create the directory '" + prm.output.directory + "'";
+        else if (!std::ofstream(probe))
+          problem = "cannot write into '" + prm.output.directory + "'";
+        std::filesystem::remove(probe, error);
+      }
+    problem = Utilities::MPI::broadcast(mpi_communicator, problem, 0);
+    if (!problem.empty())
+      throw InputError("Output/Directory", problem);
+  }
+
+
+
+  template <int dim>
+  void Postprocessor<dim>::attach(const ThermalField<dim> *thermal_field,
+                                  const MechanicalField<dim> *mechanical_field)
+  {
+    thermal    = thermal_field;
+    mechanical = mechanical_field;
+  }
+
+
+
+  template <int dim>
+  void Postprocessor<dim>::start(const double time, const double wall_time)
+  {
+    if (thermal)
+      {
+        initial_total_enthalpy = thermal->total_enthalpy();
+        accumulate_errors(time, 0);
+      }
+    write_statistics_row(0, time, EnthalpyStepReport(), ContactStepReport(), wall_time);
+    if (prm.output.vtu_interval > 0)
+      output_vtu(0, time);
+  }
+
+
+
+  template <int dim>
+  void Postprocessor<dim>::end_step(const unsigned int        step,
+                                    const double              time,
+                                    const double              time_step,
+                                    const bool                last_step,
+                                    const EnthalpyStepReport &report,
+                                    const ContactStepReport  &contact_report,
+                                    const double              wall_time)
+  {
+    if (mechanical)
+      {
+        total_contact_iterations += contact_report.iterations;
+        max_contact_iterations = std::max(max_contact_iterations, contact_report.iterations);
+        if (step == 1)
+          first_contact_iterations = contact_report.iterations;
+        else
+          max_contact_iterations_warm = std::max(max_contact_iterations_warm, contact_report.iterations);
+        last_contact_report = contact_report;
+      }
+    if (thermal)
+      {
+        total_active_set_iterations += report.active_set_iterations;
+        steps_with_fallback += (report.relaxation_iterations > 0);
+        max_energy_residual = std::max(max_energy_residual, report.energy_residual);
+        inconsistent_enthalpy_nodes += report.inconsistent_nodes;
+        accumulate_errors(time, time_step);
+      }
+    write_statistics_row(step, time, report, contact_report, wall_time);
+    if (prm.output.vtu_interval > 0 && (step % prm.output.vtu_interval == 0 || last_step))
+      output_vtu(step, time);
+  }
+
+
+
+  template <int dim>
+  void Postprocessor<dim>::output_vtu(const unsigned int step, const double time)
+  {
+    TimerOutput::Scope t(timer, "output: vtu");
+    DataOut<dim>       data_out;
+    data_out.attach_triangulation(triangulation);
+    // Each field adds its own fields and keeps the vectors alive.
+    if (thermal)
+      thermal->add_output(data_out);
+    if (mechanical)
+      mechanical->add_output(data_out);
+
+    dealii::Vector<float> body(triangulation.n_active_cells());
+    dealii::Vector<float> rank(triangulation.n_active_cells());
+    for (const auto &cell : triangulation.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          body(cell->active_cell_index()) = cell->material_id();
+          rank(cell->active_cell_index()) = triangulation.locally_owned_subdomain();
+        }
+    data_out.add_data_vector(body, "body_id", DataOut<dim>::type_cell_data);
+    data_out.add_data_vector(rank, "mpi_rank", DataOut<dim>::type_cell_data);
+    data_out.build_patches();
+
+    const std::string directory = prm.output.directory + "/";
+    const std::string name =
+      data_out.write_vtu_with_pvtu_record(directory, "solution", step, mpi_communicator, 5);
+    pvd_records.emplace_back(time, name);
+    if (Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
+      {
+        std::ofstream pvd(directory + "solution.pvd");
+        DataOutBase::write_pvd_record(pvd, pvd_records);
+        if (!pvd)
+          throw std::runtime_error("cannot write '" + directory + "solution.pvd'");
+      }
+  }
+
+
+
+  // The statistics table: a header line, then one line per step, appended and
+  // flushed as soon as the step is done, so that an interrupted run leaves every
+  // finished step on disk and a long run costs O(1) per step. Only rank 0 writes.
+  template <int dim>
+  void Postprocessor<dim>::write_statistics_row(const unsigned int        step,
+                                                const double              time,
+                                                const EnthalpyStepReport &report,
+                                                const ContactStepReport  &contact_report,
+                                                const double              wall_time) const
+  {
+    const double area = thermal ? thermal->melt_area() : 0.;
+    if (Utilities::MPI::this_mpi_process(mpi_communicator) != 0)
+      return;
+
+    const std::string path = prm.output.directory + "/" + prm.output.statistics_file;
+    std::ofstream     out(path, step == 0 ? std::ios::trunc : std::ios::app);
+    char              field[64];
+    const auto        add = [&](const char *format, const auto value) {
+      std::snprintf(field, sizeof(field), format, value);
+      out << ' ' << field;
+    };
+    if (step == 0)
+      {
+        out << "step time";
+        if (thermal)
+          out << " dofs pdas_iterations state_changes damped_steps fallback_iterations "
+                 "plateau_nodes liquid_area energy_residual";
+        if (mechanical)
+          {
+            out << " displacement_dofs contact_iterations active_nodes";
+            for (std::string group : mechanical->get_contact_groups())
+              {
+                std::replace(group.begin(), group.end(), ' ', '_');
+                out << " force_" << group;
+              }
+            out << " max_pressure";
+          }
+        out << " wall_time\n";
+      }
+    out << step;
+    add("%.10e", time);
+    if (thermal)
+      {
+        add("%u", static_cast<unsigned int>(thermal->get_dof_handler().n_dofs()));
+        add("%u", report.active_set_iterations);
+        add("%u", report.state_changes);
+        add("%u", report.damped_steps);
+        add("%u", report.relaxation_iterations);
+        add("%u", report.plateau_nodes);
+        add("%.10e", area);
+        add("%.2e", report.energy_residual);
+      }
+    if (mechanical)
+      {
+        add("%u", static_cast<unsigned int>(mechanical->get_dof_handler().n_dofs()));
+        add("%u", contact_report.iterations);
+        add("%u", contact_report.active_nodes);
+        for (const auto &group : mechanical->get_contact_groups())
+          add("%.10e", contact_report.forces.count(group) ? contact_report.forces.at(group) : 0.);
+        add("%.10e", contact_report.max_pressure);
+      }
+    add("%.3f", wall_time);
+    out << std::endl;
+    if (!out)
+      throw std::runtime_error("cannot write '" + path + "'");
+  }
+
+
+
+  // Errors at the current time against the exact solution; the space-time error
+  // sum_k tau_k ||e(t_k)||^2 is the right-endpoint rule that matches backward Euler.
+  template <int dim>
+  void Postprocessor<dim>::accumulate_errors(const double time, const double tau)
+  {
+    Function<dim> *exact = functions.exact_temperature();
+    if (!exact)
+      return;
+    TimerOutput::Scope t(timer, "errors");
+    exact->set_time(time);
+    const DoFHandler<dim> &dof_handler = thermal->get_dof_handler();
+    const Vector          &theta_h_all = thermal->get_temperature();
+    // ||Theta_h - Theta|| and ||Theta|| in one pass over the cells (Gauss rule
+    // two orders above the element's).
+    const auto         &fe = dof_handler.get_fe();
+    const QGauss<dim>   quadrature(fe.degree + 2);
+    FEValues<dim>       fe_values(fe, quadrature, update_values | update_quadrature_points | update_JxW_values);
+    std::vector<double> theta_h(quadrature.size()), theta(quadrature.size());
+    double              error_squared = 0, norm_squared = 0;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          fe_values.reinit(cell);
+          fe_values.get_function_values(theta_h_all, theta_h);
+          exact->value_list(fe_values.get_quadrature_points(), theta);
+          for (unsigned int q = 0; q < quadrature.size(); ++q)
+            {
+              error_squared += (theta_h[q] - theta[q]) * (theta_h[q] - theta[q]) * fe_values.JxW(q);
+              norm_squared += theta[q] * theta[q] * fe_values.JxW(q);
+            }
+        }
+    last_l2_error = std::sqrt(Utilities::MPI::sum(error_squared, mpi_communicator));
+    last_l2_norm  = std::sqrt(Utilities::MPI::sum(norm_squared, mpi_communicator));
+
+    // Max-norm error at the nodes: the exact solution interpolated (evaluated
+    // at the support points of the current mesh).
+    Vector nodal(dof_handler.locally_owned_dofs(), mpi_communicator);
+    VectorTools::interpolate(dof_handler, *exact, nodal);
+    double max_error = 0;
+    for (const auto dof : dof_handler.locally_owned_dofs())
+      max_error = std::max(max_error, std::abs(theta_h_all[dof] - nodal[dof]));
+    last_max_error = Utilities::MPI::max(max_error, mpi_communicator);
+
+    if (tau > 0)
+      {
+        space_time_error_squared += tau * last_l2_error * last_l2_error;
+        space_time_norm_squared += tau * last_l2_norm * last_l2_norm;
+      }
+  }
+
+
+
+  template <int dim>
+  double Postprocessor<dim>::mesh_width() const
+  {
+    double width = 0;
+    for (const auto &cell : triangulation.active_cell_iterators())
+      if (cell->is_locally_owned())
+        width = std::max(width, cell->extent_in_direction(0));
+    return Utilities::MPI::max(width, mpi_communicator);
+  }
+
+
+
+  namespace
+  {
+    void result(const ConditionalOStream &pcout, const std::string &name, const double value)
+    {
+      pcout << "RESULT " << name << " = " << std::setprecision(10) << value << std::endl;
+    }
+  } // namespace
+
+
+
+  template <int dim>
+  void Postprocessor<dim>::print_results(const unsigned int n_steps, const double time) const
+  {
+    if (thermal)
+      print_thermal_results(n_steps, time);
+    if (mechanical)
+      print_mechanical_results(n_steps);
+  }
+
+
+
+  template <int dim>
+  void Postprocessor<dim>::print_thermal_results(const unsigned int n_steps, const double time) const
+  {
+    result(pcout, "time steps", n_steps);
+    result(pcout, "temperature dofs", thermal->get_dof_handler().n_dofs());
+    result(pcout, "mean active-set iterations",
+           n_steps > 0 ? double(total_active_set_iterations) / n_steps : 0.);
+    result(pcout, "steps with relaxation fallback", steps_with_fallback);
+    result(pcout, "max energy-balance residual", max_energy_residual);
+    result(pcout, "nodes with h outside H(Theta)", inconsistent_enthalpy_nodes);
+    const double h = mesh_width();
+    if (functions.exact_temperature())
+      {
+        result(pcout, "mesh width", h);
+        result(pcout, "L2 error temperature", last_l2_error);
+        result(pcout, "relative L2 error temperature", last_l2_error / last_l2_norm);
+        result(pcout, "relative space-time L2 error temperature",
+               std::sqrt(space_time_error_squared / space_time_norm_squared));
+        result(pcout, "max-norm error temperature", last_max_error);
+      }
+    if (prm.exact_solution.type == ExactType::equilibrium)
+      {
+        // T_f from the body laws and the body areas alone (no nodal mixtures):
+        // sum_b |body b| H_b(T_f) = E(0), by bisection on the monotone left side.
+        std::map<unsigned int, double> area;
+        for (const auto &cell : triangulation.active_cell_iterators())
+          if (cell->is_locally_owned())
+            area[cell->material_id()] += cell->measure();
+        std::vector<std::pair<double, const EnthalpyLaw *>> bodies;
+        for (const unsigned int id : prm.body_ids)
+          bodies.emplace_back(Utilities::MPI::sum(area[id], mpi_communicator),
+                              &materials[id].enthalpy_law);
+        const auto total = [&](const double T) {
+          double E = 0;
+          for (const auto &[A, l] : bodies)
+            E += A * l->enthalpy(T);
+          return E;
+        };
+        double lo = -1, hi = 1;
+        while (total(lo) > initial_total_enthalpy)
+          lo *= 2;
+        while (total(hi) < initial_total_enthalpy)
+          hi *= 2;
+        for (unsigned int i = 0; i < 200 && hi - lo > 0; ++i)
+          {
+            const double mid = 0.5 * (lo + hi);
+            (total(mid) < initial_total_enthalpy ? lo : hi) = mid;
+          }
+        const double  T_f         = 0.5 * (lo + hi);
+        const Vector &temperature = thermal->get_temperature();
+        double        deviation   = 0;
+        for (const auto dof : thermal->get_dof_handler().locally_owned_dofs())
+          deviation = std::max(deviation, std::abs(temperature[dof] - T_f));
+        const double E_end = thermal->total_enthalpy();
+        result(pcout, "equilibrium temperature", T_f);
+        result(pcout, "max deviation from equilibrium temperature",
+               Utilities::MPI::max(deviation, mpi_communicator));
+        result(pcout, "relative change of total enthalpy",
+               std::abs(E_end - initial_total_enthalpy) / std::abs(initial_total_enthalpy));
+      }
+    if (const NeumannSolution *neumann = functions.neumann())
+      {
+        // Fronts: from the melt area of each transition (strip of height Y).
+        const auto  &g      = prm.geometry;
+        const double height = g.upper_right[1] - g.lower_left[1];
+        const auto  &law    = materials[prm.exact_solution.body].enthalpy_law;
+        for (unsigned int j = 0; j < law.n_transitions(); ++j)
+          {
+            const std::string suffix = law.n_transitions() == 1 ? "" : " " + std::to_string(j);
+            const double      s_h =
+              g.lower_left[0] + thermal->liquid_area(law.transition_temperature(j)) / height;
+            const double s = prm.exact_solution.origin + neumann->front_position(j, time);
+            result(pcout, "front position" + suffix, s_h);
+            result(pcout, "exact front position" + suffix, s);
+            result(pcout, "front position error" + suffix, std::abs(s_h - s));
+            result(pcout, "front position error in mesh widths" + suffix, std::abs(s_h - s) / h);
+          }
+      }
+  }
+
+
+
+  // Contact results; with an exact solution (Hertz, patch test) its errors.
+  template <int dim>
+  void Postprocessor<dim>::print_mechanical_results(const unsigned int n_steps) const
+  {
+    using Kind = NormalCondition::Kind;
+    result(pcout, "displacement dofs", mechanical->get_dof_handler().n_dofs());
+    result(pcout, "contact iterations first step", first_contact_iterations);
+    result(pcout, "max contact iterations", max_contact_iterations);
+    result(pcout, "max contact iterations after the first step", max_contact_iterations_warm);
+    result(pcout, "mean contact iterations", n_steps > 0 ? double(total_contact_iterations) / n_steps : 0.);
+    result(pcout, "active contact nodes", last_contact_report.active_nodes);
+    for (const auto &[group, force] : last_contact_report.forces)
+      result(pcout, "contact force " + group, force);
+    result(pcout, "max contact pressure", last_contact_report.max_pressure);
+
+    const auto  &exact = prm.exact_solution;
+    const auto  &owned = mechanical->get_dof_handler().locally_owned_dofs();
+    const auto  &conditions = mechanical->get_normal_conditions();
+    if (exact.type == ExactType::hertz)
+      {
+        // The contact nodes of the obstacle: position, pressure and weight.
+        std::vector<std::array<double, 3>> local;
+        double                             local_force = 0;
+        for (const auto &c : conditions)
+          if (c.kind == Kind::obstacle && owned.is_element(c.dofs_k[0]))
+            {
+              const double p = mechanical->is_active(c) ? mechanical->contact_pressure(c) : 0.;
+              local.push_back({{c.position[0], p, c.weight}});
+              local_force += p * c.weight;
+            }
+        const double         P      = Utilities::MPI::sum(local_force, mpi_communicator);
+        const double         E_star = materials[exact.body].plane_strain_modulus;
+        const Contact::Hertz hertz(P, exact.cylinder_radius, E_star);
+        double               contact_length = 0, p0 = 0, error2 = 0, norm2 = 0;
+        for (const auto &[x, p, w] : local)
+          {
+            contact_length += (p > 0 ? w : 0.);
+            p0 = std::max(p0, p);
+            error2 += w * (p - hertz.pressure(x)) * (p - hertz.pressure(x));
+            norm2 += w * hertz.pressure(x) * hertz.pressure(x);
+          }
+        contact_length = Utilities::MPI::sum(contact_length, mpi_communicator);
+        p0             = Utilities::MPI::max(p0, mpi_communicator);
+        error2         = Utilities::MPI::sum(error2, mpi_communicator);
+        norm2          = Utilities::MPI::sum(norm2, mpi_communicator);
+        // The computed half-width is half the lumped length of the active nodes.
+        const double a = 0.5 * contact_length;
+        result(pcout, "Hertz force P", P);
+        result(pcout, "Hertz half-width", a);
+        result(pcout, "Hertz exact half-width", hertz.half_width);
+        result(pcout, "Hertz half-width relative error", std::abs(a - hertz.half_width) / hertz.half_width);
+        result(pcout, "Hertz peak pressure", p0);
+        result(pcout, "Hertz exact peak pressure", hertz.peak_pressure);
+        result(pcout, "Hertz peak pressure relative error",
+               std::abs(p0 - hertz.peak_pressure) / hertz.peak_pressure);
+        result(pcout, "Hertz pressure profile relative L2 error", std::sqrt(error2 / norm2));
+        double spacing = HUGE_VAL;
+        for (const auto &c : conditions)
+          if (c.kind == Kind::obstacle)
+            spacing = std::min(spacing, c.weight);
+        result(pcout, "contact mesh width", Utilities::MPI::min(spacing, mpi_communicator));
+      }
+    if (exact.type == ExactType::patch)
+      {
+        // Uniform stress sigma_yy = -(delta - g) / sum_b (H_b / E*_b) (the blocks
+        // act as springs in series; H_b from the mesh) when the interface closes
+        // (delta >= gap), zero otherwise; every interface node in contact.
+        double gap = -HUGE_VAL; // the (constant) interface gap
+        for (const auto &c : conditions)
+          if (c.kind == Kind::interface)
+            gap = std::max(gap, c.gap);
+        gap               = Utilities::MPI::max(gap, mpi_communicator);
+        double compliance = 0;
+        for (const unsigned int id : prm.body_ids)
+          compliance += mechanical->body_height(id) / materials[id].plane_strain_modulus;
+        const bool   closed       = exact.patch_displacement >= gap;
+        const double sigma_y      = closed ? -(exact.patch_displacement - gap) / compliance : 0.;
+        const double scale        = closed ? std::abs(sigma_y) : exact.patch_displacement / compliance;
+        double       stress_error = 0, pressure_error = 0, min_gap = HUGE_VAL;
+        unsigned int interface_nodes = 0, active = 0;
+        const auto  &dof_handler = mechanical->get_dof_handler();
+        const hp::QCollection<dim> q{QMidpoint<dim>()};
+        hp::FEValues<dim>          hp_fe_values(dof_handler.get_fe_collection(), q, update_gradients);
+        for (const auto &cell : dof_handler.active_cell_iterators())
+          if (cell->is_locally_owned())
+            {
+              hp_fe_values.reinit(cell);
+              const auto &fv = hp_fe_values.get_present_fe_values();
+              std::vector<std::vector<Tensor<1, dim>>> grads(
+                1, std::vector<Tensor<1, dim>>(fv.get_fe().n_components()));
+              fv.get_function_gradients(mechanical->get_displacement(), grads);
+              const unsigned int      slot = mechanical->body_slot(cell->material_id());
+              SymmetricTensor<2, dim> strain;
+              for (unsigned int i = 0; i < dim; ++i)
+                for (unsigned int j = i; j < dim; ++j)
+                  strain[i][j] = 0.5 * (grads[0][slot * dim + i][j] + grads[0][slot * dim + j][i]);
+              const SymmetricTensor<2, dim> sigma = materials[cell->material_id()].elasticity * strain;
+              stress_error = std::max(
+                {stress_error, std::abs(sigma[0][0]), std::abs(sigma[0][1]), std::abs(sigma[1][1] - sigma_y)});
+            }
+        for (const auto &c : conditions)
+          if (c.kind == Kind::interface && owned.is_element(c.dofs_k[0]))
+            {
+              ++interface_nodes;
+              active += mechanical->is_active(c);
+              pressure_error =
+                std::max(pressure_error, std::abs(mechanical->contact_pressure(c) - std::abs(sigma_y)));
+              min_gap = std::min(min_gap, mechanical->contact_gap(c));
+            }
+        result(pcout, "patch exact sigma_yy", sigma_y);
+        result(pcout, "patch stress relative error", Utilities::MPI::max(stress_error, mpi_communicator) / scale);
+        result(pcout, "patch pressure relative error",
+               Utilities::MPI::max(pressure_error, mpi_communicator) / scale);
+        result(pcout, "patch interface nodes", Utilities::MPI::sum(interface_nodes, mpi_communicator));
+        result(pcout, "patch interface nodes active", Utilities::MPI::sum(active, mpi_communicator));
+        result(pcout, "patch min interface gap", Utilities::MPI::min(min_gap, mpi_communicator));
+      }
+  }
+
+
+
+  template class Postprocessor<2>;
+} // namespace ContactStefan

@@ -1,0 +1,505 @@
+// ThermalField: set-up, the per-cell operators that every iteration of the
+// enthalpy step reuses, the state handling of the step contract, and output.
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/base/utilities.h>
+
+#include <deal.II/dofs/dof_tools.h>
+
+#include <deal.II/fe/fe_values.h>
+
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/sparsity_tools.h>
+
+#include <deal.II/numerics/vector_tools.h>
+
+#include <contact-stefan/thermal_field.h>
+
+namespace ContactStefan
+{
+  template <int dim>
+  ThermalField<dim>::ThermalField(const AllParameters                             &prm,
+                                  const Materials                                 &materials,
+                                  SceneFunctions<dim>                             &functions,
+                                  const parallel::distributed::Triangulation<dim> &triangulation,
+                                  TimerOutput                                     &timer,
+                                  const ConditionalOStream                        &pcout)
+    : prm(prm)
+    , materials(materials)
+    , functions(functions)
+    , triangulation(triangulation)
+    , mpi_communicator(triangulation.get_communicator())
+    , timer(timer)
+    , pcout(pcout)
+    , fe(1)
+    , dof_handler(triangulation)
+    , linear_solver(prm.solver, prm.output.verbosity, pcout, "enthalpy")
+    , time(prm.time.start_time)
+  {
+    assert_two_dimensional<dim>();
+  }
+
+
+
+  // Everything that depends on the mesh, rebuilt from scratch: DoFs, hanging-node
+  // constraints, the sparsity pattern, the nodal vectors (zeroed: the primary
+  // state is restored by the caller, see after_transfer()), the lumped mass, the
+  // nodal enthalpy laws and the conductivity shape matrices.
+  template <int dim>
+  void ThermalField<dim>::setup_dofs()
+  {
+    TimerOutput::Scope t(timer, "setup: thermal field");
+    dof_handler.distribute_dofs(fe);
+    owned = dof_handler.locally_owned_dofs();
+    DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
+
+    hanging_node_constraints.clear();
+    hanging_node_constraints.reinit(relevant);
+    DoFTools::make_hanging_node_constraints(dof_handler, hanging_node_constraints);
+    hanging_node_constraints.close();
+
+    // The pattern keeps the rows and columns of constrained DoFs: the plateau
+    // constraints change from one active-set iteration to the next, and the one
+    // pattern must hold every system they produce.
+    DynamicSparsityPattern dsp(relevant);
+    DoFTools::make_sparsity_pattern(dof_handler, dsp, hanging_node_constraints, true);
+    SparsityTools::distribute_sparsity_pattern(dsp, owned, mpi_communicator, relevant);
+    system_matrix.reinit(owned, owned, dsp, mpi_communicator);
+
+    for (Vector *v : {&system_rhs, &temperature, &enthalpy, &old_enthalpy, &lumped_mass, &heat_load,
+                      &phase_state, &nodal_diagonal, &nodal_rhs})
+      v->reinit(owned, mpi_communicator);
+    for (Vector *v : {&temperature_ghosted, &enthalpy_ghosted, &phase_state_ghosted})
+      v->reinit(owned, relevant, mpi_communicator);
+
+    // Lumped mass: the vertex (trapezoidal) rule makes the Q1 mass matrix
+    // diagonal; m_K holds each cell's share of it, m_i is their sum.
+    const QTrapezoid<dim>                vertex_rule;
+    FEValues<dim>                        fe_values(fe, vertex_rule, update_values | update_JxW_values);
+    const unsigned int                   n = fe.n_dofs_per_cell();
+    std::vector<types::global_dof_index> dofs(n);
+    cell_mass.assign(triangulation.n_active_cells(), dealii::Vector<double>());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          fe_values.reinit(cell);
+          auto &m = cell_mass[cell->active_cell_index()];
+          m.reinit(n);
+          for (unsigned int q = 0; q < vertex_rule.size(); ++q)
+            for (unsigned int i = 0; i < n; ++i)
+              m(i) += fe_values.shape_value(i, q) * fe_values.JxW(q);
+          cell->get_dof_indices(dofs);
+          hanging_node_constraints.distribute_local_to_global(m, dofs, lumped_mass);
+        }
+    lumped_mass.compress(VectorOperation::add);
+
+    // Conductivity shape matrices S_K = int K grad phi_j . grad phi_i: the
+    // conductivity of a cell only rescales them (assemble_cell_conductivities).
+    const QGauss<dim> quadrature(fe.degree + 1);
+    FEValues<dim>     gradients(fe, quadrature, update_gradients | update_JxW_values);
+    cell_shape_conductivity.assign(triangulation.n_active_cells(), LocalMatrix());
+    cell_conductivity.assign(triangulation.n_active_cells(), LocalMatrix());
+    cell_load.assign(triangulation.n_active_cells(), dealii::Vector<double>());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const Tensor<2, dim> K = materials[cell->material_id()].conductivity_shape;
+          gradients.reinit(cell);
+          LocalMatrix &S = cell_shape_conductivity[cell->active_cell_index()];
+          S.reinit(n, n);
+          for (unsigned int q = 0; q < quadrature.size(); ++q)
+            for (unsigned int i = 0; i < n; ++i)
+              {
+                const Tensor<1, dim> flux_i = K * gradients.shape_grad(i, q);
+                for (unsigned int j = 0; j < n; ++j)
+                  S(i, j) += flux_i * gradients.shape_grad(j, q) * gradients.JxW(q);
+              }
+        }
+
+    setup_nodal_enthalpy_laws();
+  }
+
+
+
+  // The enthalpy law of each node. With lumped mass the nodal enthalpy is the
+  // mass-weighted mixture of the laws of the bodies around the node; inside a body
+  // (and wherever neighbouring bodies share one law) that is just the body's law.
+  template <int dim>
+  void ThermalField<dim>::setup_nodal_enthalpy_laws()
+  {
+    laws.clear();
+    law_of_body.clear();
+    for (const unsigned int id : prm.body_ids)
+      {
+        const EnthalpyLaw &body_law = materials[id].enthalpy_law;
+        unsigned int       index    = 0;
+        while (index < laws.size() && !(laws[index] == body_law))
+          ++index;
+        if (index == laws.size())
+          laws.push_back(body_law);
+        law_of_body[id] = index;
+      }
+    const unsigned int n_distinct_body_laws = laws.size();
+    law_of_node.assign(relevant.n_elements(), law_of_body.at(prm.body_ids[0]));
+    if (n_distinct_body_laws == 1)
+      return;
+
+    // Mass of each distinct law around each node, then one mixed law per node
+    // that sees more than one.
+    std::vector<Vector> mass(n_distinct_body_laws), mass_ghosted(n_distinct_body_laws);
+    for (unsigned int l = 0; l < n_distinct_body_laws; ++l)
+      {
+        mass[l].reinit(owned, mpi_communicator);
+        mass_ghosted[l].reinit(owned, relevant, mpi_communicator);
+      }
+    std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          cell->get_dof_indices(dofs);
+          hanging_node_constraints.distribute_local_to_global(cell_mass[cell->active_cell_index()],
+                                                              dofs,
+                                                              mass[law_of_body.at(cell->material_id())]);
+        }
+    for (unsigned int l = 0; l < n_distinct_body_laws; ++l)
+      {
+        mass[l].compress(VectorOperation::add);
+        mass_ghosted[l] = mass[l];
+      }
+    for (const auto dof : relevant)
+      {
+        std::vector<std::pair<double, const EnthalpyLaw *>> terms;
+        double                                              total = 0;
+        for (unsigned int l = 0; l < n_distinct_body_laws; ++l)
+          total += mass_ghosted[l][dof];
+        for (unsigned int l = 0; l < n_distinct_body_laws; ++l)
+          if (mass_ghosted[l][dof] > 0)
+            terms.emplace_back(mass_ghosted[l][dof] / total, &laws[l]);
+        const unsigned int k = relevant.index_within_set(dof);
+        if (terms.size() == 1)
+          law_of_node[k] = terms[0].second - laws.data();
+        else if (terms.size() > 1)
+          {
+            laws.push_back(EnthalpyLaw::weighted_sum(terms));
+            law_of_node[k] = laws.size() - 1;
+          }
+        // A node without mass is a hanging node: constrained, its law unused.
+      }
+  }
+
+
+
+  template <int dim>
+  const EnthalpyLaw &ThermalField<dim>::law(const types::global_dof_index dof) const
+  {
+    return laws[law_of_node[relevant.index_within_set(dof)]];
+  }
+
+
+
+  template <int dim>
+  std::string ThermalField<dim>::describe() const
+  {
+    return "Thermal: " + std::to_string(dof_handler.n_dofs()) + " temperature DoFs in " +
+           std::to_string(prm.body_ids.size()) + " body(ies); " +
+           (phase_change_present() ?
+              "phase change on: primal-dual active set on the nodal phase states" :
+              "no phase change: the enthalpy step is one linear solve") +
+           "; conductivity " +
+           (materials.conductivity_depends_on_phase() ?
+              "depends on the phase (re-assembled each step)" :
+              "constant (assembled once)") +
+           "; heat load " + (functions.heat_load_present() ? "on" : "off (skipped)");
+  }
+
+
+
+  // Initial nodal temperature and enthalpy: from Theta (a node exactly at a
+  // transition temperature starts at the bottom of its plateau) or from H.
+  template <int dim>
+  void ThermalField<dim>::initialize(const double t0)
+  {
+    time               = t0;
+    first_step         = true;
+    Function<dim> &f   = functions.initial_condition();
+    f.set_time(t0);
+    Vector values(owned, mpi_communicator);
+    VectorTools::interpolate(dof_handler, f, values);
+    const bool from_temperature =
+      prm.initial_condition.variable == Parameters::InitialCondition::Variable::temperature;
+    for (const auto dof : owned)
+      enthalpy[dof] = from_temperature ? law(dof).enthalpy(values[dof]) : values[dof];
+    enthalpy.compress(VectorOperation::insert);
+    old_enthalpy = enthalpy;
+    set_nodal_state_from_enthalpy();
+    assemble_cell_conductivities();
+  }
+
+
+
+  template <int dim>
+  void ThermalField<dim>::begin_time_step(const double t, const double tau)
+  {
+    // Warm start of the active set: the phase states of the enthalpy
+    // extrapolated linearly from the last two steps (the previous step's states
+    // on the first step). A front moving at a steady speed then starts each step
+    // with the node it is about to reach already on its plateau, and the
+    // active-set iteration usually needs one solve.
+    if (!first_step && prm.solver.extrapolate_active_set)
+      {
+        const double ratio = tau / previous_time_step;
+        for (const auto dof : owned)
+          {
+            const double h_predicted = enthalpy[dof] + ratio * (enthalpy[dof] - old_enthalpy[dof]);
+            phase_state[dof]         = law(dof).state_of_enthalpy(h_predicted);
+          }
+        phase_state.compress(VectorOperation::insert);
+        phase_state_ghosted = phase_state;
+      }
+    first_step         = false;
+    previous_time_step = tau;
+    time               = t;
+    time_step          = tau;
+    old_enthalpy       = enthalpy;
+    if (materials.conductivity_depends_on_phase())
+      assemble_cell_conductivities();
+    assemble_heat_load();
+    make_dirichlet_constraints();
+  }
+
+
+
+  template <int dim>
+  std::vector<Vector *> ThermalField<dim>::primary_state()
+  {
+    return {&enthalpy, &old_enthalpy};
+  }
+
+
+
+  // After the primary state was restored on a new mesh (setup_dofs() first):
+  // hanging-node values from their parents, then Theta and the phase states
+  // from h (never interpolated: a state between 0 and 2 would read "plateau"),
+  // and the conductivity of the new cells.
+  template <int dim>
+  void ThermalField<dim>::after_transfer()
+  {
+    hanging_node_constraints.distribute(enthalpy);
+    hanging_node_constraints.distribute(old_enthalpy);
+    set_nodal_state_from_enthalpy();
+    assemble_cell_conductivities();
+  }
+
+
+
+  // The conductivity matrices A_K of all owned cells. Where the conductivity
+  // depends on the phase, a cell mixes its phases' conductivities with the phase
+  // fractions of its nodes at the previous time level (lagging keeps the step
+  // linear for a given active set; the scheme stays conservative because A_K is
+  // still symmetric with zero row sums). Since kappa_K = k_K * (the body's shape
+  // tensor), A_K = k_K * S_K with the shape matrix S_K of setup_dofs().
+  template <int dim>
+  void ThermalField<dim>::assemble_cell_conductivities()
+  {
+    TimerOutput::Scope                   t(timer, "assemble conductivity");
+    const unsigned int                   n = fe.n_dofs_per_cell();
+    std::vector<types::global_dof_index> dofs(n);
+    const bool                           mixed = materials.conductivity_depends_on_phase();
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const Material &material = materials[cell->material_id()];
+          double          k        = material.conductivity(0);
+          if (mixed)
+            {
+              // Average over the cell's nodes of sum_p w_p k_p, with w_p the share
+              // of phase p of this body's material at the node.
+              const EnthalpyLaw &body_law = laws[law_of_body.at(cell->material_id())];
+              cell->get_dof_indices(dofs);
+              k = 0;
+              for (unsigned int i = 0; i < n; ++i)
+                {
+                  const EnthalpyLaw &nodal = law(dofs[i]);
+                  const double       h     = enthalpy_ghosted[dofs[i]];
+                  double             below = 1; // share still below transition j
+                  for (unsigned int j = 0; j < body_law.n_transitions(); ++j)
+                    {
+                      const double through =
+                        nodal.fraction_through_temperature(body_law.transition_temperature(j), h);
+                      k += (below - through) * material.conductivity(j);
+                      below = through;
+                    }
+                  k += below * material.conductivity(body_law.n_transitions());
+                }
+              k /= n;
+            }
+          LocalMatrix &A = cell_conductivity[cell->active_cell_index()];
+          A              = cell_shape_conductivity[cell->active_cell_index()];
+          A *= k;
+        }
+  }
+
+
+
+  // F_K at the current time: volumetric sources and prescribed boundary fluxes;
+  // F is their (hanging-node condensed) sum. Skipped when the scene has none.
+  template <int dim>
+  void ThermalField<dim>::assemble_heat_load()
+  {
+    TimerOutput::Scope t_(timer, "assemble heat load");
+    heat_load = 0;
+    if (!functions.heat_load_present())
+      return;
+
+    const unsigned int    n = fe.n_dofs_per_cell();
+    const QGauss<dim>     quadrature(fe.degree + 1);
+    const QGauss<dim - 1> face_quadrature(fe.degree + 1);
+    FEValues<dim>         fe_values(fe, quadrature, update_values | update_quadrature_points | update_JxW_values);
+    FEFaceValues<dim>     fe_face_values(fe, face_quadrature,
+                                     update_values | update_quadrature_points | update_JxW_values);
+    std::vector<types::global_dof_index> dofs(n);
+    for (const unsigned int id : prm.body_ids)
+      functions.heat_source(id).set_time(time);
+    for (const auto &[id, bc] : prm.thermal_boundaries)
+      functions.thermal_boundary(id).set_time(time);
+
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          dealii::Vector<double> &F = cell_load[cell->active_cell_index()];
+          F.reinit(n);
+          fe_values.reinit(cell);
+          const Function<dim> &source = functions.heat_source(cell->material_id());
+          for (unsigned int q = 0; q < quadrature.size(); ++q)
+            {
+              const double Q = source.value(fe_values.quadrature_point(q));
+              for (unsigned int i = 0; i < n; ++i)
+                F(i) += Q * fe_values.shape_value(i, q) * fe_values.JxW(q);
+            }
+          for (const auto &face : cell->face_iterators())
+            if (face->at_boundary())
+              {
+                const auto bc = prm.thermal_boundaries.find(face->boundary_id());
+                if (bc == prm.thermal_boundaries.end() ||
+                    bc->second.type != Parameters::ThermalBoundary::Type::flux)
+                  continue;
+                fe_face_values.reinit(cell, face);
+                const Function<dim> &flux = functions.thermal_boundary(face->boundary_id());
+                for (unsigned int q = 0; q < face_quadrature.size(); ++q)
+                  {
+                    const double qn = flux.value(fe_face_values.quadrature_point(q));
+                    for (unsigned int i = 0; i < n; ++i)
+                      F(i) += qn * fe_face_values.shape_value(i, q) * fe_face_values.JxW(q);
+                  }
+              }
+          cell->get_dof_indices(dofs);
+          hanging_node_constraints.distribute_local_to_global(F, dofs, heat_load);
+        }
+    heat_load.compress(VectorOperation::add);
+  }
+
+
+
+  template <int dim>
+  void ThermalField<dim>::make_dirichlet_constraints()
+  {
+    dirichlet_constraints.clear();
+    dirichlet_constraints.reinit(relevant);
+    // Hanging nodes first: a hanging node on a Dirichlet boundary is still
+    // determined by its parents.
+    dirichlet_constraints.merge(hanging_node_constraints);
+    for (const auto &[id, bc] : prm.thermal_boundaries)
+      if (bc.type == Parameters::ThermalBoundary::Type::temperature)
+        {
+          Function<dim> &value = functions.thermal_boundary(id);
+          value.set_time(time);
+          VectorTools::interpolate_boundary_values(dof_handler, id, value, dirichlet_constraints);
+        }
+    dirichlet_constraints.close();
+  }
+
+
+
+  // Theta = beta(h) and the phase state of every owned node from its enthalpy,
+  // then the ghost exchange of all three.
+  template <int dim>
+  void ThermalField<dim>::set_nodal_state_from_enthalpy()
+  {
+    for (const auto dof : owned)
+      {
+        temperature[dof] = law(dof).temperature(enthalpy[dof]);
+        phase_state[dof] = law(dof).state_of_enthalpy(enthalpy[dof]);
+      }
+    temperature.compress(VectorOperation::insert);
+    phase_state.compress(VectorOperation::insert);
+    hanging_node_constraints.distribute(temperature);
+    temperature_ghosted = temperature;
+    enthalpy_ghosted    = enthalpy;
+    phase_state_ghosted = phase_state;
+  }
+
+
+
+  template <int dim>
+  double ThermalField<dim>::total_enthalpy() const
+  {
+    double E = 0;
+    for (const auto dof : owned)
+      if (!hanging_node_constraints.is_constrained(dof))
+        E += lumped_mass[dof] * enthalpy[dof];
+    return Utilities::MPI::sum(E, mpi_communicator);
+  }
+
+
+
+  template <int dim>
+  double ThermalField<dim>::liquid_area(const double transition_temperature) const
+  {
+    double area = 0;
+    for (const auto dof : owned)
+      if (!hanging_node_constraints.is_constrained(dof))
+        area += lumped_mass[dof] * law(dof).fraction_through_temperature(transition_temperature,
+                                                                          enthalpy[dof]);
+    return Utilities::MPI::sum(area, mpi_communicator);
+  }
+
+
+
+  // Melt area: lumped-mass weighted liquid fraction, i.e. the fraction through
+  // the last transition of each node's own law.
+  template <int dim>
+  double ThermalField<dim>::melt_area() const
+  {
+    double area = 0;
+    for (const auto dof : owned)
+      if (!hanging_node_constraints.is_constrained(dof))
+        area += lumped_mass[dof] * law(dof).liquid_fraction(enthalpy[dof]);
+    return Utilities::MPI::sum(area, mpi_communicator);
+  }
+
+
+
+  template <int dim>
+  void ThermalField<dim>::add_output(DataOut<dim> &data_out) const
+  {
+    Vector phase_index(owned, mpi_communicator), liquid(owned, mpi_communicator);
+    for (const auto dof : owned)
+      {
+        phase_index[dof] = law(dof).phase_index(enthalpy[dof]);
+        liquid[dof]      = law(dof).liquid_fraction(enthalpy[dof]);
+      }
+    phase_index.compress(VectorOperation::insert);
+    liquid.compress(VectorOperation::insert);
+    output_phase_index.reinit(owned, relevant, mpi_communicator);
+    output_liquid_fraction.reinit(owned, relevant, mpi_communicator);
+    output_phase_index     = phase_index;
+    output_liquid_fraction = liquid;
+    data_out.add_data_vector(dof_handler, temperature_ghosted, "temperature");
+    data_out.add_data_vector(dof_handler, enthalpy_ghosted, "enthalpy");
+    data_out.add_data_vector(dof_handler, output_phase_index, "phase_index");
+    data_out.add_data_vector(dof_handler, output_liquid_fraction, "liquid_fraction");
+  }
+
+
+
+  template class ThermalField<2>;
+} // namespace ContactStefan
