@@ -465,16 +465,19 @@ namespace ContactStefan
 
 
   // After the primary state was restored on a new mesh (setup_dofs() first):
-  // hanging-node values from their parents, then the derived contact state from
-  // u: multipliers from the residual, gaps from the displacement jump, and the
-  // active set by the same test as an iteration of solve() (so the next step is
-  // warm-started from it, never from interpolated 0/1 flags).
+  // hanging-node values from their parents; the data of the current time step
+  // on the new mesh (loads, prescribed displacements, gaps), so that solve() may
+  // follow; then the derived contact state from u: multipliers from the
+  // residual, gaps from the displacement jump, and the active set by the same
+  // test as an iteration of solve() (so the next solve is warm-started from it,
+  // never from interpolated 0/1 flags).
   template <int dim>
   void MechanicalField<dim>::after_transfer()
   {
     hanging_node_constraints.distribute(displacement);
     hanging_node_constraints.distribute(old_displacement);
     displacement_ghosted = displacement;
+    assemble_load();
     make_fixed_constraints();
     update_condition_gaps();
     Vector residual(owned, mpi_communicator);

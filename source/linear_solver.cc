@@ -41,6 +41,15 @@ namespace ContactStefan
 
 
 
+  void LinearSolver::clear()
+  {
+    matrix = nullptr;
+    direct.reset();
+    amg.clear();
+  }
+
+
+
   void LinearSolver::solve(Vector &x, const Vector &b)
   {
     if (matrix == nullptr)

@@ -267,6 +267,7 @@ namespace ContactStefan
       *v = 0.;
 
     SparsityTools::distribute_sparsity_pattern(dsp, owned, mpi_communicator, relevant);
+    linear_solver.clear();
     system_matrix.reinit(owned, owned, dsp, mpi_communicator);
   }
 

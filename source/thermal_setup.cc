@@ -6,6 +6,7 @@
 #include <deal.II/dofs/dof_tools.h>
 
 #include <deal.II/fe/fe_values.h>
+#include <deal.II/fe/mapping_q1.h>
 
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/sparsity_tools.h>
@@ -63,6 +64,7 @@ namespace ContactStefan
     DynamicSparsityPattern dsp(relevant);
     DoFTools::make_sparsity_pattern(dof_handler, dsp, hanging_node_constraints, true);
     SparsityTools::distribute_sparsity_pattern(dsp, owned, mpi_communicator, relevant);
+    linear_solver.clear();
     system_matrix.reinit(owned, owned, dsp, mpi_communicator);
 
     for (Vector *v : {&system_rhs, &temperature, &enthalpy, &old_enthalpy, &lumped_mass, &heat_load,
@@ -116,6 +118,8 @@ namespace ContactStefan
         }
 
     setup_nodal_enthalpy_laws();
+    support_points.clear();
+    DoFTools::map_dofs_to_support_points(MappingQ1<dim>(), dof_handler, support_points);
   }
 
 
@@ -279,7 +283,8 @@ namespace ContactStefan
   // After the primary state was restored on a new mesh (setup_dofs() first):
   // hanging-node values from their parents, then Theta and the phase states
   // from h (never interpolated: a state between 0 and 2 would read "plateau"),
-  // and the conductivity of the new cells.
+  // and the data of the current time step on the new mesh (conductivity lagged
+  // on h_old, heat load, Dirichlet constraints), so that solve() may follow.
   template <int dim>
   void ThermalField<dim>::after_transfer()
   {
@@ -287,13 +292,15 @@ namespace ContactStefan
     hanging_node_constraints.distribute(old_enthalpy);
     set_nodal_state_from_enthalpy();
     assemble_cell_conductivities();
+    assemble_heat_load();
+    make_dirichlet_constraints();
   }
 
 
 
   // The conductivity matrices A_K of all owned cells. Where the conductivity
   // depends on the phase, a cell mixes its phases' conductivities with the phase
-  // fractions of its nodes at the previous time level (lagging keeps the step
+  // fractions of its nodes at the previous time level, h_old (lagging keeps the step
   // linear for a given active set; the scheme stays conservative because A_K is
   // still symmetric with zero row sums). Since kappa_K = k_K * (the body's shape
   // tensor), A_K = k_K * S_K with the shape matrix S_K of setup_dofs().
@@ -304,6 +311,12 @@ namespace ContactStefan
     const unsigned int                   n = fe.n_dofs_per_cell();
     std::vector<types::global_dof_index> dofs(n);
     const bool                           mixed = materials.conductivity_depends_on_phase();
+    Vector                               h_old;
+    if (mixed)
+      {
+        h_old.reinit(owned, relevant, mpi_communicator);
+        h_old = old_enthalpy;
+      }
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
@@ -319,7 +332,7 @@ namespace ContactStefan
               for (unsigned int i = 0; i < n; ++i)
                 {
                   const EnthalpyLaw &nodal = law(dofs[i]);
-                  const double       h     = enthalpy_ghosted[dofs[i]];
+                  const double       h     = h_old[dofs[i]];
                   double             below = 1; // share still below transition j
                   for (unsigned int j = 0; j < body_law.n_transitions(); ++j)
                     {

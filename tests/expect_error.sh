@@ -3,9 +3,12 @@
 # print exactly one line to stderr containing EXPECTED, and write nothing else.
 binary=$1 scene=$2 expected=$3
 dir=$(mktemp -d) && cd "$dir" || exit 1
+trap 'rm -rf "$dir" "$TMPDIR"' EXIT
+# Its own Open MPI session directory (outside the checked directory): parallel
+# ctest runs must not race for one under /tmp.
+TMPDIR=$(mktemp -d) && export TMPDIR
 "$binary" "$scene" > stdout.txt 2> stderr.txt
 status=$?
-trap 'rm -rf "$dir"' EXIT
 if [ $status -ne 1 ]; then echo "exit code $status, expected 1"; cat stderr.txt; exit 1; fi
 if [ "$(wc -l < stderr.txt)" -ne 1 ]; then echo "stderr is not one line:"; cat stderr.txt; exit 1; fi
 if ! grep -qF -- "$expected" stderr.txt; then

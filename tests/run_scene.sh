@@ -17,6 +17,10 @@ set -u
 binary=$1 scene=$2 reference=$3 np=$4
 shift 4
 name=$(basename "$reference" .output)
+# Each test gets its own Open MPI session directory: parallel ctest runs must
+# not race for one under /tmp.
+TMPDIR=$(mktemp -d) && export TMPDIR
+trap 'rm -rf "$TMPDIR"' EXIT
 out=$name.out
 rm -rf "$name.dir" && mkdir -p "$name.dir" && cd "$name.dir" || exit 1
 cp "$scene" scene.prm

@@ -2,7 +2,7 @@
 // as often as needed. 'Solver/Linear solver' chooses a sparse direct solver
 // (Trilinos Amesos: the factorisation is computed in initialize()) or CG
 // preconditioned by ML algebraic multigrid (the hierarchy is built in
-// initialize()); both are warm-started from the x they are given.
+// initialize()); CG starts from the x it is given.
 #ifndef contact_stefan_linear_solver_h
 #define contact_stefan_linear_solver_h
 
@@ -34,6 +34,9 @@ namespace ContactStefan
     void initialize(const TrilinosWrappers::SparseMatrix &A);
     // Solve A x = b with the matrix of the last initialize().
     void solve(Vector &x, const Vector &b);
+    // Forget the matrix (its owner is about to reinit or destroy it): a solve()
+    // before the next initialize() is then an error, not a use of freed memory.
+    void clear();
     // Iterations of the last solve (1 for the direct solver).
     unsigned int last_iterations() const
     {

@@ -214,9 +214,9 @@ namespace ContactStefan
 
     std::vector<NormalCondition> normal_conditions;
     std::vector<std::string>     contact_groups;
-    // Conditions that can be imposed (imposed with every node active, the set
-    // of setup_dofs()), by (x DoF of side k, kind); and per group the owned
-    // conditions imposed by the last build_contact_constraints().
+    // The conditions imposed by the last build_contact_constraints(), by (x DoF
+    // of side k, kind), and per group the owned ones among them. setup_dofs()
+    // builds once with every node active: what can be imposed at all.
     std::set<std::pair<std::uint64_t, int>> imposed_conditions;
     std::map<std::string, unsigned int>     placed_per_group;
     std::map<std::string, unsigned int>     imposable_per_group; // with every node active

@@ -104,6 +104,11 @@ namespace ContactStefan
       return lumped_mass;
     }
     const EnthalpyLaw &law(const types::global_dof_index dof) const;
+    // Where each DoF of a locally owned cell sits (the nodes of the mesh).
+    const std::map<types::global_dof_index, Point<dim>> &get_support_points() const
+    {
+      return support_points;
+    }
     bool               phase_change_present() const
     {
       return materials.phase_change_present();
@@ -183,6 +188,7 @@ namespace ContactStefan
     // vertex weights m_K and the heat load F_K.
     std::vector<LocalMatrix>            cell_shape_conductivity, cell_conductivity;
     std::vector<dealii::Vector<double>> cell_mass, cell_load;
+    std::map<types::global_dof_index, Point<dim>> support_points;
 
     double time = 0, time_step = 0, previous_time_step = 0;
     bool   first_step = true; // no previous step to extrapolate from

@@ -1,0 +1,66 @@
+// Helpers of the field-level tests: a scene read from a parameter file, its mesh
+// and the objects a field needs, without CoupledProblem, so that each field can
+// be driven through its step contract alone.
+#ifndef contact_stefan_field_test_tools_h
+#define contact_stefan_field_test_tools_h
+
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/timer.h>
+
+#include <deal.II/distributed/tria.h>
+
+#include <contact-stefan/materials.h>
+#include <contact-stefan/mesh.h>
+#include <contact-stefan/parameters.h>
+#include <contact-stefan/scene_functions.h>
+
+#include <iostream>
+#include <memory>
+#include <string>
+
+namespace FieldTest
+{
+  using namespace ContactStefan;
+  using Vector = ContactStefan::Vector;
+
+  // Everything the fields share, for one parameter file. `adjust` may change the
+  // parameters after reading (e.g. the refinement level) and before use.
+  struct Scene
+  {
+    template <typename Adjust>
+    Scene(const std::string &filename, const Adjust &adjust)
+      : pcout(std::cout, false)
+      , timer(pcout, TimerOutput::never, TimerOutput::wall_times)
+      , triangulation(MPI_COMM_WORLD)
+    {
+      prm.read(filename);
+      adjust(prm);
+      materials = std::make_unique<Materials>(prm);
+      functions = std::make_unique<SceneFunctions<2>>(prm);
+      make_mesh(prm, triangulation);
+    }
+
+    AllParameters                           prm;
+    ConditionalOStream                      pcout;
+    TimerOutput                             timer;
+    parallel::distributed::Triangulation<2> triangulation;
+    std::unique_ptr<Materials>              materials;
+    std::unique_ptr<SceneFunctions<2>>      functions;
+  };
+
+  // max_i |a_i - b_i| over the owned entries, on every rank.
+  inline double max_difference(const Vector &a, const Vector &b)
+  {
+    double d = 0;
+    for (const auto i : a.locally_owned_elements())
+      d = std::max(d, std::abs(a[i] - b[i]));
+    return Utilities::MPI::max(d, MPI_COMM_WORLD);
+  }
+
+  inline double max_abs(const Vector &a)
+  {
+    return Utilities::MPI::max(a.linfty_norm(), MPI_COMM_WORLD);
+  }
+} // namespace FieldTest
+
+#endif
