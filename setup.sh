@@ -11,7 +11,8 @@ cd "$(dirname "$0")"
 packages="cmake make g++ libdeal.ii-dev numdiff openmpi-bin"
 missing=""
 for p in $packages; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" ||
+    missing="$missing $p"
 done
 if [ -n "$missing" ]; then
   echo "Installing:$missing"

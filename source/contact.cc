@@ -33,7 +33,8 @@ namespace ContactStefan
     {
       const double norm = std::sqrt(sum[0] * sum[0] + sum[1] * sum[1]);
       if (!(norm > 0))
-        throw std::runtime_error("a contact node has no well-defined normal (opposite faces cancel)");
+        throw std::runtime_error(
+          "a contact node has no well-defined normal (opposite faces cancel)");
       return {{sum[0] / norm, sum[1] / norm}};
     }
 

@@ -70,48 +70,47 @@ namespace ContactStefan
     placed_per_group.clear();
     imposed_conditions.clear();
     for (const auto &c : normal_conditions)
-        {
-          const bool is_interface = c.kind == NormalCondition::Kind::interface;
-          if (c.kind == NormalCondition::Kind::roller ||
-              (is_interface && prm.contact.interfaces == Parameters::Contact::Interfaces::tied))
-            continue;
-          const Vector &active = active_flags_ghosted(c);
-          if (active[c.dofs_k[0]] < 0.5)
-            continue;
-          // Candidates: side k's components by decreasing |n_c|, then the partner's.
-          std::vector<std::pair<unsigned int, bool>> candidates;
-          const unsigned int major = std::abs(c.normal[1]) > std::abs(c.normal[0]) ? 1 : 0;
-          for (const bool partner : {false, true})
-            if (!partner || c.has_partner)
-              for (const unsigned int comp : {major, 1 - major})
-                candidates.emplace_back(comp, partner);
-          bool placed = false;
-          for (const auto &[comp, partner] : candidates)
-            {
-              const auto target = partner ? c.dofs_l[comp] : c.dofs_k[comp];
-              if (c.normal[comp] == 0 || constraints.is_constrained(target))
-                continue;
-              const auto row = Contact::normal_constraint(c.dofs_k, c.has_partner ? &c.dofs_l : nullptr,
-                                                          c.normal, c.gap, comp, partner);
-              constraints.add_line(row.target);
-              for (const auto &[dof, coefficient] : row.entries)
-                constraints.add_entry(row.target, dof, coefficient);
-              constraints.set_inhomogeneity(row.target, row.inhomogeneity);
-              placed = true;
-              break;
-            }
-          n_skipped += !placed;
-          if (placed)
-            imposed_conditions.insert({c.dofs_k[0], static_cast<int>(c.kind)});
-          if (placed && owned.is_element(c.dofs_k[0]))
-            ++placed_per_group[c.group];
-        }
+      {
+        const bool is_interface = c.kind == NormalCondition::Kind::interface;
+        if (c.kind == NormalCondition::Kind::roller ||
+            (is_interface && prm.contact.interfaces == Parameters::Contact::Interfaces::tied))
+          continue;
+        const Vector &active = active_flags_ghosted(c);
+        if (active[c.dofs_k[0]] < 0.5)
+          continue;
+        // Candidates: side k's components by decreasing |n_c|, then the partner's.
+        std::vector<std::pair<unsigned int, bool>> candidates;
+        const unsigned int major = std::abs(c.normal[1]) > std::abs(c.normal[0]) ? 1 : 0;
+        for (const bool partner : {false, true})
+          if (!partner || c.has_partner)
+            for (const unsigned int comp : {major, 1 - major})
+              candidates.emplace_back(comp, partner);
+        bool placed = false;
+        for (const auto &[comp, partner] : candidates)
+          {
+            const auto target = partner ? c.dofs_l[comp] : c.dofs_k[comp];
+            if (c.normal[comp] == 0 || constraints.is_constrained(target))
+              continue;
+            const auto row = Contact::normal_constraint(
+              c.dofs_k, c.has_partner ? &c.dofs_l : nullptr, c.normal, c.gap, comp, partner);
+            constraints.add_line(row.target);
+            for (const auto &[dof, coefficient] : row.entries)
+              constraints.add_entry(row.target, dof, coefficient);
+            constraints.set_inhomogeneity(row.target, row.inhomogeneity);
+            placed = true;
+            break;
+          }
+        n_skipped += !placed;
+        if (placed)
+          imposed_conditions.insert({c.dofs_k[0], static_cast<int>(c.kind)});
+        if (placed && owned.is_element(c.dofs_k[0]))
+          ++placed_per_group[c.group];
+      }
     // A rank may see a constrained DoF (e.g. the parent of a hanging node) without
     // a cell at which it could build that DoF's contact condition: exchange the
     // constraint lines of locally relevant DoFs (deal.II: before close()).
     if (Utilities::MPI::n_mpi_processes(mpi_communicator) > 1)
-      constraints.make_consistent_in_parallel(owned, relevant,
-                                                         mpi_communicator);
+      constraints.make_consistent_in_parallel(owned, relevant, mpi_communicator);
     constraints.close();
   }
 
@@ -138,7 +137,7 @@ namespace ContactStefan
       if (m % 3 < 2)
         return d.component == m % 3 ? 1. : 0.;
       return d.component == 0 ? -(d.position[1] - c.first[1]) / c.second :
-                                (d.position[0] - c.first[0]) / c.second;
+                                         (d.position[0] - c.first[0]) / c.second;
     };
     std::vector<double> r(n_modes);
     for (const auto &[dof, info] : dof_info)
@@ -187,8 +186,8 @@ namespace ContactStefan
   void MechanicalField<dim>::assemble_system()
   {
     TimerOutput::Scope t(timer, "contact step: assemble");
-    system_matrix = 0;
-    system_rhs    = 0;
+    system_matrix     = 0;
+    system_rhs        = 0;
     const bool loaded = functions.mechanical_load_present();
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
@@ -200,8 +199,8 @@ namespace ContactStefan
           dealii::Vector<double> rhs(n);
           if (loaded)
             rhs = cell_load[index];
-          constraints.distribute_local_to_global(cell_stiffness[index], rhs, dofs, system_matrix,
-                                                 system_rhs);
+          constraints.distribute_local_to_global(
+            cell_stiffness[index], rhs, dofs, system_matrix, system_rhs);
         }
     system_matrix.compress(VectorOperation::add);
     system_rhs.compress(VectorOperation::add);
@@ -269,8 +268,8 @@ namespace ContactStefan
   template <int dim>
   bool MechanicalField<dim>::is_active(const NormalCondition &c) const
   {
-    return (c.kind == NormalCondition::Kind::interface ? interface_active : obstacle_active)[c.dofs_k[0]] >
-           0.5;
+    return (c.kind == NormalCondition::Kind::interface ? interface_active :
+                                                         obstacle_active)[c.dofs_k[0]] > 0.5;
   }
 
 
@@ -301,8 +300,8 @@ namespace ContactStefan
                                           double       &local_scale,
                                           double       &max_penetration) const
   {
-    using Kind      = NormalCondition::Kind;
-    const bool tied = prm.contact.interfaces == Parameters::Contact::Interfaces::tied;
+    using Kind                 = NormalCondition::Kind;
+    const bool            tied = prm.contact.interfaces == Parameters::Contact::Interfaces::tied;
     std::vector<Decision> decisions;
     local_scale = 0, max_penetration = 0;
     for (const auto &c : normal_conditions)
@@ -361,9 +360,10 @@ namespace ContactStefan
     for (unsigned int it = 1;; ++it)
       {
         if (it > prm.contact.max_iterations)
-          throw std::runtime_error("the contact step did not converge in 'Contact/Max iterations' = " +
-                                   std::to_string(prm.contact.max_iterations) +
-                                   " iterations at t = " + std::to_string(time));
+          throw std::runtime_error(
+            "the contact step did not converge in 'Contact/Max iterations' = " +
+            std::to_string(prm.contact.max_iterations) +
+            " iterations at t = " + std::to_string(time));
         unsigned int skipped = 0;
         build_contact_constraints(skipped);
         check_rigid_body_modes();
@@ -372,8 +372,8 @@ namespace ContactStefan
         apply_stiffness(displacement_ghosted, residual, true);
         report.iterations = it;
 
-        double     local_scale, max_penetration;
-        const auto decisions = contact_decisions(residual, local_scale, max_penetration);
+        double       local_scale, max_penetration;
+        const auto   decisions = contact_decisions(residual, local_scale, max_penetration);
         const double tolerance =
           prm.contact.tolerance * Utilities::MPI::max(local_scale, mpi_communicator);
 
@@ -406,8 +406,8 @@ namespace ContactStefan
           }
         obstacle_active.compress(VectorOperation::insert);
         interface_active.compress(VectorOperation::insert);
-        obstacle_active_ghosted  = obstacle_active;
-        interface_active_ghosted = interface_active;
+        obstacle_active_ghosted    = obstacle_active;
+        interface_active_ghosted   = interface_active;
         const unsigned int changes = Utilities::MPI::sum(local_changes, mpi_communicator);
         report.active_nodes        = Utilities::MPI::sum(local_active, mpi_communicator);
         report.changes += changes;
@@ -418,8 +418,9 @@ namespace ContactStefan
                 << " changes, max penetration "
                 << Utilities::MPI::max(max_penetration, mpi_communicator) << ", min active lambda "
                 << Utilities::MPI::min(local_min_lambda, mpi_communicator)
-                << (skipped > 0 ? ", " + std::to_string(skipped) + " conditions without a free DoF" :
-                                  "")
+                << (skipped > 0 ?
+                      ", " + std::to_string(skipped) + " conditions without a free DoF" :
+                      "")
                 << std::endl;
 
         if (changes == 0)
@@ -432,26 +433,27 @@ namespace ContactStefan
                 const bool   active = is_active(*dec.c);
                 const double c_full = dec.c_eff / complementarity_scale;
                 local_violation = std::max(local_violation, active ? -dec.lambda : c_full * dec.d);
-                local_size      = std::max(local_size, std::abs(dec.lambda) + c_full * std::abs(dec.d));
+                local_size = std::max(local_size, std::abs(dec.lambda) + c_full * std::abs(dec.d));
               }
             const double violation = Utilities::MPI::max(local_violation, mpi_communicator);
             if (violation >
                 10 * prm.contact.tolerance * Utilities::MPI::max(local_size, mpi_communicator))
-              throw std::runtime_error("the contact step converged to a set that violates the contact "
-                                       "conditions by " +
-                                       std::to_string(violation) + " (force units) at t = " +
-                                       std::to_string(time) + "; see 'Contact/Complementarity constant'");
+              throw std::runtime_error(
+                "the contact step converged to a set that violates the contact "
+                "conditions by " +
+                std::to_string(violation) + " (force units) at t = " + std::to_string(time) +
+                "; see 'Contact/Complementarity constant'");
             store_contact_output(decisions, report);
             break;
           }
         if (++seen_sets[set_hash] > prm.contact.max_set_repetitions)
           {
             if (report.c_reductions == prm.contact.max_c_reductions)
-              throw std::runtime_error("the contact active set keeps cycling at t = " +
-                                       std::to_string(time) + " after " +
-                                       std::to_string(report.c_reductions) +
-                                       " reductions of the complementarity constant "
-                                       "('Contact/Max c reductions')");
+              throw std::runtime_error(
+                "the contact active set keeps cycling at t = " + std::to_string(time) + " after " +
+                std::to_string(report.c_reductions) +
+                " reductions of the complementarity constant "
+                "('Contact/Max c reductions')");
             complementarity_scale /= 10;
             ++report.c_reductions;
             seen_sets.clear();
@@ -483,9 +485,10 @@ namespace ContactStefan
     Vector residual(owned, mpi_communicator);
     apply_stiffness(displacement_ghosted, residual, true);
     complementarity_scale = 1;
-    double     local_scale, max_penetration;
-    const auto decisions = contact_decisions(residual, local_scale, max_penetration);
-    const double tolerance = prm.contact.tolerance * Utilities::MPI::max(local_scale, mpi_communicator);
+    double       local_scale, max_penetration;
+    const auto   decisions = contact_decisions(residual, local_scale, max_penetration);
+    const double tolerance =
+      prm.contact.tolerance * Utilities::MPI::max(local_scale, mpi_communicator);
     for (Vector *v : {&obstacle_active, &interface_active})
       *v = 0.;
     for (const auto &dec : decisions)

@@ -15,22 +15,29 @@
 namespace ContactStefan
 {
   template <int dim>
-  CoupledProblem<dim>::CoupledProblem(const AllParameters &parameters, const MPI_Comm mpi_communicator)
+  CoupledProblem<dim>::CoupledProblem(const AllParameters &parameters,
+                                      const MPI_Comm       mpi_communicator)
     : prm(parameters)
     , pcout(std::cout, Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
     , timer(pcout, TimerOutput::never, TimerOutput::wall_times)
     , triangulation(mpi_communicator)
     , materials(parameters)
     , functions(parameters)
-    , postprocessor(std::make_unique<Postprocessor<dim>>(prm, materials, functions, triangulation, timer, pcout))
+    , postprocessor(std::make_unique<Postprocessor<dim>>(prm,
+                                                         materials,
+                                                         functions,
+                                                         triangulation,
+                                                         timer,
+                                                         pcout))
     , time(parameters.time.start_time)
   {
     assert_two_dimensional<dim>();
     if (prm.physics.thermal)
-      thermal = std::make_unique<ThermalField<dim>>(prm, materials, functions, triangulation, timer, pcout);
+      thermal =
+        std::make_unique<ThermalField<dim>>(prm, materials, functions, triangulation, timer, pcout);
     if (prm.physics.mechanics)
-      mechanical =
-        std::make_unique<MechanicalField<dim>>(prm, materials, functions, triangulation, timer, pcout);
+      mechanical = std::make_unique<MechanicalField<dim>>(
+        prm, materials, functions, triangulation, timer, pcout);
     postprocessor->attach(thermal.get(), mechanical.get());
   }
 
@@ -58,7 +65,8 @@ namespace ContactStefan
       }
     pcout << "Mesh: " << triangulation.n_global_active_cells() << " cells on "
           << Utilities::MPI::n_mpi_processes(triangulation.get_communicator()) << " MPI rank(s)\n"
-          << (thermal ? thermal->describe() : "Thermal: off (no enthalpy step, no temperature DoFs)")
+          << (thermal ? thermal->describe() :
+                        "Thermal: off (no enthalpy step, no temperature DoFs)")
           << '\n'
           << (mechanical ? mechanical->describe() :
                            "Mechanics: off (no contact step, no displacement DoFs)")
@@ -82,11 +90,17 @@ namespace ContactStefan
         if (mechanical)
           mechanical->begin_time_step(time, time_step);
         // Contact step (doc/model.md §2, step 1), then the enthalpy step (step 2).
-        const ContactStepReport  contact_report = mechanical ? mechanical->solve() : ContactStepReport();
+        const ContactStepReport contact_report =
+          mechanical ? mechanical->solve() : ContactStepReport();
         const EnthalpyStepReport thermal_report = thermal ? thermal->solve() : EnthalpyStepReport();
 
-        postprocessor->end_step(step_number, time, time_step, time >= end, thermal_report,
-                                contact_report, wall_clock.wall_time());
+        postprocessor->end_step(step_number,
+                                time,
+                                time_step,
+                                time >= end,
+                                thermal_report,
+                                contact_report,
+                                wall_clock.wall_time());
         print_step_line(thermal_report, contact_report);
       }
 
@@ -106,15 +120,29 @@ namespace ContactStefan
     const double done    = (time - prm.time.start_time) / (prm.time.end_time - prm.time.start_time);
     const double elapsed = wall_clock.wall_time();
     char         line[256];
-    int          length = std::snprintf(line, sizeof(line), "Step %5u  t = %.5e  tau = %.3e  %5.1f%%",
-                               step_number, time, time_step, 100 * done);
+    int          length = std::snprintf(line,
+                               sizeof(line),
+                               "Step %5u  t = %.5e  tau = %.3e  %5.1f%%",
+                               step_number,
+                               time,
+                               time_step,
+                               100 * done);
     if (mechanical)
-      length += std::snprintf(line + length, sizeof(line) - length, "  contact %2u (%u active)",
-                              contact_report.iterations, contact_report.active_nodes);
+      length += std::snprintf(line + length,
+                              sizeof(line) - length,
+                              "  contact %2u (%u active)",
+                              contact_report.iterations,
+                              contact_report.active_nodes);
     if (thermal)
-      length += std::snprintf(line + length, sizeof(line) - length, "  active set %2u  plateau %6u",
-                              thermal_report.active_set_iterations, thermal_report.plateau_nodes);
-    std::snprintf(line + length, sizeof(line) - length, "  wall %7.2f s  left ~%7.2f s", elapsed,
+      length += std::snprintf(line + length,
+                              sizeof(line) - length,
+                              "  active set %2u  plateau %6u",
+                              thermal_report.active_set_iterations,
+                              thermal_report.plateau_nodes);
+    std::snprintf(line + length,
+                  sizeof(line) - length,
+                  "  wall %7.2f s  left ~%7.2f s",
+                  elapsed,
                   elapsed * (1 - done) / done);
     pcout << line << std::endl;
   }

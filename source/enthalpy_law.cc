@@ -48,7 +48,7 @@ namespace ContactStefan
     for (unsigned int j = 0; j < n; ++j)
       {
         h_minus[j] = offsets[j] + capacities[j] * temperatures[j];
-        h_plus[j] = h_minus[j] + latent_heats[j];
+        h_plus[j]  = h_minus[j] + latent_heats[j];
         // Branch j+1 starts at the top of plateau j.
         offsets[j + 1] = h_plus[j] - capacities[j + 1] * temperatures[j];
       }
@@ -84,7 +84,8 @@ namespace ContactStefan
       {
         for (unsigned int j = 0; j < law->n_transitions(); ++j)
           {
-            const auto k = std::lower_bound(sum.temperatures.begin(), sum.temperatures.end(),
+            const auto k = std::lower_bound(sum.temperatures.begin(),
+                                            sum.temperatures.end(),
                                             law->temperatures[j]) -
                            sum.temperatures.begin();
             sum.latent_heats[k] += w * law->latent_heats[j];
@@ -93,7 +94,7 @@ namespace ContactStefan
         // the capacity of the phase that law is in on that interval.
         for (unsigned int p = 0; p <= n; ++p)
           {
-            const double below = (p < n ? sum.temperatures[p] : HUGE_VAL);
+            const double       below = (p < n ? sum.temperatures[p] : HUGE_VAL);
             const unsigned int phase =
               std::lower_bound(law->temperatures.begin(), law->temperatures.end(), below) -
               law->temperatures.begin();

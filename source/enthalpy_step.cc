@@ -23,8 +23,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <functional>
+#include <limits>
 
 namespace ContactStefan
 {
@@ -37,10 +37,10 @@ namespace ContactStefan
   template <int dim>
   void ThermalField<dim>::assemble_system(const bool assemble_matrix)
   {
-    TimerOutput::Scope t(timer, "enthalpy step: assemble");
-    const unsigned int n = fe.n_dofs_per_cell();
-    LocalMatrix        local_matrix(n, n);
-    dealii::Vector<double> local_rhs(n);
+    TimerOutput::Scope                   t(timer, "enthalpy step: assemble");
+    const unsigned int                   n = fe.n_dofs_per_cell();
+    LocalMatrix                          local_matrix(n, n);
+    dealii::Vector<double>               local_rhs(n);
     std::vector<types::global_dof_index> dofs(n);
     if (assemble_matrix)
       system_matrix = 0;
@@ -56,8 +56,8 @@ namespace ContactStefan
           for (unsigned int i = 0; i < n; ++i)
             local_rhs(i) = functions.heat_load_present() ? time_step * cell_load[c](i) : 0.;
           if (assemble_matrix)
-            constraints.distribute_local_to_global(local_matrix, local_rhs, dofs,
-                                                   system_matrix, system_rhs);
+            constraints.distribute_local_to_global(
+              local_matrix, local_rhs, dofs, system_matrix, system_rhs);
           else
             constraints.distribute_local_to_global(local_rhs, dofs, system_rhs, local_matrix);
         }
@@ -84,8 +84,8 @@ namespace ContactStefan
   // against which its round-off is measured.
   template <int dim>
   void ThermalField<dim>::apply_conductivity(const Vector &theta,
-                                                          Vector       &result,
-                                                          const bool    absolute) const
+                                             Vector       &result,
+                                             const bool    absolute) const
   {
     const unsigned int                   n = fe.n_dofs_per_cell();
     std::vector<types::global_dof_index> dofs(n);
@@ -170,8 +170,8 @@ namespace ContactStefan
         if (dirichlet_constraints.is_constrained(dof))
           h_new[dof] = law(dof).enthalpy(theta);
         else if (const LinearPiece p = piece_of(dof); p.fixed)
-          h_new[dof] = old_enthalpy[dof] +
-                       time_step * (heat_load[dof] - A_theta[dof]) / lumped_mass[dof];
+          h_new[dof] =
+            old_enthalpy[dof] + time_step * (heat_load[dof] - A_theta[dof]) / lumped_mass[dof];
         else
           h_new[dof] = p.offset + p.capacity * theta;
       }
@@ -196,7 +196,7 @@ namespace ContactStefan
   unsigned int ThermalField<dim>::relaxation_fallback()
   {
     TimerOutput::Scope t(timer, "enthalpy step: relaxation");
-    const double fraction = prm.solver.relaxation_parameter_fraction;
+    const double       fraction = prm.solver.relaxation_parameter_fraction;
     constraints.clear();
     constraints.reinit(relevant);
     constraints.merge(dirichlet_constraints);
@@ -222,9 +222,9 @@ namespace ContactStefan
         for (const auto dof : owned)
           {
             const EnthalpyLaw &l = law(dof);
-            enthalpy[dof] = dirichlet_constraints.is_constrained(dof) ?
-                              l.enthalpy(temperature[dof]) :
-                              enthalpy[dof] + nodal_diagonal[dof] *
+            enthalpy[dof]        = dirichlet_constraints.is_constrained(dof) ?
+                                     l.enthalpy(temperature[dof]) :
+                                     enthalpy[dof] + nodal_diagonal[dof] *
                                                 (temperature[dof] - l.temperature(enthalpy[dof]));
           }
         enthalpy.compress(VectorOperation::insert);
@@ -239,9 +239,11 @@ namespace ContactStefan
           if (!dirichlet_constraints.is_constrained(dof))
             {
               const double stored = lumped_mass[dof] * (enthalpy[dof] - old_enthalpy[dof]);
-              residual = std::max(residual, std::abs(stored + time_step * (A_theta[dof] - heat_load[dof])));
-              scale    = std::max(scale, std::abs(stored) + time_step * (std::abs(heat_load[dof]) +
-                                                                      A_abs_theta[dof]));
+              residual =
+                std::max(residual, std::abs(stored + time_step * (A_theta[dof] - heat_load[dof])));
+              scale = std::max(scale,
+                               std::abs(stored) +
+                                 time_step * (std::abs(heat_load[dof]) + A_abs_theta[dof]));
             }
         residual = Utilities::MPI::max(residual, mpi_communicator);
         scale    = Utilities::MPI::max(scale, mpi_communicator);
@@ -287,25 +289,26 @@ namespace ContactStefan
             // h in H([Theta - e, Theta + e]) with e the round-off of Theta: at a
             // kink a temperature 1e-18 below the transition is on the plateau.
             const double theta = temperature[dof];
-            const double e     = round_off_factor * std::numeric_limits<double>::epsilon() * (1 + std::abs(theta));
+            const double e =
+              round_off_factor * std::numeric_limits<double>::epsilon() * (1 + std::abs(theta));
             const std::pair<double, double> range{law(dof).enthalpy_range(theta - e).first,
                                                   law(dof).enthalpy_range(theta + e).second};
             const double slack = round_off_factor * std::numeric_limits<double>::epsilon() *
                                  (1 + std::abs(range.first) + std::abs(range.second));
-            const bool outside = (enthalpy[dof] < range.first - slack ||
-                                  enthalpy[dof] > range.second + slack);
+            const bool outside =
+              (enthalpy[dof] < range.first - slack || enthalpy[dof] > range.second + slack);
             if (outside && prm.output.verbosity >= 2)
               std::cout << "      node " << dof << ": h = " << enthalpy[dof] << " outside ["
-                        << range.first << ", " << range.second << "] of Theta = " << temperature[dof]
-                        << std::endl;
+                        << range.first << ", " << range.second
+                        << "] of Theta = " << temperature[dof] << std::endl;
             inconsistent_nodes += outside;
           }
         else
           scale += std::abs(r);
         scale += std::abs(stored) + time_step * (std::abs(heat_load[dof]) + A_abs_theta[dof]);
       }
-    free_sum = Utilities::MPI::sum(free_sum, mpi_communicator);
-    scale    = Utilities::MPI::sum(scale, mpi_communicator);
+    free_sum     = Utilities::MPI::sum(free_sum, mpi_communicator);
+    scale        = Utilities::MPI::sum(scale, mpi_communicator);
     inconsistent = Utilities::MPI::sum(inconsistent_nodes, mpi_communicator);
     return scale > 0 ? std::abs(free_sum) / scale : 0.;
   }
@@ -360,7 +363,8 @@ namespace ContactStefan
           if (is_free(dof))
             local_inconsistent += (law(dof).state_of_enthalpy(h_new[dof]) !=
                                    static_cast<unsigned int>(phase_state[dof]));
-        const bool target_consistent = Utilities::MPI::sum(local_inconsistent, mpi_communicator) == 0;
+        const bool target_consistent =
+          Utilities::MPI::sum(local_inconsistent, mpi_communicator) == 0;
         // A Newton step that moves no enthalpy beyond round-off ends the
         // iteration even if states flip: that happens where the solution sits
         // exactly on a kink of H (e.g. an equilibrium at a transition
@@ -391,11 +395,12 @@ namespace ContactStefan
                   local[2] += d * (-z[dof] - temperature[dof]);
                 }
             double global[3];
-            Utilities::MPI::sum(ArrayView<const double>(local, 3), mpi_communicator,
+            Utilities::MPI::sum(ArrayView<const double>(local, 3),
+                                mpi_communicator,
                                 ArrayView<double>(global, 3));
             // Armijo: E(alpha) - E(0) <= sigma alpha slope, up to the round-off of
             // the terms that make up the difference.
-            const double round_off = round_off_factor * std::numeric_limits<double>::epsilon();
+            const double round_off    = round_off_factor * std::numeric_limits<double>::epsilon();
             const auto   armijo_holds = [&](const double a) {
               double psi[2] = {0, 0}; // sum m (Psi(h + a d) - Psi(h)), sum m (|..| + |..|)
               for (const auto dof : owned)
@@ -409,7 +414,8 @@ namespace ContactStefan
                     psi[1] += lumped_mass[dof] * (std::abs(after) + std::abs(before));
                   }
               double sums[2];
-              Utilities::MPI::sum(ArrayView<const double>(psi, 2), mpi_communicator,
+              Utilities::MPI::sum(ArrayView<const double>(psi, 2),
+                                  mpi_communicator,
                                   ArrayView<double>(sums, 2));
               const double linear = a * global[1], quadratic = 0.5 * a * a * global[2];
               return linear + quadratic + sums[0] <=
@@ -423,11 +429,11 @@ namespace ContactStefan
         unsigned int local_changes = 0;
         for (const auto dof : owned)
           {
-            z[dof]        = (1 - alpha) * z[dof] - alpha * temperature[dof];
-            enthalpy[dof] = enthalpy[dof] + alpha * (h_new[dof] - enthalpy[dof]);
-            const unsigned int state =
-              is_free(dof) ? law(dof).state_of_enthalpy(enthalpy[dof]) :
-                             law(dof).state_of_temperature(temperature[dof]);
+            z[dof]                   = (1 - alpha) * z[dof] - alpha * temperature[dof];
+            enthalpy[dof]            = enthalpy[dof] + alpha * (h_new[dof] - enthalpy[dof]);
+            const unsigned int state = is_free(dof) ?
+                                         law(dof).state_of_enthalpy(enthalpy[dof]) :
+                                         law(dof).state_of_temperature(temperature[dof]);
             if (state != static_cast<unsigned int>(phase_state[dof]))
               {
                 phase_state[dof] = state;
@@ -438,8 +444,8 @@ namespace ContactStefan
         z.compress(VectorOperation::insert);
         enthalpy.compress(VectorOperation::insert);
         phase_state.compress(VectorOperation::insert);
-        enthalpy_ghosted    = enthalpy;
-        phase_state_ghosted = phase_state;
+        enthalpy_ghosted             = enthalpy;
+        phase_state_ghosted          = phase_state;
         const unsigned int n_changes = Utilities::MPI::sum(local_changes, mpi_communicator);
         report.state_changes += n_changes;
         report.damped_steps += (alpha < 1);

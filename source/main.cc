@@ -11,31 +11,30 @@
 
 namespace
 {
-  const char *usage =
-    "Usage: contact-stefan [options] scene.prm\n"
-    "       mpirun -np N contact-stefan scene.prm\n"
-    "\n"
-    "Runs the scene described by the parameter file scene.prm (deal.II\n"
-    "ParameterHandler format; see prm/ for examples and doc/parameters.prm for\n"
-    "every parameter with its default and documentation).\n"
-    "\n"
-    "Options:\n"
-    "  -h, --help                 this text\n"
-    "  -p, --print-parameters     print every parameter with its default and\n"
-    "                             documentation, in .prm format, and exit\n"
-    "  -c, --check                read and check scene.prm, then exit\n"
-    "\n"
-    "A run writes VTU/PVD files and a statistics table into 'Output/Directory';\n"
-    "runs with an exact solution end with 'RESULT <name> = <value>' lines.\n"
-    "Errors in the input stop the run before any work with one line naming the\n"
-    "parameter and the reason, and exit code 1.\n";
+  const char *usage = "Usage: contact-stefan [options] scene.prm\n"
+                      "       mpirun -np N contact-stefan scene.prm\n"
+                      "\n"
+                      "Runs the scene described by the parameter file scene.prm (deal.II\n"
+                      "ParameterHandler format; see prm/ for examples and doc/parameters.prm for\n"
+                      "every parameter with its default and documentation).\n"
+                      "\n"
+                      "Options:\n"
+                      "  -h, --help                 this text\n"
+                      "  -p, --print-parameters     print every parameter with its default and\n"
+                      "                             documentation, in .prm format, and exit\n"
+                      "  -c, --check                read and check scene.prm, then exit\n"
+                      "\n"
+                      "A run writes VTU/PVD files and a statistics table into 'Output/Directory';\n"
+                      "runs with an exact solution end with 'RESULT <name> = <value>' lines.\n"
+                      "Errors in the input stop the run before any work with one line naming the\n"
+                      "parameter and the reason, and exit code 1.\n";
 }
 
 int main(int argc, char *argv[])
 {
   using namespace ContactStefan;
   Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
-  const bool root = Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
+  const bool                       root = Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
 
   std::string filename;
   bool        check_only = false;
@@ -111,7 +110,8 @@ int main(int argc, char *argv[])
       // parallel run is aborted.
       if (Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1)
         {
-          std::cerr << "contact-stefan: error (rank " << Utilities::MPI::this_mpi_process(MPI_COMM_WORLD)
+          std::cerr << "contact-stefan: error (rank "
+                    << Utilities::MPI::this_mpi_process(MPI_COMM_WORLD)
                     << "): " << one_line(e.what()) << std::endl;
           MPI_Abort(MPI_COMM_WORLD, 2);
         }

@@ -22,9 +22,9 @@ namespace ContactStefan
         return C;
       }
     const double E = m.youngs_modulus, nu = m.poisson_ratio;
-    const double lambda = m.elasticity == Elasticity::lame ? m.lame_lambda :
-                                                             E * nu / ((1 + nu) * (1 - 2 * nu));
-    const double mu     = m.elasticity == Elasticity::lame ? m.lame_mu : E / (2 * (1 + nu));
+    const double lambda =
+      m.elasticity == Elasticity::lame ? m.lame_lambda : E * nu / ((1 + nu) * (1 - 2 * nu));
+    const double mu = m.elasticity == Elasticity::lame ? m.lame_mu : E / (2 * (1 + nu));
     for (unsigned int i = 0; i < 2; ++i)
       for (unsigned int j = i; j < 2; ++j)
         for (unsigned int k = 0; k < 2; ++k)
@@ -82,8 +82,9 @@ namespace ContactStefan
     conductivity_shape[1][1]                            = m.anisotropy[2];
     // One value means the same in every phase.
     const unsigned int n_phases = enthalpy_law.n_transitions() + 1;
-    conductivities = m.conductivities.size() == 1 ? std::vector<double>(n_phases, m.conductivities[0]) :
-                                                    m.conductivities;
+    conductivities              = m.conductivities.size() == 1 ?
+                                    std::vector<double>(n_phases, m.conductivities[0]) :
+                                    m.conductivities;
   }
 
 
@@ -142,7 +143,7 @@ namespace ContactStefan
         rho_L.push_back(law.latent_heat(j));
         T.push_back(law.transition_temperature(j));
       }
-    return NeumannSolution(k, c, T, rho_L, prm.exact_solution.hot_temperature,
-                           prm.exact_solution.cold_temperature);
+    return NeumannSolution(
+      k, c, T, rho_L, prm.exact_solution.hot_temperature, prm.exact_solution.cold_temperature);
   }
 } // namespace ContactStefan

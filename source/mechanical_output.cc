@@ -16,13 +16,14 @@ namespace ContactStefan
     class StressPostprocessor : public DataPostprocessor<dim>
     {
     public:
-      StressPostprocessor(const Materials &materials, const std::map<unsigned int, unsigned int> &slots)
+      StressPostprocessor(const Materials                            &materials,
+                          const std::map<unsigned int, unsigned int> &slots)
         : materials(materials)
         , slot_of_body(slots)
       {}
 
       void evaluate_vector_field(const DataPostprocessorInputs::Vector<dim> &inputs,
-                                 std::vector<dealii::Vector<double>>        &computed) const override
+                                 std::vector<dealii::Vector<double>> &computed) const override
       {
         const auto         cell = inputs.template get_cell<dim>();
         const Material    &m    = materials[cell->material_id()];
@@ -43,9 +44,10 @@ namespace ContactStefan
             computed[q](2) = sxx;
             computed[q](3) = syy;
             computed[q](4) = sxy;
-            computed[q](5) = std::sqrt(
-              0.5 * ((sxx - syy) * (sxx - syy) + (syy - szz) * (syy - szz) + (szz - sxx) * (szz - sxx)) +
-              3 * sxy * sxy);
+            computed[q](5) =
+              std::sqrt(0.5 * ((sxx - syy) * (sxx - syy) + (syy - szz) * (syy - szz) +
+                               (szz - sxx) * (szz - sxx)) +
+                        3 * sxy * sxy);
           }
       }
       std::vector<std::string> get_names() const override
@@ -81,7 +83,7 @@ namespace ContactStefan
         , n_slots(n_slots)
       {}
       void evaluate_vector_field(const DataPostprocessorInputs::Vector<dim> &inputs,
-                                 std::vector<dealii::Vector<double>>        &computed) const override
+                                 std::vector<dealii::Vector<double>> &computed) const override
       {
         for (unsigned int q = 0; q < computed.size(); ++q)
           {
@@ -103,7 +105,8 @@ namespace ContactStefan
   {
     const unsigned int n_slots = prm.body_ids.size();
     output_postprocessors.clear();
-    output_postprocessors.push_back(std::make_unique<StressPostprocessor<dim>>(materials, slot_of_body));
+    output_postprocessors.push_back(
+      std::make_unique<StressPostprocessor<dim>>(materials, slot_of_body));
     output_postprocessors.push_back(std::make_unique<SlotSum<dim>>("contact_pressure", n_slots));
     output_postprocessors.push_back(std::make_unique<SlotSum<dim>>("contact_gap", n_slots));
     output_pressure.reinit(owned, relevant, mpi_communicator);

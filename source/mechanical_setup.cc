@@ -36,6 +36,13 @@ namespace ContactStefan
 {
   namespace
   {
+    // The name of the group of nodes of an obstacle (or roller) boundary, as it
+    // appears in the output ("interface k-l" for interfaces).
+    std::string boundary_group(const unsigned int id)
+    {
+      return "boundary " + std::to_string(id);
+    }
+
     // A two-component function of x, y, t replicated into every body's slot of
     // components (the hp element has n_slots * dim components).
     template <int dim>
@@ -78,12 +85,13 @@ namespace ContactStefan
 
 
   template <int dim>
-  MechanicalField<dim>::MechanicalField(const AllParameters                             &prm,
-                                        const Materials                                 &materials,
-                                        SceneFunctions<dim>                             &functions,
-                                        const parallel::distributed::Triangulation<dim> &triangulation,
-                                        TimerOutput                                     &timer,
-                                        const ConditionalOStream                        &pcout)
+  MechanicalField<dim>::MechanicalField(
+    const AllParameters                             &prm,
+    const Materials                                 &materials,
+    SceneFunctions<dim>                             &functions,
+    const parallel::distributed::Triangulation<dim> &triangulation,
+    TimerOutput                                     &timer,
+    const ConditionalOStream                        &pcout)
     : prm(prm)
     , materials(materials)
     , functions(functions)
@@ -134,11 +142,19 @@ namespace ContactStefan
     DoFTools::make_hanging_node_constraints(dof_handler, hanging_node_constraints);
     hanging_node_constraints.close();
 
-    for (Vector *v : {&system_rhs, &load, &displacement, &old_displacement, &obstacle_active,
-                      &interface_active, &pressure, &gap})
+    for (Vector *v : {&system_rhs,
+                      &load,
+                      &displacement,
+                      &old_displacement,
+                      &obstacle_active,
+                      &interface_active,
+                      &pressure,
+                      &gap})
       v->reinit(owned, mpi_communicator);
-    for (Vector *v :
-         {&displacement_ghosted, &obstacle_active_ghosted, &interface_active_ghosted, &stiffness_diagonal})
+    for (Vector *v : {&displacement_ghosted,
+                      &obstacle_active_ghosted,
+                      &interface_active_ghosted,
+                      &stiffness_diagonal})
       v->reinit(owned, relevant, mpi_communicator);
     cell_load.assign(triangulation.n_active_cells(), dealii::Vector<double>());
 
@@ -252,18 +268,20 @@ namespace ContactStefan
     unsigned int skipped     = 0;
     build_contact_constraints(skipped);
     imposable_per_group = placed_per_group;
-    const bool   tied   = prm.contact.interfaces == Parameters::Contact::Interfaces::tied;
+    const bool tied     = prm.contact.interfaces == Parameters::Contact::Interfaces::tied;
     std::vector<NormalCondition> kept;
     unsigned int                 dropped = 0;
     for (const auto &c : normal_conditions)
-      if (c.kind == NormalCondition::Kind::roller || (c.kind == NormalCondition::Kind::interface && tied) ||
+      if (c.kind == NormalCondition::Kind::roller ||
+          (c.kind == NormalCondition::Kind::interface && tied) ||
           imposed_conditions.count({c.dofs_k[0], static_cast<int>(c.kind)}) == 1)
         kept.push_back(c);
       else
         dropped += owned.is_element(c.dofs_k[0]);
     normal_conditions.swap(kept);
     n_dropped_conditions = Utilities::MPI::sum(dropped, mpi_communicator);
-    for (Vector *v : {&obstacle_active, &interface_active, &obstacle_active_ghosted, &interface_active_ghosted})
+    for (Vector *v :
+         {&obstacle_active, &interface_active, &obstacle_active_ghosted, &interface_active_ghosted})
       *v = 0.;
 
     SparsityTools::distribute_sparsity_pattern(dsp, owned, mpi_communicator, relevant);
@@ -306,17 +324,21 @@ namespace ContactStefan
   template <int dim>
   void MechanicalField<dim>::initialize(const double t0)
   {
-    time = t0;
+    time                 = t0;
     displacement         = 0;
     old_displacement     = 0;
     displacement_ghosted = 0;
     make_fixed_constraints();
-    const bool tied = prm.contact.interfaces == Parameters::Contact::Interfaces::tied;
+    const bool            tied = prm.contact.interfaces == Parameters::Contact::Interfaces::tied;
+    std::set<std::string> obstacle_groups;
+    for (const auto &[id, bc] : prm.mechanical_boundaries)
+      if (bc.type == Parameters::MechanicalBoundary::Type::obstacle)
+        obstacle_groups.insert(boundary_group(id));
     for (const auto &group : contact_groups)
       if (Utilities::MPI::sum(imposable_per_group[group], mpi_communicator) == 0 &&
-          !(group.rfind("interface", 0) == 0 && tied))
+          (obstacle_groups.count(group) == 1 || !tied))
         {
-          const bool boundary = group.rfind("boundary", 0) == 0;
+          const bool boundary = obstacle_groups.count(group) == 1;
           throw InputError(boundary ? "Boundary conditions/Mechanical " + group :
                                       std::string("Contact/Interfaces"),
                            "no node of this " + std::string(boundary ? "obstacle" : "interface") +
@@ -437,10 +459,11 @@ namespace ContactStefan
 
     const hp::QCollection<dim>     quadrature(QGauss<dim>(2));
     const hp::QCollection<dim - 1> face_quadrature(QGauss<dim - 1>(2));
-    hp::FEValues<dim>              hp_fe_values(fe, quadrature,
+    hp::FEValues<dim>              hp_fe_values(fe,
+                                   quadrature,
                                    update_values | update_quadrature_points | update_JxW_values);
-    hp::FEFaceValues<dim>          hp_face_values(fe, face_quadrature,
-                                         update_values | update_quadrature_points | update_JxW_values);
+    hp::FEFaceValues<dim>          hp_face_values(
+      fe, face_quadrature, update_values | update_quadrature_points | update_JxW_values);
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
@@ -508,8 +531,8 @@ namespace ContactStefan
           for (unsigned int s = 0; s < n_slots; ++s)
             for (unsigned int d = 0; d < dim; ++d)
               mask[s * dim + d] = bc.components[d];
-          VectorTools::interpolate_boundary_values(dof_handler, id, value, fixed_constraints,
-                                                   ComponentMask(mask));
+          VectorTools::interpolate_boundary_values(
+            dof_handler, id, value, fixed_constraints, ComponentMask(mask));
         }
     // Ties first: u_k = u_l componentwise, or u_l = u_k where u_k is taken.
     if (prm.contact.interfaces == Parameters::Contact::Interfaces::tied)
@@ -544,7 +567,8 @@ namespace ContactStefan
           for (const unsigned int comp : order)
             if (c.normal[comp] != 0 && !fixed_constraints.is_constrained(c.dofs_k[comp]))
               {
-                const auto row = Contact::normal_constraint(c.dofs_k, nullptr, c.normal, 0., comp, false);
+                const auto row =
+                  Contact::normal_constraint(c.dofs_k, nullptr, c.normal, 0., comp, false);
                 fixed_constraints.add_line(row.target);
                 for (const auto &[dof, coefficient] : row.entries)
                   fixed_constraints.add_entry(row.target, dof, coefficient);
@@ -579,11 +603,11 @@ namespace ContactStefan
     };
     std::map<std::tuple<types::global_dof_index, int, std::string>, Entry> entries;
     const auto add = [&](const typename DoFHandler<dim>::active_cell_iterator &cell,
-                         const unsigned int                                   face,
-                         const Kind                                           kind,
-                         const std::string                                   &group,
+                         const unsigned int                                    face,
+                         const Kind                                            kind,
+                         const std::string                                    &group,
                          const typename DoFHandler<dim>::active_cell_iterator *partner,
-                         const unsigned int                                   boundary_id) {
+                         const unsigned int                                    boundary_id) {
       const auto dofs = vertex_dofs<dim>(cell);
       const auto a    = cell->face(face)->vertex(0);
       const auto b    = cell->face(face)->vertex(1);
@@ -593,7 +617,7 @@ namespace ContactStefan
           const unsigned int v = GeometryInfo<dim>::face_to_cell_vertices(face, fv);
           if (!vertex_of_owned_cell[cell->vertex_index(v)])
             continue;
-          Entry &e = entries[{dofs[v][0], static_cast<int>(kind), group}];
+          Entry &e                = entries[{dofs[v][0], static_cast<int>(kind), group}];
           e.condition.kind        = kind;
           e.condition.group       = group;
           e.condition.boundary_id = boundary_id;
@@ -620,7 +644,7 @@ namespace ContactStefan
                 const auto bc = prm.mechanical_boundaries.find(cell->face(face)->boundary_id());
                 if (bc == prm.mechanical_boundaries.end())
                   continue;
-                const std::string group = "boundary " + std::to_string(bc->first);
+                const std::string group = boundary_group(bc->first);
                 if (bc->second.type == Parameters::MechanicalBoundary::Type::roller)
                   add(cell, face, Kind::roller, group, nullptr, bc->first);
                 else if (bc->second.type == Parameters::MechanicalBoundary::Type::obstacle)
@@ -637,11 +661,12 @@ namespace ContactStefan
                     "the interface between bodies " + std::to_string(cell->material_id()) +
                     " and " + std::to_string(cell->neighbor(face)->material_id()) +
                     " is not conforming (refined differently on its two sides)");
-                const typename DoFHandler<dim>::active_cell_iterator neighbor = cell->neighbor(face);
+                const typename DoFHandler<dim>::active_cell_iterator neighbor =
+                  cell->neighbor(face);
                 if (cell->material_id() > neighbor->material_id())
                   continue; // the face is counted from side k
-                const std::string group = "interface " + std::to_string(cell->material_id()) +
-                                          "-" + std::to_string(neighbor->material_id());
+                const std::string group = "interface " + std::to_string(cell->material_id()) + "-" +
+                                          std::to_string(neighbor->material_id());
                 add(cell, face, Kind::interface, group, &neighbor, 0);
               }
           }
@@ -659,8 +684,10 @@ namespace ContactStefan
           if (!inserted)
             throw InputError("Boundary conditions/Mechanical boundaries",
                              "the vertex at (" + std::to_string(e.condition.position[0]) + ", " +
-                               std::to_string(e.condition.position[1]) + ") is on two obstacle "
-                               "boundaries (" + it->second + ", " + e.condition.group +
+                               std::to_string(e.condition.position[1]) +
+                               ") is on two obstacle "
+                               "boundaries (" +
+                               it->second + ", " + e.condition.group +
                                "); give the corner to one of them");
         }
     for (auto &[key, e] : entries)
@@ -669,8 +696,8 @@ namespace ContactStefan
         const auto       n = e.normals.normal();
         c.normal           = {{n[0], n[1]}};
         c.weight           = e.normals.weight();
-        c.corner           = e.normals.max_deviation() > prm.contact.corner_angle * numbers::PI / 180;
-        c.stiffness        = n[0] * n[0] * stiffness_diagonal[c.dofs_k[0]] +
+        c.corner    = e.normals.max_deviation() > prm.contact.corner_angle * numbers::PI / 180;
+        c.stiffness = n[0] * n[0] * stiffness_diagonal[c.dofs_k[0]] +
                       n[1] * n[1] * stiffness_diagonal[c.dofs_k[1]];
         normal_conditions.push_back(c);
         if (c.kind != Kind::roller)
@@ -679,7 +706,8 @@ namespace ContactStefan
     // Every rank reports every group, even one it has no node of.
     contact_groups.clear();
     for (const auto &rank_groups :
-         Utilities::MPI::all_gather(mpi_communicator, std::vector<std::string>(groups.begin(), groups.end())))
+         Utilities::MPI::all_gather(mpi_communicator,
+                                    std::vector<std::string>(groups.begin(), groups.end())))
       contact_groups.insert(contact_groups.end(), rank_groups.begin(), rank_groups.end());
     std::sort(contact_groups.begin(), contact_groups.end());
     contact_groups.erase(std::unique(contact_groups.begin(), contact_groups.end()),

@@ -19,12 +19,11 @@ namespace ContactStefan
   {
     assert_two_dimensional<dim>();
     const MPI_Comm mpi_communicator = triangulation.get_communicator();
-    const auto &g = prm.geometry;
+    const auto    &g                = prm.geometry;
     if (g.mesh_type == Parameters::Geometry::MeshType::rectangle)
       {
-        GridGenerator::subdivided_hyper_rectangle(triangulation,
-                                                  {g.subdivisions[0], g.subdivisions[1]},
-                                                  g.lower_left, g.upper_right, true);
+        GridGenerator::subdivided_hyper_rectangle(
+          triangulation, {g.subdivisions[0], g.subdivisions[1]}, g.lower_left, g.upper_right, true);
         for (const auto &cell : triangulation.active_cell_iterators())
           {
             unsigned int layer = 0;
@@ -33,9 +32,10 @@ namespace ContactStefan
                 const double lo = cell->vertex(0)[1], hi = cell->vertex(3)[1];
                 const double tolerance = 1e-10 * (hi - lo);
                 if (y > lo + tolerance && y < hi - tolerance)
-                  throw InputError("Geometry/Layer interfaces",
-                                   "y = " + std::to_string(y) +
-                                     " does not lie on a line of the coarse mesh (see Subdivisions)");
+                  throw InputError(
+                    "Geometry/Layer interfaces",
+                    "y = " + std::to_string(y) +
+                      " does not lie on a line of the coarse mesh (see Subdivisions)");
                 if (cell->center()[1] > y)
                   ++layer;
               }
@@ -53,7 +53,8 @@ namespace ContactStefan
           }
         catch (const std::exception &e)
           {
-            throw InputError("Geometry/Mesh file", "'" + g.mesh_file + "' is not a readable Gmsh mesh");
+            throw InputError("Geometry/Mesh file",
+                             "'" + g.mesh_file + "' is not a readable Gmsh mesh");
           }
       }
 
@@ -71,8 +72,9 @@ namespace ContactStefan
     boundaries = Utilities::MPI::compute_set_union(boundaries, mpi_communicator);
     for (const unsigned int m : materials)
       if (prm.materials.count(m) == 0)
-        throw InputError("Bodies/Body ids", "the mesh has body (material) id " +
-                                              std::to_string(m) + ", which is not listed");
+        throw InputError("Bodies/Body ids",
+                         "the mesh has body (material) id " + std::to_string(m) +
+                           ", which is not listed");
     for (const unsigned int b : prm.body_ids)
       if (materials.count(b) == 0)
         throw InputError("Bodies/Body ids",
@@ -92,9 +94,8 @@ namespace ContactStefan
       for (unsigned int step = 0; step < r.prerefinement_steps; ++step)
         {
           for (const auto &cell : triangulation.active_cell_iterators())
-            if (cell->is_locally_owned() &&
-                cell->center().distance(r.prerefinement_center) <
-                  r.prerefinement_radius + 0.5 * cell->diameter())
+            if (cell->is_locally_owned() && cell->center().distance(r.prerefinement_center) <
+                                              r.prerefinement_radius + 0.5 * cell->diameter())
               cell->set_refine_flag();
           triangulation.execute_coarsening_and_refinement();
         }

@@ -103,7 +103,8 @@ namespace ContactStefan
       throw std::invalid_argument("there must be one latent heat per transition temperature");
     if (this->conductivities.size() != n + 1 || capacities.size() != n + 1)
       throw std::invalid_argument("there must be one conductivity and one heat capacity per "
-                                  "phase, i.e. " + std::to_string(n + 1) + " of each");
+                                  "phase, i.e. " +
+                                  std::to_string(n + 1) + " of each");
     for (unsigned int p = 0; p <= n; ++p)
       {
         if (!(this->conductivities[p] > 0) || !std::isfinite(this->conductivities[p]))
@@ -133,9 +134,9 @@ namespace ContactStefan
     // for small and negative for large mu_{n-1}. Bracket the sign change by
     // widening around the natural scale sqrt(a_n) (lambda = 1), then bisect.
     std::vector<double> work;
-    const auto below_root = [&](const double m) { return shoot(m, work) > 0; };
-    double       lo = std::sqrt(diffusivities[n]), hi = lo;
-    unsigned int step = 0;
+    const auto          below_root = [&](const double m) { return shoot(m, work) > 0; };
+    double              lo = std::sqrt(diffusivities[n]), hi = lo;
+    unsigned int        step = 0;
     if (below_root(lo))
       while (below_root(hi) && step++ < max_bracket_steps)
         lo = hi, hi *= 2;
@@ -199,7 +200,7 @@ namespace ContactStefan
         if (j == 0)
           {
             const double q_cold = flux(region_of_phase(0, mu_out), mu_out[0]);
-            const double scale = q_arriving + q_latent + q_cold;
+            const double scale  = q_arriving + q_latent + q_cold;
             return (scale > 0 ? (q_leaving - q_cold) / scale : -1.);
           }
         if (!(q_leaving > 0))
@@ -211,10 +212,10 @@ namespace ContactStefan
         const double xi_left = mu_out[j] / sqrt_a;
         const double target  = 2. * conductivities[j] * (temperatures[j] - temperatures[j - 1]) /
                               (sqrt_pi * sqrt_a * q_leaving);
-        const auto   below_front = [&](const double xi) {
+        const auto below_front = [&](const double xi) {
           return scaled_erf_difference(xi_left, xi) < target;
         };
-        double       lo = xi_left, hi = xi_left + 1.;
+        double lo = xi_left, hi = xi_left + 1.;
         for (unsigned int step = 0; below_front(hi); ++step)
           {
             if (step == max_bracket_steps)
@@ -231,8 +232,8 @@ namespace ContactStefan
 
 
   // Phase p occupies mu_p < eta < mu_{p-1}, with mu_n = 0 and mu_{-1} = infinity.
-  NeumannSolution::Region NeumannSolution::region_of_phase(const unsigned int         p,
-                                                           const std::vector<double> &mu_values) const
+  NeumannSolution::Region
+  NeumannSolution::region_of_phase(const unsigned int p, const std::vector<double> &mu_values) const
   {
     const unsigned int n      = n_transitions();
     const double       sqrt_a = std::sqrt(diffusivities[p]);

@@ -64,9 +64,8 @@ namespace ContactStefan
 
     // A muparser expression in x, y, t must parse and evaluate; "exact" is allowed
     // where an exact solution can stand in.
-    void check_function(const std::string &expression,
-                        const std::string &path,
-                        const bool         exact_allowed)
+    void
+    check_function(const std::string &expression, const std::string &path, const bool exact_allowed)
     {
       if (is_exact_keyword(expression))
         {
@@ -154,24 +153,36 @@ namespace ContactStefan
     void Geometry::declare(ParameterHandler &prm)
     {
       prm.enter_subsection("Geometry");
-      prm.declare_entry("Mesh", "rectangle", Patterns::Selection("rectangle|gmsh"),
+      prm.declare_entry("Mesh",
+                        "rectangle",
+                        Patterns::Selection("rectangle|gmsh"),
                         "Where the mesh comes from. 'rectangle': the box below, boundary "
                         "ids 0 (x = x0), 1 (x = x1), 2 (y = y0), 3 (y = y1). 'gmsh': the "
                         "Mesh file; physical surfaces are body ids, physical lines boundary ids.");
-      prm.declare_entry("Lower left corner", "0, 0", Patterns::Anything(),
+      prm.declare_entry("Lower left corner",
+                        "0, 0",
+                        Patterns::Anything(),
                         "Rectangle: x0, y0 (m).");
-      prm.declare_entry("Upper right corner", "1, 1", Patterns::Anything(),
+      prm.declare_entry("Upper right corner",
+                        "1, 1",
+                        Patterns::Anything(),
                         "Rectangle: x1, y1 (m).");
-      prm.declare_entry("Subdivisions", "1, 1", Patterns::Anything(),
+      prm.declare_entry("Subdivisions",
+                        "1, 1",
+                        Patterns::Anything(),
                         "Rectangle: cells in x and y before the global refinements. Keep the "
                         "cells near square: the Q1 conductivity matrix is an M-matrix only "
                         "for aspect ratios below sqrt(2), which the enthalpy step's "
                         "finite convergence relies on.");
-      prm.declare_entry("Layer interfaces", "", Patterns::Anything(),
+      prm.declare_entry("Layer interfaces",
+                        "",
+                        Patterns::Anything(),
                         "Rectangle: increasing y coordinates of horizontal body interfaces; "
                         "the layers are bodies 0, 1, ... from the bottom. Each must lie on a "
                         "mesh line. Empty: one body, id 0.");
-      prm.declare_entry("Mesh file", "", Patterns::Anything(),
+      prm.declare_entry("Mesh file",
+                        "",
+                        Patterns::Anything(),
                         "Gmsh .msh file, relative to the parameter file's directory.");
       prm.leave_subsection();
     }
@@ -179,19 +190,21 @@ namespace ContactStefan
     void Geometry::parse(ParameterHandler &prm, const std::string &prm_directory)
     {
       prm.enter_subsection("Geometry");
-      mesh_type = prm.get("Mesh") == "gmsh" ? MeshType::gmsh : MeshType::rectangle;
+      mesh_type     = prm.get("Mesh") == "gmsh" ? MeshType::gmsh : MeshType::rectangle;
       const auto ll = parse_doubles(prm.get("Lower left corner"), "Geometry/Lower left corner");
       const auto ur = parse_doubles(prm.get("Upper right corner"), "Geometry/Upper right corner");
       require(ll.size() == 2, "Geometry/Lower left corner", "needs two numbers");
       require(ur.size() == 2, "Geometry/Upper right corner", "needs two numbers");
       lower_left  = Point<2>(ll[0], ll[1]);
       upper_right = Point<2>(ur[0], ur[1]);
-      require(ur[0] > ll[0] && ur[1] > ll[1], "Geometry/Upper right corner",
+      require(ur[0] > ll[0] && ur[1] > ll[1],
+              "Geometry/Upper right corner",
               "must lie above and to the right of the lower left corner");
       subdivisions.clear();
       for (const double v : parse_doubles(prm.get("Subdivisions"), "Geometry/Subdivisions"))
         {
-          require(v >= 1 && v == std::floor(v) && v < 1e6, "Geometry/Subdivisions",
+          require(v >= 1 && v == std::floor(v) && v < 1e6,
+                  "Geometry/Subdivisions",
                   "must be positive integers, got " + str(v));
           subdivisions.push_back(static_cast<unsigned int>(v));
         }
@@ -202,9 +215,11 @@ namespace ContactStefan
       for (unsigned int i = 0; i < layer_interfaces.size(); ++i)
         {
           require(layer_interfaces[i] > ll[1] && layer_interfaces[i] < ur[1],
-                  "Geometry/Layer interfaces", "each y must lie strictly inside (y0, y1)");
+                  "Geometry/Layer interfaces",
+                  "each y must lie strictly inside (y0, y1)");
           require(i == 0 || layer_interfaces[i] > layer_interfaces[i - 1],
-                  "Geometry/Layer interfaces", "must be increasing");
+                  "Geometry/Layer interfaces",
+                  "must be increasing");
         }
       mesh_file = prm.get("Mesh file");
       if (mesh_type == MeshType::gmsh)
@@ -213,8 +228,7 @@ namespace ContactStefan
           if (mesh_file.front() != '/')
             mesh_file = prm_directory + mesh_file;
           std::ifstream in(mesh_file);
-          require(static_cast<bool>(in), "Geometry/Mesh file",
-                  "cannot open '" + mesh_file + "'");
+          require(static_cast<bool>(in), "Geometry/Mesh file", "cannot open '" + mesh_file + "'");
         }
       prm.leave_subsection();
     }
@@ -225,16 +239,24 @@ namespace ContactStefan
     {
       prm.declare_entry("Name", "", Patterns::Anything(), "A label for output.");
       prm.declare_entry("Density", "1", Patterns::Double(), "rho (kg/m^3), > 0.");
-      prm.declare_entry("Conductivities", "1", Patterns::Anything(),
+      prm.declare_entry("Conductivities",
+                        "1",
+                        Patterns::Anything(),
                         "Thermal conductivity k per phase, cold to hot (W/(m K)), > 0; one "
                         "value means the same in every phase. In a cell holding several "
                         "phases the phase fractions of the previous time step weight them.");
-      prm.declare_entry("Conductivity anisotropy", "1, 0, 1", Patterns::Anything(),
+      prm.declare_entry("Conductivity anisotropy",
+                        "1, 0, 1",
+                        Patterns::Anything(),
                         "Symmetric positive definite shape tensor K_xx, K_xy, K_yy; the "
                         "conductivity tensor of phase p is k_p * K.");
-      prm.declare_entry("Heat source", "0", Patterns::Anything(),
+      prm.declare_entry("Heat source",
+                        "0",
+                        Patterns::Anything(),
                         "Volumetric heat source Q (W/m^3), function of x, y, t.");
-      prm.declare_entry("Elasticity", "isotropic", Patterns::Selection("isotropic|lame|anisotropic"),
+      prm.declare_entry("Elasticity",
+                        "isotropic",
+                        Patterns::Selection("isotropic|lame|anisotropic"),
                         "How the elasticity tensor (plane strain) is given: 'isotropic' by "
                         "Youngs modulus and Poisson ratio, 'lame' by Lame lambda and mu, "
                         "'anisotropic' by the Elasticity tensor in Voigt form.");
@@ -242,21 +264,33 @@ namespace ContactStefan
       prm.declare_entry("Poisson ratio", "0.3", Patterns::Double(), "nu, in (-1, 0.5).");
       prm.declare_entry("Lame lambda", "1", Patterns::Double(), "lambda (Pa), > -2 mu / 3.");
       prm.declare_entry("Lame mu", "1", Patterns::Double(), "mu (Pa), > 0.");
-      prm.declare_entry("Elasticity tensor", "1, 0, 0, 1, 0, 1", Patterns::Anything(),
+      prm.declare_entry("Elasticity tensor",
+                        "1, 0, 0, 1, 0, 1",
+                        Patterns::Anything(),
                         "Voigt form C11, C12, C16, C22, C26, C66 (Pa) with the order xx, yy, xy "
                         "and engineering shear strain; must be positive definite.");
-      prm.declare_entry("Body force", "0; 0", Patterns::Anything(),
+      prm.declare_entry("Body force",
+                        "0; 0",
+                        Patterns::Anything(),
                         "f_x; f_y (N/m^3), functions of x, y, t separated by ';'.");
-      prm.declare_entry("Thermal expansion", "0", Patterns::Double(),
+      prm.declare_entry("Thermal expansion",
+                        "0",
+                        Patterns::Double(),
                         "Linear expansion coefficient alpha (1/K), >= 0.");
 
       prm.enter_subsection("Phase change");
-      prm.declare_entry("Transition temperatures", "", Patterns::Anything(),
+      prm.declare_entry("Transition temperatures",
+                        "",
+                        Patterns::Anything(),
                         "Strictly increasing transition temperatures T_j (K or degC); "
                         "empty: no phase change.");
-      prm.declare_entry("Latent heats", "", Patterns::Anything(),
+      prm.declare_entry("Latent heats",
+                        "",
+                        Patterns::Anything(),
                         "Latent heat L_j per unit mass of each transition (J/kg), >= 0.");
-      prm.declare_entry("Heat capacities", "1", Patterns::Anything(),
+      prm.declare_entry("Heat capacities",
+                        "1",
+                        Patterns::Anything(),
                         "Specific heat c_p of each phase, cold to hot (J/(kg K)), > 0: "
                         "one more than transitions, or one value for all phases.");
       prm.leave_subsection();
@@ -270,11 +304,12 @@ namespace ContactStefan
       conductivities = parse_doubles(prm.get("Conductivities"), path + "/Conductivities");
       for (const double k : conductivities)
         require(k > 0, path + "/Conductivities", "must be > 0, got " + str(k));
-      const auto K = parse_doubles(prm.get("Conductivity anisotropy"),
-                                   path + "/Conductivity anisotropy");
+      const auto K =
+        parse_doubles(prm.get("Conductivity anisotropy"), path + "/Conductivity anisotropy");
       require(K.size() == 3, path + "/Conductivity anisotropy", "needs K_xx, K_xy, K_yy");
       require(K[0] > 0 && K[2] > 0 && K[0] * K[2] - K[1] * K[1] > 0,
-              path + "/Conductivity anisotropy", "must be positive definite");
+              path + "/Conductivity anisotropy",
+              "must be positive definite");
       std::copy(K.begin(), K.end(), anisotropy);
       heat_source = prm.get("Heat source");
       check_function(heat_source, path + "/Heat source", false);
@@ -283,33 +318,41 @@ namespace ContactStefan
       elasticity          = e == "isotropic" ? Elasticity::isotropic :
                             e == "lame"      ? Elasticity::lame :
                                                Elasticity::anisotropic;
-      youngs_modulus    = prm.get_double("Youngs modulus");
-      poisson_ratio     = prm.get_double("Poisson ratio");
-      lame_lambda       = prm.get_double("Lame lambda");
-      lame_mu           = prm.get_double("Lame mu");
-      thermal_expansion = prm.get_double("Thermal expansion");
+      youngs_modulus      = prm.get_double("Youngs modulus");
+      poisson_ratio       = prm.get_double("Poisson ratio");
+      lame_lambda         = prm.get_double("Lame lambda");
+      lame_mu             = prm.get_double("Lame mu");
+      thermal_expansion   = prm.get_double("Thermal expansion");
       voigt = parse_doubles(prm.get("Elasticity tensor"), path + "/Elasticity tensor");
       if (elasticity == Elasticity::isotropic)
         {
-          require(youngs_modulus > 0, path + "/Youngs modulus", "must be > 0, got " + str(youngs_modulus));
-          require(poisson_ratio > -1 && poisson_ratio < 0.5, path + "/Poisson ratio",
+          require(youngs_modulus > 0,
+                  path + "/Youngs modulus",
+                  "must be > 0, got " + str(youngs_modulus));
+          require(poisson_ratio > -1 && poisson_ratio < 0.5,
+                  path + "/Poisson ratio",
                   "must lie in (-1, 0.5), got " + str(poisson_ratio));
         }
       else if (elasticity == Elasticity::lame)
         {
           require(lame_mu > 0, path + "/Lame mu", "must be > 0, got " + str(lame_mu));
-          require(lame_lambda > -2 * lame_mu / 3, path + "/Lame lambda",
+          require(lame_lambda > -2 * lame_mu / 3,
+                  path + "/Lame lambda",
                   "must exceed -2 mu / 3, got " + str(lame_lambda));
         }
       else
         {
-          require(voigt.size() == 6, path + "/Elasticity tensor", "needs C11, C12, C16, C22, C26, C66");
+          require(voigt.size() == 6,
+                  path + "/Elasticity tensor",
+                  "needs C11, C12, C16, C22, C26, C66");
           // Positive definite 3x3 (Sylvester's criterion).
           const double d1 = voigt[0], d2 = voigt[0] * voigt[3] - voigt[1] * voigt[1];
           const double d3 = voigt[0] * (voigt[3] * voigt[5] - voigt[4] * voigt[4]) -
                             voigt[1] * (voigt[1] * voigt[5] - voigt[4] * voigt[2]) +
                             voigt[2] * (voigt[1] * voigt[4] - voigt[3] * voigt[2]);
-          require(d1 > 0 && d2 > 0 && d3 > 0, path + "/Elasticity tensor", "must be positive definite");
+          require(d1 > 0 && d2 > 0 && d3 > 0,
+                  path + "/Elasticity tensor",
+                  "must be positive definite");
         }
       require(thermal_expansion >= 0, path + "/Thermal expansion", "must be >= 0");
       const auto f = Utilities::split_string_list(prm.get("Body force"), ';');
@@ -326,21 +369,24 @@ namespace ContactStefan
       transition_temperatures =
         T.empty() ? std::vector<double>() : parse_doubles(T, pc + "Transition temperatures");
       const std::string L = prm.get("Latent heats");
-      latent_heats = L.empty() ? std::vector<double>() : parse_doubles(L, pc + "Latent heats");
+      latent_heats    = L.empty() ? std::vector<double>() : parse_doubles(L, pc + "Latent heats");
       heat_capacities = parse_doubles(prm.get("Heat capacities"), pc + "Heat capacities");
       prm.leave_subsection();
 
       const unsigned int n = transition_temperatures.size();
       for (unsigned int j = 1; j < n; ++j)
         require(transition_temperatures[j] > transition_temperatures[j - 1],
-                pc + "Transition temperatures", "must be strictly increasing");
-      require(latent_heats.size() == n, pc + "Latent heats",
+                pc + "Transition temperatures",
+                "must be strictly increasing");
+      require(latent_heats.size() == n,
+              pc + "Latent heats",
               "needs one value per transition temperature (" + std::to_string(n) + ")");
       for (const double l : latent_heats)
         require(l >= 0, pc + "Latent heats", "must be >= 0, got " + str(l));
       if (heat_capacities.size() == 1)
         heat_capacities.assign(n + 1, heat_capacities[0]);
-      require(heat_capacities.size() == n + 1, pc + "Heat capacities",
+      require(heat_capacities.size() == n + 1,
+              pc + "Heat capacities",
               "needs one value per phase (" + std::to_string(n + 1) + ") or a single value");
       for (const double c : heat_capacities)
         require(c > 0, pc + "Heat capacities", "must be > 0, got " + str(c));
@@ -351,10 +397,14 @@ namespace ContactStefan
 
     void ThermalBoundary::declare(ParameterHandler &prm)
     {
-      prm.declare_entry("Type", "flux", Patterns::Selection("temperature|flux"),
+      prm.declare_entry("Type",
+                        "flux",
+                        Patterns::Selection("temperature|flux"),
                         "'temperature': Theta = Value; 'flux': inward heat flux "
                         "k grad(Theta).n = Value (W/m^2).");
-      prm.declare_entry("Value", "0", Patterns::Anything(),
+      prm.declare_entry("Value",
+                        "0",
+                        Patterns::Anything(),
                         "Function of x, y, t, or 'exact' for the exact solution.");
     }
 
@@ -368,18 +418,25 @@ namespace ContactStefan
 
     void MechanicalBoundary::declare(ParameterHandler &prm)
     {
-      prm.declare_entry("Type", "traction",
+      prm.declare_entry("Type",
+                        "traction",
                         Patterns::Selection("displacement|traction|roller|obstacle"),
                         "'displacement': u = Value on the selected Components; 'traction': "
                         "sigma n = Value (Pa); 'roller': u.n = 0 with averaged nodal normals "
                         "(any orientation), tangentially free; 'obstacle': frictionless "
                         "contact with a rigid obstacle, u.n <= Gap along the outward normal.");
-      prm.declare_entry("Components", "x, y", Patterns::MultipleSelection("x|y"),
+      prm.declare_entry("Components",
+                        "x, y",
+                        Patterns::MultipleSelection("x|y"),
                         "Displacement: which components are prescribed.");
-      prm.declare_entry("Value", "0; 0", Patterns::Anything(),
+      prm.declare_entry("Value",
+                        "0; 0",
+                        Patterns::Anything(),
                         "Displacement (m) or traction (Pa): two functions of x, y, t "
                         "separated by ';'.");
-      prm.declare_entry("Gap", "0", Patterns::Anything(),
+      prm.declare_entry("Gap",
+                        "0",
+                        Patterns::Anything(),
                         "Obstacle: the normal distance g(x, y, t) (m) from the boundary to "
                         "the obstacle; negative values are an imposed penetration.");
     }
@@ -387,10 +444,10 @@ namespace ContactStefan
     void MechanicalBoundary::parse(ParameterHandler &prm, const std::string &path)
     {
       const std::string t = prm.get("Type");
-      type = t == "displacement" ? Type::displacement :
-             t == "traction"     ? Type::traction :
-             t == "roller"       ? Type::roller :
-                                   Type::obstacle;
+      type                = t == "displacement" ? Type::displacement :
+                            t == "traction"     ? Type::traction :
+                            t == "roller"       ? Type::roller :
+                                                  Type::obstacle;
       const std::string c = prm.get("Components");
       components[0]       = c.find('x') != std::string::npos;
       components[1]       = c.find('y') != std::string::npos;
@@ -404,7 +461,8 @@ namespace ContactStefan
       gap = prm.get("Gap");
       check_function(gap, path + "/Gap", false);
       require(type != Type::displacement || components[0] || components[1],
-              path + "/Components", "a displacement condition needs at least one component");
+              path + "/Components",
+              "a displacement condition needs at least one component");
     }
 
 
@@ -412,36 +470,55 @@ namespace ContactStefan
     void Contact::declare(ParameterHandler &prm)
     {
       prm.enter_subsection("Contact");
-      prm.declare_entry("Interfaces", "contact", Patterns::Selection("contact|tied"),
+      prm.declare_entry("Interfaces",
+                        "contact",
+                        Patterns::Selection("contact|tied"),
                         "Where two bodies share faces: 'contact' makes the interface a "
                         "frictionless Signorini contact, 'tied' glues the bodies.");
-      prm.declare_entry("Interface gap", "0", Patterns::Anything(),
+      prm.declare_entry("Interface gap",
+                        "0",
+                        Patterns::Anything(),
                         "Initial normal gap g(x, y, t) (m) of contact interfaces.");
-      prm.declare_entry("Complementarity constant", "1", Patterns::Double(0),
+      prm.declare_entry("Complementarity constant",
+                        "1",
+                        Patterns::Double(0),
                         "c of the active-set test lambda + c d > 0, in units of the diagonal "
                         "stiffness of the node's normal displacement (so 1 balances force and "
                         "gap); > 0. The fixed point does not depend on it.");
-      prm.declare_entry("Max iterations", "50", Patterns::Integer(1),
-                        "Limit of active-set iterations per contact step; reaching it is an error.");
-      prm.declare_entry("Tolerance", "1e-10", Patterns::Double(0),
+      prm.declare_entry(
+        "Max iterations",
+        "50",
+        Patterns::Integer(1),
+        "Limit of active-set iterations per contact step; reaching it is an error.");
+      prm.declare_entry("Tolerance",
+                        "1e-10",
+                        Patterns::Double(0),
                         "Activity test threshold, relative to the largest |lambda| + c |d| of "
                         "the step: guards against round-off flipping grazing nodes. A converged "
                         "set whose nodes violate the contact conditions (c at full size) by more "
                         "than 10 times this is an error.");
-      prm.declare_entry("Roller corner angle", "20", Patterns::Double(0, 90),
+      prm.declare_entry("Roller corner angle",
+                        "20",
+                        Patterns::Double(0, 90),
                         "A roller vertex whose face normals differ from their average by more "
                         "than this (degrees) is a corner of the roller boundary: both "
                         "displacement components are fixed there.");
-      prm.declare_entry("Rigid mode tolerance", "1e-10", Patterns::Double(0),
+      prm.declare_entry("Rigid mode tolerance",
+                        "1e-10",
+                        Patterns::Double(0),
                         "Before each contact solve every body must be held against rigid "
                         "motion by its constraints (incl. the active contact set): the "
                         "smallest pivot of the Gram matrix of the rigid modes' constraint "
                         "residuals (modes scaled to unit size) must exceed this; else the "
                         "run stops with a message naming the body and the free motion.");
-      prm.declare_entry("Max c reductions", "6", Patterns::Integer(0),
+      prm.declare_entry("Max c reductions",
+                        "6",
+                        Patterns::Integer(0),
                         "How often per step the cycling remedy may divide c by ten before the "
                         "step is declared failed. c starts at full size in every step.");
-      prm.declare_entry("Max set repetitions", "1", Patterns::Integer(1),
+      prm.declare_entry("Max set repetitions",
+                        "1",
+                        Patterns::Integer(1),
                         "Cycling guard: when an active set recurs this often, c is divided by "
                         "ten (the dual update then dominates) and the count restarts.");
       prm.leave_subsection();
@@ -450,8 +527,8 @@ namespace ContactStefan
     void Contact::parse(ParameterHandler &prm)
     {
       prm.enter_subsection("Contact");
-      interfaces = prm.get("Interfaces") == "tied" ? Interfaces::tied : Interfaces::contact;
-      interface_gap            = prm.get("Interface gap");
+      interfaces    = prm.get("Interfaces") == "tied" ? Interfaces::tied : Interfaces::contact;
+      interface_gap = prm.get("Interface gap");
       complementarity_constant = prm.get_double("Complementarity constant");
       max_iterations           = prm.get_integer("Max iterations");
       tolerance                = prm.get_double("Tolerance");
@@ -469,9 +546,13 @@ namespace ContactStefan
     void Physics::declare(ParameterHandler &prm)
     {
       prm.enter_subsection("Physics");
-      prm.declare_entry("Thermal", "true", Patterns::Bool(),
+      prm.declare_entry("Thermal",
+                        "true",
+                        Patterns::Bool(),
                         "Solve the heat (enthalpy) equation. Off: no temperature DoFs at all.");
-      prm.declare_entry("Mechanics", "false", Patterns::Bool(),
+      prm.declare_entry("Mechanics",
+                        "false",
+                        Patterns::Bool(),
                         "Solve the elasticity/contact problem. Off: no displacement DoFs at all.");
       prm.leave_subsection();
     }
@@ -482,7 +563,9 @@ namespace ContactStefan
       thermal   = prm.get_bool("Thermal");
       mechanics = prm.get_bool("Mechanics");
       prm.leave_subsection();
-      require(thermal || mechanics, "Physics/Thermal", "at least one of Thermal and Mechanics must be on");
+      require(thermal || mechanics,
+              "Physics/Thermal",
+              "at least one of Thermal and Mechanics must be on");
     }
 
 
@@ -490,11 +573,15 @@ namespace ContactStefan
     void InitialCondition::declare(ParameterHandler &prm)
     {
       prm.enter_subsection("Initial conditions");
-      prm.declare_entry("Variable", "temperature", Patterns::Selection("temperature|enthalpy"),
+      prm.declare_entry("Variable",
+                        "temperature",
+                        Patterns::Selection("temperature|enthalpy"),
                         "Whether Function gives Theta(x, y) or the volumetric enthalpy "
                         "H(x, y) (J/m^3; H = 0 just below the first transition), which can "
                         "start a node inside a plateau.");
-      prm.declare_entry("Function", "0", Patterns::Anything(),
+      prm.declare_entry("Function",
+                        "0",
+                        Patterns::Anything(),
                         "Function of x, y (and t = start time), or 'exact'.");
       prm.leave_subsection();
     }
@@ -512,29 +599,42 @@ namespace ContactStefan
     void ExactSolution::declare(ParameterHandler &prm)
     {
       prm.enter_subsection("Exact solution");
-      prm.declare_entry("Type", "none", Patterns::Selection("none|neumann|function|equilibrium|hertz|patch"),
-                        "'neumann': the similarity solution of the (multi-)phase Stefan "
-                        "problem of one body's material on x > Origin with Theta = Hot "
-                        "temperature at x = Origin and Cold temperature initially (a "
-                        "rectangle; front positions are reported too). 'function': the "
-                        "temperature given by Function. 'equilibrium': an insulated system "
-                        "without sources tends to the uniform temperature T_f with "
-                        "sum_b |body b| H_b(T_f) = its initial enthalpy; the run reports how far "
-                        "it is from T_f at the end. 'hertz': a rigid cylinder of Cylinder "
-                        "radius pressed into body Body through its obstacle boundary (the "
-                        "Hertz half-plane solution for the computed force). 'patch': the C2 "
-                        "patch test of stacked blocks (top pushed down by Patch displacement; "
-                        "the blocks' heights come from the mesh). Errors against it are reported as RESULT lines.");
+      prm.declare_entry(
+        "Type",
+        "none",
+        Patterns::Selection("none|neumann|function|equilibrium|hertz|patch"),
+        "'neumann': the similarity solution of the (multi-)phase Stefan "
+        "problem of one body's material on x > Origin with Theta = Hot "
+        "temperature at x = Origin and Cold temperature initially (a "
+        "rectangle; front positions are reported too). 'function': the "
+        "temperature given by Function. 'equilibrium': an insulated system "
+        "without sources tends to the uniform temperature T_f with "
+        "sum_b |body b| H_b(T_f) = its initial enthalpy; the run reports how far "
+        "it is from T_f at the end. 'hertz': a rigid cylinder of Cylinder "
+        "radius pressed into body Body through its obstacle boundary (the "
+        "Hertz half-plane solution for the computed force). 'patch': the C2 "
+        "patch test of stacked blocks (top pushed down by Patch displacement; "
+        "the blocks' heights come from the mesh). Errors against it are reported as RESULT lines.");
       prm.declare_entry("Cylinder radius", "1", Patterns::Double(0), "Hertz: R (m).");
-      prm.declare_entry("Patch displacement", "0", Patterns::Double(),
+      prm.declare_entry("Patch displacement",
+                        "0",
+                        Patterns::Double(),
                         "Patch test: downward displacement delta of the top (m).");
-      prm.declare_entry("Function", "0", Patterns::Anything(),
+      prm.declare_entry("Function",
+                        "0",
+                        Patterns::Anything(),
                         "Type = function: the exact temperature, a function of x, y, t.");
-      prm.declare_entry("Body", "0", Patterns::Integer(0, 255),
+      prm.declare_entry("Body",
+                        "0",
+                        Patterns::Integer(0, 255),
                         "The body whose material defines the exact solution.");
-      prm.declare_entry("Hot temperature", "1", Patterns::Double(),
+      prm.declare_entry("Hot temperature",
+                        "1",
+                        Patterns::Double(),
                         "T_L, above the highest transition temperature.");
-      prm.declare_entry("Cold temperature", "-1", Patterns::Double(),
+      prm.declare_entry("Cold temperature",
+                        "-1",
+                        Patterns::Double(),
                         "T_S, at or below the lowest transition temperature.");
       prm.declare_entry("Origin", "0", Patterns::Double(), "x coordinate of the hot wall.");
       prm.leave_subsection();
@@ -543,18 +643,18 @@ namespace ContactStefan
     void ExactSolution::parse(ParameterHandler &prm)
     {
       prm.enter_subsection("Exact solution");
-      type_name = prm.get("Type");
-      type      = type_name == "neumann"     ? Type::neumann :
-                  type_name == "function"    ? Type::function :
-                  type_name == "equilibrium" ? Type::equilibrium :
-                  type_name == "hertz"       ? Type::hertz :
-                  type_name == "patch"       ? Type::patch :
-                                               Type::none;
-      function         = prm.get("Function");
-      body             = prm.get_integer("Body");
-      hot_temperature  = prm.get_double("Hot temperature");
-      cold_temperature = prm.get_double("Cold temperature");
-      origin           = prm.get_double("Origin");
+      type_name          = prm.get("Type");
+      type               = type_name == "neumann"     ? Type::neumann :
+                           type_name == "function"    ? Type::function :
+                           type_name == "equilibrium" ? Type::equilibrium :
+                           type_name == "hertz"       ? Type::hertz :
+                           type_name == "patch"       ? Type::patch :
+                                                        Type::none;
+      function           = prm.get("Function");
+      body               = prm.get_integer("Body");
+      hot_temperature    = prm.get_double("Hot temperature");
+      cold_temperature   = prm.get_double("Cold temperature");
+      origin             = prm.get_double("Origin");
       cylinder_radius    = prm.get_double("Cylinder radius");
       patch_displacement = prm.get_double("Patch displacement");
       prm.leave_subsection();
@@ -567,7 +667,9 @@ namespace ContactStefan
       prm.enter_subsection("Time stepping");
       prm.declare_entry("Start time", "0", Patterns::Double(), "t0 (s).");
       prm.declare_entry("End time", "1", Patterns::Double(), "T (s), > t0.");
-      prm.declare_entry("Time step", "0.1", Patterns::Double(),
+      prm.declare_entry("Time step",
+                        "0.1",
+                        Patterns::Double(),
                         "tau (s), > 0; the last step is shortened to end at T.");
       prm.leave_subsection();
     }
@@ -580,7 +682,8 @@ namespace ContactStefan
       time_step  = prm.get_double("Time step");
       prm.leave_subsection();
       require(time_step > 0, "Time stepping/Time step", "must be > 0, got " + str(time_step));
-      require(end_time > start_time, "Time stepping/End time",
+      require(end_time > start_time,
+              "Time stepping/End time",
               "must be greater than Start time (" + str(start_time) + "), got " + str(end_time));
     }
 
@@ -589,48 +692,74 @@ namespace ContactStefan
     void Solver::declare(ParameterHandler &prm)
     {
       prm.enter_subsection("Solver");
-      prm.declare_entry("Linear solver", "direct", Patterns::Selection("direct|cg-amg"),
+      prm.declare_entry("Linear solver",
+                        "direct",
+                        Patterns::Selection("direct|cg-amg"),
                         "'direct': Trilinos Amesos sparse direct solver; 'cg-amg': conjugate "
                         "gradients preconditioned by ML algebraic multigrid.");
-      prm.declare_entry("Direct solver type", "Amesos_Klu",
+      prm.declare_entry("Direct solver type",
+                        "Amesos_Klu",
                         Patterns::Selection("Amesos_Klu|Amesos_Mumps|Amesos_Superludist"),
                         "Amesos back end of the direct solver.");
-      prm.declare_entry("CG tolerance", "1e-12", Patterns::Double(0),
+      prm.declare_entry("CG tolerance",
+                        "1e-12",
+                        Patterns::Double(0),
                         "Relative residual reduction of CG.");
-      prm.declare_entry("CG max iterations", "1000", Patterns::Integer(1),
+      prm.declare_entry("CG max iterations",
+                        "1000",
+                        Patterns::Integer(1),
                         "Iteration limit of CG; hitting it is an error.");
-      prm.declare_entry("Max active-set iterations", "50", Patterns::Integer(1),
+      prm.declare_entry("Max active-set iterations",
+                        "50",
+                        Patterns::Integer(1),
                         "Limit of linear solves of the active-set iteration per enthalpy "
                         "step; reaching it switches to the relaxation fallback.");
-      prm.declare_entry("Enthalpy solver", "active-set", Patterns::Selection("active-set|relaxation"),
+      prm.declare_entry("Enthalpy solver",
+                        "active-set",
+                        Patterns::Selection("active-set|relaxation"),
                         "'active-set': the primal-dual active-set (semismooth Newton) method "
                         "with line search; 'relaxation': the nonlinear relaxation iteration "
                         "alone (slow; a baseline for comparisons).");
-      prm.declare_entry("Active-set step tolerance", "1e-12", Patterns::Double(0, 1),
+      prm.declare_entry("Active-set step tolerance",
+                        "1e-12",
+                        Patterns::Double(0, 1),
                         "The active-set iteration also stops when a Newton step changes no "
                         "nodal enthalpy by more than this times (the largest |h| plus the "
                         "largest latent heat or heat capacity): the round-off level, reached "
                         "where the solution sits exactly on a kink of H.");
-      prm.declare_entry("Line search sufficient decrease", "1e-4", Patterns::Double(0, 0.5),
+      prm.declare_entry("Line search sufficient decrease",
+                        "1e-4",
+                        Patterns::Double(0, 0.5),
                         "Armijo constant sigma of the line search that guards the "
                         "active-set (semismooth Newton) iteration against cycling: a step "
                         "is accepted when the step's convex functional falls by at least "
                         "sigma times the step length times its directional derivative.");
-      prm.declare_entry("Line search minimum step", "1e-6", Patterns::Double(0, 1),
+      prm.declare_entry("Line search minimum step",
+                        "1e-6",
+                        Patterns::Double(0, 1),
                         "The line search halves the Newton step at most down to this length.");
-      prm.declare_entry("Extrapolate active set", "true", Patterns::Bool(),
+      prm.declare_entry("Extrapolate active set",
+                        "true",
+                        Patterns::Bool(),
                         "Start each step's active-set iteration from the phase states of "
                         "the nodal enthalpy extrapolated linearly in time (true) or from "
                         "the previous step's states (false).");
-      prm.declare_entry("Relaxation parameter", "1", Patterns::Double(0),
+      prm.declare_entry("Relaxation parameter",
+                        "1",
+                        Patterns::Double(0),
                         "Fallback: nonlinear relaxation (Berger-Brezis-Rogers) with "
                         "alpha = this fraction of the smallest volumetric heat capacity; "
                         "it converges for values in (0, 1].");
-      prm.declare_entry("Relaxation tolerance", "1e-10", Patterns::Double(0),
-                        "Relaxation stops when the largest nodal residual of the step "
-                        "equations, |m_i (h_i - h_i^old) + tau (A Theta - F)_i|, falls below "
-                        "this times the largest |m_i (h_i - h_i^old)| + tau |F_i| + tau |(A Theta)_i|.");
-      prm.declare_entry("Relaxation max iterations", "2000", Patterns::Integer(1),
+      prm.declare_entry(
+        "Relaxation tolerance",
+        "1e-10",
+        Patterns::Double(0),
+        "Relaxation stops when the largest nodal residual of the step "
+        "equations, |m_i (h_i - h_i^old) + tau (A Theta - F)_i|, falls below "
+        "this times the largest |m_i (h_i - h_i^old)| + tau |F_i| + tau |(A Theta)_i|.");
+      prm.declare_entry("Relaxation max iterations",
+                        "2000",
+                        Patterns::Integer(1),
                         "Relaxation iteration limit; hitting it is an error.");
       prm.leave_subsection();
     }
@@ -638,29 +767,32 @@ namespace ContactStefan
     void Solver::parse(ParameterHandler &prm)
     {
       prm.enter_subsection("Solver");
-      linear_solver = prm.get("Linear solver") == "direct" ? LinearSolverType::direct :
-                                                             LinearSolverType::cg_amg;
-      direct_solver_type            = prm.get("Direct solver type");
-      cg_tolerance                  = prm.get_double("CG tolerance");
-      cg_max_iterations             = prm.get_integer("CG max iterations");
-      max_active_set_iterations     = prm.get_integer("Max active-set iterations");
+      linear_solver =
+        prm.get("Linear solver") == "direct" ? LinearSolverType::direct : LinearSolverType::cg_amg;
+      direct_solver_type        = prm.get("Direct solver type");
+      cg_tolerance              = prm.get_double("CG tolerance");
+      cg_max_iterations         = prm.get_integer("CG max iterations");
+      max_active_set_iterations = prm.get_integer("Max active-set iterations");
       enthalpy_solver = prm.get("Enthalpy solver") == "relaxation" ? EnthalpySolver::relaxation :
                                                                      EnthalpySolver::active_set;
       active_set_step_tolerance       = prm.get_double("Active-set step tolerance");
       line_search_sufficient_decrease = prm.get_double("Line search sufficient decrease");
-      line_search_min_step          = prm.get_double("Line search minimum step");
-      extrapolate_active_set        = prm.get_bool("Extrapolate active set");
-      relaxation_parameter_fraction = prm.get_double("Relaxation parameter");
-      relaxation_tolerance          = prm.get_double("Relaxation tolerance");
-      relaxation_max_iterations     = prm.get_integer("Relaxation max iterations");
+      line_search_min_step            = prm.get_double("Line search minimum step");
+      extrapolate_active_set          = prm.get_bool("Extrapolate active set");
+      relaxation_parameter_fraction   = prm.get_double("Relaxation parameter");
+      relaxation_tolerance            = prm.get_double("Relaxation tolerance");
+      relaxation_max_iterations       = prm.get_integer("Relaxation max iterations");
       prm.leave_subsection();
       require(cg_tolerance > 0 && cg_tolerance < 1, "Solver/CG tolerance", "must lie in (0, 1)");
       require(relaxation_parameter_fraction > 0 && relaxation_parameter_fraction <= 1,
-              "Solver/Relaxation parameter", "must lie in (0, 1]");
+              "Solver/Relaxation parameter",
+              "must lie in (0, 1]");
       require(relaxation_tolerance > 0, "Solver/Relaxation tolerance", "must be > 0");
       require(line_search_sufficient_decrease > 0 && line_search_sufficient_decrease < 0.5,
-              "Solver/Line search sufficient decrease", "must lie in (0, 0.5)");
-      require(line_search_min_step > 0 && line_search_min_step < 1, "Solver/Line search minimum step",
+              "Solver/Line search sufficient decrease",
+              "must lie in (0, 0.5)");
+      require(line_search_min_step > 0 && line_search_min_step < 1,
+              "Solver/Line search minimum step",
               "must lie in (0, 1)");
     }
 
@@ -669,15 +801,20 @@ namespace ContactStefan
     void Refinement::declare(ParameterHandler &prm)
     {
       prm.enter_subsection("Mesh refinement");
-      prm.declare_entry("Initial global refinements", "0", Patterns::Integer(0, 12),
+      prm.declare_entry("Initial global refinements",
+                        "0",
+                        Patterns::Integer(0, 12),
                         "Uniform refinements of the coarse mesh before the first step.");
-      prm.declare_entry("Pre-refinement center", "0, 0", Patterns::Anything(),
+      prm.declare_entry("Pre-refinement center",
+                        "0, 0",
+                        Patterns::Anything(),
                         "Geometric pre-refinement towards a point (e.g. a contact zone): "
                         "after the global refinements, the cells that reach within "
                         "Pre-refinement radius of this point are refined ...");
-      prm.declare_entry("Pre-refinement radius", "0", Patterns::Double(0),
-                        "... (m; 0: none) ...");
-      prm.declare_entry("Pre-refinement steps", "0", Patterns::Integer(0, 20),
+      prm.declare_entry("Pre-refinement radius", "0", Patterns::Double(0), "... (m; 0: none) ...");
+      prm.declare_entry("Pre-refinement steps",
+                        "0",
+                        Patterns::Integer(0, 20),
                         "... this many times. Creates hanging nodes at the rim of the refined "
                         "zone; contact interfaces between bodies must not cross that rim.");
       prm.leave_subsection();
@@ -687,7 +824,8 @@ namespace ContactStefan
     {
       prm.enter_subsection("Mesh refinement");
       initial_global_refinements = prm.get_integer("Initial global refinements");
-      const auto c = parse_doubles(prm.get("Pre-refinement center"), "Mesh refinement/Pre-refinement center");
+      const auto c =
+        parse_doubles(prm.get("Pre-refinement center"), "Mesh refinement/Pre-refinement center");
       require(c.size() == 2, "Mesh refinement/Pre-refinement center", "needs two numbers");
       prerefinement_center = Point<2>(c[0], c[1]);
       prerefinement_radius = prm.get_double("Pre-refinement radius");
@@ -700,14 +838,22 @@ namespace ContactStefan
     void Output::declare(ParameterHandler &prm)
     {
       prm.enter_subsection("Output");
-      prm.declare_entry("Directory", "output", Patterns::Anything(),
+      prm.declare_entry("Directory",
+                        "output",
+                        Patterns::Anything(),
                         "Where VTU/PVD and the statistics go (created if missing), "
                         "relative to the working directory.");
-      prm.declare_entry("VTU interval", "1", Patterns::Integer(0),
+      prm.declare_entry("VTU interval",
+                        "1",
+                        Patterns::Integer(0),
                         "Write VTU every this many steps (and at the end); 0: never.");
-      prm.declare_entry("Statistics file", "statistics.txt", Patterns::Anything(),
+      prm.declare_entry("Statistics file",
+                        "statistics.txt",
+                        Patterns::Anything(),
                         "Per-step table inside Directory.");
-      prm.declare_entry("Verbosity", "0", Patterns::Integer(0, 2),
+      prm.declare_entry("Verbosity",
+                        "0",
+                        Patterns::Integer(0, 2),
                         "0: one line per step; 1: plus one line per active-set "
                         "iteration; 2: plus linear-solver details.");
       prm.leave_subsection();
@@ -723,7 +869,8 @@ namespace ContactStefan
       prm.leave_subsection();
       require(!directory.empty(), "Output/Directory", "must not be empty");
       require(!statistics_file.empty() && statistics_file.find('/') == std::string::npos,
-              "Output/Statistics file", "must be a plain file name");
+              "Output/Statistics file",
+              "must be a plain file name");
     }
   } // namespace Parameters
 
@@ -739,7 +886,9 @@ namespace ContactStefan
     Parameters::Geometry::declare(prm);
 
     prm.enter_subsection("Bodies");
-    prm.declare_entry("Body ids", "0", Patterns::Anything(),
+    prm.declare_entry("Body ids",
+                      "0",
+                      Patterns::Anything(),
                       "Material ids of the bodies; each needs a 'Materials/Body N' "
                       "subsection. Rectangle layers are 0, 1, ...; Gmsh meshes use their "
                       "physical surface tags.");
@@ -755,7 +904,9 @@ namespace ContactStefan
     prm.leave_subsection();
 
     prm.enter_subsection("Boundary conditions");
-    prm.declare_entry("Thermal boundaries", "", Patterns::Anything(),
+    prm.declare_entry("Thermal boundaries",
+                      "",
+                      Patterns::Anything(),
                       "Boundary ids with a thermal condition, each with a 'Thermal boundary "
                       "N' subsection; all other boundaries are insulated.");
     for (const unsigned int id : thermal_boundary_ids)
@@ -764,7 +915,9 @@ namespace ContactStefan
         Parameters::ThermalBoundary::declare(prm);
         prm.leave_subsection();
       }
-    prm.declare_entry("Mechanical boundaries", "", Patterns::Anything(),
+    prm.declare_entry("Mechanical boundaries",
+                      "",
+                      Patterns::Anything(),
                       "Boundary ids with a mechanical condition, each with a 'Mechanical "
                       "boundary N' subsection; all other boundaries are traction free.");
     for (const unsigned int id : mechanical_boundary_ids)
@@ -799,8 +952,9 @@ namespace ContactStefan
       if (!in)
         throw InputError("parameter file '" + filename + "' cannot be opened");
     }
-    const auto        slash         = filename.rfind('/');
-    const std::string prm_directory = slash == std::string::npos ? "" : filename.substr(0, slash + 1);
+    const auto        slash = filename.rfind('/');
+    const std::string prm_directory =
+      slash == std::string::npos ? "" : filename.substr(0, slash + 1);
 
     // Pass 1, lenient: which bodies and thermal boundaries are there?
     std::vector<unsigned int> thermal_ids, mechanical_ids;
@@ -821,11 +975,11 @@ namespace ContactStefan
       require(!body_ids.empty(), "Bodies/Body ids", "must name at least one body");
       prm.enter_subsection("Boundary conditions");
       const std::string t = prm.get("Thermal boundaries");
-      thermal_ids = t.empty() ? std::vector<unsigned int>() :
-                                parse_ids(t, "Boundary conditions/Thermal boundaries");
+      thermal_ids         = t.empty() ? std::vector<unsigned int>() :
+                                        parse_ids(t, "Boundary conditions/Thermal boundaries");
       const std::string m = prm.get("Mechanical boundaries");
-      mechanical_ids = m.empty() ? std::vector<unsigned int>() :
-                                   parse_ids(m, "Boundary conditions/Mechanical boundaries");
+      mechanical_ids      = m.empty() ? std::vector<unsigned int>() :
+                                        parse_ids(m, "Boundary conditions/Mechanical boundaries");
       prm.leave_subsection();
     }
 
@@ -843,8 +997,9 @@ namespace ContactStefan
 
     geometry.parse(prm, prm_directory);
     exact_solution.parse(prm);
-    using Exact      = Parameters::ExactSolution::Type;
-    const bool exact = exact_solution.type == Exact::neumann || exact_solution.type == Exact::function;
+    using Exact = Parameters::ExactSolution::Type;
+    const bool exact =
+      exact_solution.type == Exact::neumann || exact_solution.type == Exact::function;
 
     prm.enter_subsection("Materials");
     for (const unsigned int id : body_ids)
@@ -861,8 +1016,10 @@ namespace ContactStefan
         const std::string path = "Boundary conditions/" + boundary_section(id);
         prm.enter_subsection(boundary_section(id));
         thermal_boundaries[id].parse(prm, path);
-        check_function(thermal_boundaries[id].value, path + "/Value",
-                       exact && thermal_boundaries[id].type == Parameters::ThermalBoundary::Type::temperature);
+        check_function(thermal_boundaries[id].value,
+                       path + "/Value",
+                       exact && thermal_boundaries[id].type ==
+                                  Parameters::ThermalBoundary::Type::temperature);
         prm.leave_subsection();
       }
     for (const unsigned int id : mechanical_ids)
@@ -879,7 +1036,8 @@ namespace ContactStefan
     check_function(initial_condition.function, "Initial conditions/Function", exact);
     require(!(exact && is_exact_keyword(initial_condition.function) &&
               initial_condition.variable != Parameters::InitialCondition::Variable::temperature),
-            "Initial conditions/Variable", "must be 'temperature' when Function = exact");
+            "Initial conditions/Variable",
+            "must be 'temperature' when Function = exact");
 
     time.parse(prm);
     solver.parse(prm);
@@ -887,36 +1045,44 @@ namespace ContactStefan
     output.parse(prm);
 
     if (geometry.mesh_type == Parameters::Geometry::MeshType::rectangle)
-      require(geometry.layer_interfaces.size() + 1 == body_ids.size(), "Bodies/Body ids",
+      require(geometry.layer_interfaces.size() + 1 == body_ids.size(),
+              "Bodies/Body ids",
               "a rectangle with " + std::to_string(geometry.layer_interfaces.size()) +
                 " layer interfaces has bodies 0.." +
                 std::to_string(geometry.layer_interfaces.size()));
 
     if (exact_solution.type == Exact::hertz || exact_solution.type == Exact::patch)
-      require(physics.mechanics, "Exact solution/Type",
+      require(physics.mechanics,
+              "Exact solution/Type",
               "'" + exact_solution.type_name + "' needs Physics/Mechanics = true");
     if (exact_solution.type == Exact::equilibrium)
       {
         for (const auto &[id, bc] : thermal_boundaries)
-          require(bc.type == Parameters::ThermalBoundary::Type::flux && is_zero_expression(bc.value),
-                  "Exact solution/Type", "'equilibrium' needs insulated boundaries (boundary " +
-                                           std::to_string(id) + " is not)");
+          require(bc.type == Parameters::ThermalBoundary::Type::flux &&
+                    is_zero_expression(bc.value),
+                  "Exact solution/Type",
+                  "'equilibrium' needs insulated boundaries (boundary " + std::to_string(id) +
+                    " is not)");
         for (const auto &[id, m] : materials)
-          require(is_zero_expression(m.heat_source), "Exact solution/Type",
+          require(is_zero_expression(m.heat_source),
+                  "Exact solution/Type",
                   "'equilibrium' needs no heat source (body " + std::to_string(id) + " has one)");
       }
     if (exact_solution.type == Exact::neumann || exact_solution.type == Exact::function ||
         exact_solution.type == Exact::equilibrium)
-      require(physics.thermal, "Exact solution/Type",
+      require(physics.thermal,
+              "Exact solution/Type",
               "'" + exact_solution.type_name + "' needs Physics/Thermal = true");
     if (exact_solution.type == Exact::hertz || exact_solution.type == Exact::patch)
       {
-        require(materials.count(exact_solution.body) == 1, "Exact solution/Body",
+        require(materials.count(exact_solution.body) == 1,
+                "Exact solution/Body",
                 "body " + std::to_string(exact_solution.body) + " is not in Bodies/Body ids");
         // Both closed-form solutions need materials without shear-extension
         // coupling (C16 = C26 = 0): otherwise no uniform state fits the rollers.
         for (const auto &[id, m] : materials)
-          require(m.elasticity != Parameters::BodyMaterial::Elasticity::anisotropic || (m.voigt[2] == 0 && m.voigt[4] == 0),
+          require(m.elasticity != Parameters::BodyMaterial::Elasticity::anisotropic ||
+                    (m.voigt[2] == 0 && m.voigt[4] == 0),
                   "Materials/Body " + std::to_string(id) + "/Elasticity tensor",
                   "the '" + exact_solution.type_name + "' solution needs C16 = C26 = 0");
       }
@@ -924,7 +1090,8 @@ namespace ContactStefan
     // coupling, which is not implemented yet: refuse data that would need it.
     if (physics.thermal && physics.mechanics)
       for (const auto &[id, m] : materials)
-        require(m.thermal_expansion == 0, "Materials/Body " + std::to_string(id) + "/Thermal expansion",
+        require(m.thermal_expansion == 0,
+                "Materials/Body " + std::to_string(id) + "/Thermal expansion",
                 "thermal stress (coupling of temperature and mechanics) is not implemented yet; "
                 "set it to 0 or switch one of Physics/Thermal, Physics/Mechanics off");
     if (exact_solution.type == Exact::function)
@@ -932,25 +1099,34 @@ namespace ContactStefan
     if (exact_solution.type == Exact::neumann)
       {
         const std::string path = "Exact solution/Body";
-        require(materials.count(exact_solution.body) == 1, path,
+        require(materials.count(exact_solution.body) == 1,
+                path,
                 "body " + std::to_string(exact_solution.body) + " is not in Bodies/Body ids");
         const auto &m = materials.at(exact_solution.body);
-        require(!m.transition_temperatures.empty(), path,
+        require(!m.transition_temperatures.empty(),
+                path,
                 "the Neumann solution needs a material with a phase transition");
         require(exact_solution.hot_temperature > m.transition_temperatures.back(),
-                "Exact solution/Hot temperature", "must exceed the highest transition temperature");
+                "Exact solution/Hot temperature",
+                "must exceed the highest transition temperature");
         require(exact_solution.cold_temperature <= m.transition_temperatures.front(),
                 "Exact solution/Cold temperature",
                 "must not exceed the lowest transition temperature");
-        require(conductivity_is_isotropic(m), "Materials/Body " + std::to_string(exact_solution.body) +
-                  "/Conductivity anisotropy", "the Neumann solution needs an isotropic conductivity");
-        require(geometry.mesh_type == Parameters::Geometry::MeshType::rectangle, "Exact solution/Type",
+        require(conductivity_is_isotropic(m),
+                "Materials/Body " + std::to_string(exact_solution.body) +
+                  "/Conductivity anisotropy",
+                "the Neumann solution needs an isotropic conductivity");
+        require(geometry.mesh_type == Parameters::Geometry::MeshType::rectangle,
+                "Exact solution/Type",
                 "'neumann' needs Geometry/Mesh = rectangle (a strip along x)");
-        require(exact_solution.origin <= geometry.lower_left[0], "Exact solution/Origin",
+        require(exact_solution.origin <= geometry.lower_left[0],
+                "Exact solution/Origin",
                 "must not lie inside the rectangle");
-        require(body_ids.size() == 1, "Bodies/Body ids",
+        require(body_ids.size() == 1,
+                "Bodies/Body ids",
                 "the Neumann solution is for a single body");
-        require(time.start_time > 0, "Time stepping/Start time",
+        require(time.start_time > 0,
+                "Time stepping/Start time",
                 "must be > 0 for the Neumann solution (it is singular at t = 0)");
         // Build the solution once here, so that data without a similarity
         // solution is rejected before any work.
@@ -960,7 +1136,8 @@ namespace ContactStefan
           }
         catch (const std::exception &e)
           {
-            throw InputError("Exact solution/Type", std::string("no Neumann solution: ") + e.what());
+            throw InputError("Exact solution/Type",
+                             std::string("no Neumann solution: ") + e.what());
           }
       }
   }

@@ -61,7 +61,7 @@ namespace ContactStefan
 
 
   template <int dim>
-  void Postprocessor<dim>::attach(const ThermalField<dim> *thermal_field,
+  void Postprocessor<dim>::attach(const ThermalField<dim>    *thermal_field,
                                   const MechanicalField<dim> *mechanical_field)
   {
     thermal    = thermal_field;
@@ -101,7 +101,8 @@ namespace ContactStefan
         if (step == 1)
           first_contact_iterations = contact_report.iterations;
         else
-          max_contact_iterations_warm = std::max(max_contact_iterations_warm, contact_report.iterations);
+          max_contact_iterations_warm =
+            std::max(max_contact_iterations_warm, contact_report.iterations);
         last_contact_report = contact_report;
       }
     if (thermal)
@@ -243,7 +244,9 @@ namespace ContactStefan
     // two orders above the element's).
     const auto         &fe = dof_handler.get_fe();
     const QGauss<dim>   quadrature(fe.degree + 2);
-    FEValues<dim>       fe_values(fe, quadrature, update_values | update_quadrature_points | update_JxW_values);
+    FEValues<dim>       fe_values(fe,
+                            quadrature,
+                            update_values | update_quadrature_points | update_JxW_values);
     std::vector<double> theta_h(quadrature.size()), theta(quadrature.size());
     double              error_squared = 0, norm_squared = 0;
     for (const auto &cell : dof_handler.active_cell_iterators())
@@ -311,11 +314,13 @@ namespace ContactStefan
 
 
   template <int dim>
-  void Postprocessor<dim>::print_thermal_results(const unsigned int n_steps, const double time) const
+  void Postprocessor<dim>::print_thermal_results(const unsigned int n_steps,
+                                                 const double       time) const
   {
     result(pcout, "time steps", n_steps);
     result(pcout, "temperature dofs", thermal->get_dof_handler().n_dofs());
-    result(pcout, "mean active-set iterations",
+    result(pcout,
+           "mean active-set iterations",
            n_steps > 0 ? double(total_active_set_iterations) / n_steps : 0.);
     result(pcout, "steps with relaxation fallback", steps_with_fallback);
     result(pcout, "max energy-balance residual", max_energy_residual);
@@ -326,7 +331,8 @@ namespace ContactStefan
         result(pcout, "mesh width", h);
         result(pcout, "L2 error temperature", last_l2_error);
         result(pcout, "relative L2 error temperature", last_l2_error / last_l2_norm);
-        result(pcout, "relative space-time L2 error temperature",
+        result(pcout,
+               "relative space-time L2 error temperature",
                std::sqrt(space_time_error_squared / space_time_norm_squared));
         result(pcout, "max-norm error temperature", last_max_error);
       }
@@ -355,7 +361,7 @@ namespace ContactStefan
           hi *= 2;
         for (unsigned int i = 0; i < 200 && hi - lo > 0; ++i)
           {
-            const double mid = 0.5 * (lo + hi);
+            const double mid                                = 0.5 * (lo + hi);
             (total(mid) < initial_total_enthalpy ? lo : hi) = mid;
           }
         const double  T_f         = 0.5 * (lo + hi);
@@ -365,9 +371,11 @@ namespace ContactStefan
           deviation = std::max(deviation, std::abs(temperature[dof] - T_f));
         const double E_end = thermal->total_enthalpy();
         result(pcout, "equilibrium temperature", T_f);
-        result(pcout, "max deviation from equilibrium temperature",
+        result(pcout,
+               "max deviation from equilibrium temperature",
                Utilities::MPI::max(deviation, mpi_communicator));
-        result(pcout, "relative change of total enthalpy",
+        result(pcout,
+               "relative change of total enthalpy",
                std::abs(E_end - initial_total_enthalpy) / std::abs(initial_total_enthalpy));
       }
     if (const NeumannSolution *neumann = functions.neumann())
@@ -401,15 +409,17 @@ namespace ContactStefan
     result(pcout, "contact iterations first step", first_contact_iterations);
     result(pcout, "max contact iterations", max_contact_iterations);
     result(pcout, "max contact iterations after the first step", max_contact_iterations_warm);
-    result(pcout, "mean contact iterations", n_steps > 0 ? double(total_contact_iterations) / n_steps : 0.);
+    result(pcout,
+           "mean contact iterations",
+           n_steps > 0 ? double(total_contact_iterations) / n_steps : 0.);
     result(pcout, "active contact nodes", last_contact_report.active_nodes);
     for (const auto &[group, force] : last_contact_report.forces)
       result(pcout, "contact force " + group, force);
     result(pcout, "max contact pressure", last_contact_report.max_pressure);
 
-    const auto  &exact = prm.exact_solution;
-    const auto  &owned = mechanical->get_dof_handler().locally_owned_dofs();
-    const auto  &conditions = mechanical->get_normal_conditions();
+    const auto &exact      = prm.exact_solution;
+    const auto &owned      = mechanical->get_dof_handler().locally_owned_dofs();
+    const auto &conditions = mechanical->get_normal_conditions();
     if (exact.type == ExactType::hertz)
       {
         // The contact nodes of the obstacle: position, pressure and weight.
@@ -442,10 +452,13 @@ namespace ContactStefan
         result(pcout, "Hertz force P", P);
         result(pcout, "Hertz half-width", a);
         result(pcout, "Hertz exact half-width", hertz.half_width);
-        result(pcout, "Hertz half-width relative error", std::abs(a - hertz.half_width) / hertz.half_width);
+        result(pcout,
+               "Hertz half-width relative error",
+               std::abs(a - hertz.half_width) / hertz.half_width);
         result(pcout, "Hertz peak pressure", p0);
         result(pcout, "Hertz exact peak pressure", hertz.peak_pressure);
-        result(pcout, "Hertz peak pressure relative error",
+        result(pcout,
+               "Hertz peak pressure relative error",
                std::abs(p0 - hertz.peak_pressure) / hertz.peak_pressure);
         result(pcout, "Hertz pressure profile relative L2 error", std::sqrt(error2 / norm2));
         double spacing = HUGE_VAL;
@@ -467,19 +480,19 @@ namespace ContactStefan
         double compliance = 0;
         for (const unsigned int id : prm.body_ids)
           compliance += mechanical->body_height(id) / materials[id].plane_strain_modulus;
-        const bool   closed       = exact.patch_displacement >= gap;
-        const double sigma_y      = closed ? -(exact.patch_displacement - gap) / compliance : 0.;
-        const double scale        = closed ? std::abs(sigma_y) : exact.patch_displacement / compliance;
+        const bool   closed  = exact.patch_displacement >= gap;
+        const double sigma_y = closed ? -(exact.patch_displacement - gap) / compliance : 0.;
+        const double scale   = closed ? std::abs(sigma_y) : exact.patch_displacement / compliance;
         double       stress_error = 0, pressure_error = 0, min_gap = HUGE_VAL;
         unsigned int interface_nodes = 0, active = 0;
         const auto  &dof_handler = mechanical->get_dof_handler();
         const hp::QCollection<dim> q{QMidpoint<dim>()};
-        hp::FEValues<dim>          hp_fe_values(dof_handler.get_fe_collection(), q, update_gradients);
+        hp::FEValues<dim> hp_fe_values(dof_handler.get_fe_collection(), q, update_gradients);
         for (const auto &cell : dof_handler.active_cell_iterators())
           if (cell->is_locally_owned())
             {
               hp_fe_values.reinit(cell);
-              const auto &fv = hp_fe_values.get_present_fe_values();
+              const auto                              &fv = hp_fe_values.get_present_fe_values();
               std::vector<std::vector<Tensor<1, dim>>> grads(
                 1, std::vector<Tensor<1, dim>>(fv.get_fe().n_components()));
               fv.get_function_gradients(mechanical->get_displacement(), grads);
@@ -488,9 +501,12 @@ namespace ContactStefan
               for (unsigned int i = 0; i < dim; ++i)
                 for (unsigned int j = i; j < dim; ++j)
                   strain[i][j] = 0.5 * (grads[0][slot * dim + i][j] + grads[0][slot * dim + j][i]);
-              const SymmetricTensor<2, dim> sigma = materials[cell->material_id()].elasticity * strain;
-              stress_error = std::max(
-                {stress_error, std::abs(sigma[0][0]), std::abs(sigma[0][1]), std::abs(sigma[1][1] - sigma_y)});
+              const SymmetricTensor<2, dim> sigma =
+                materials[cell->material_id()].elasticity * strain;
+              stress_error = std::max({stress_error,
+                                       std::abs(sigma[0][0]),
+                                       std::abs(sigma[0][1]),
+                                       std::abs(sigma[1][1] - sigma_y)});
             }
         for (const auto &c : conditions)
           if (c.kind == Kind::interface && owned.is_element(c.dofs_k[0]))
@@ -498,15 +514,23 @@ namespace ContactStefan
               ++interface_nodes;
               active += mechanical->is_active(c);
               pressure_error =
-                std::max(pressure_error, std::abs(mechanical->contact_pressure(c) - std::abs(sigma_y)));
+                std::max(pressure_error,
+                         std::abs(mechanical->contact_pressure(c) - std::abs(sigma_y)));
               min_gap = std::min(min_gap, mechanical->contact_gap(c));
             }
         result(pcout, "patch exact sigma_yy", sigma_y);
-        result(pcout, "patch stress relative error", Utilities::MPI::max(stress_error, mpi_communicator) / scale);
-        result(pcout, "patch pressure relative error",
+        result(pcout,
+               "patch stress relative error",
+               Utilities::MPI::max(stress_error, mpi_communicator) / scale);
+        result(pcout,
+               "patch pressure relative error",
                Utilities::MPI::max(pressure_error, mpi_communicator) / scale);
-        result(pcout, "patch interface nodes", Utilities::MPI::sum(interface_nodes, mpi_communicator));
-        result(pcout, "patch interface nodes active", Utilities::MPI::sum(active, mpi_communicator));
+        result(pcout,
+               "patch interface nodes",
+               Utilities::MPI::sum(interface_nodes, mpi_communicator));
+        result(pcout,
+               "patch interface nodes active",
+               Utilities::MPI::sum(active, mpi_communicator));
         result(pcout, "patch min interface gap", Utilities::MPI::min(min_gap, mpi_communicator));
       }
   }

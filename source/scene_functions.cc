@@ -54,12 +54,14 @@ namespace ContactStefan
         heat_sources[id] = parse<dim>({m.heat_source});
         heat_load |= !is_zero_expression(m.heat_source);
         body_forces[id] = parse<dim>({m.body_force[0], m.body_force[1]});
-        mechanical_load |= !is_zero_expression(m.body_force[0]) || !is_zero_expression(m.body_force[1]);
+        mechanical_load |=
+          !is_zero_expression(m.body_force[0]) || !is_zero_expression(m.body_force[1]);
       }
     for (const auto &[id, bc] : prm.thermal_boundaries)
       {
         thermal_boundaries[id] = function_or_exact(bc.value);
-        heat_load |= bc.type == Parameters::ThermalBoundary::Type::flux && !is_zero_expression(bc.value);
+        heat_load |=
+          bc.type == Parameters::ThermalBoundary::Type::flux && !is_zero_expression(bc.value);
       }
     initial = function_or_exact(prm.initial_condition.function);
 

@@ -67,17 +67,24 @@ namespace ContactStefan
     linear_solver.clear();
     system_matrix.reinit(owned, owned, dsp, mpi_communicator);
 
-    for (Vector *v : {&system_rhs, &temperature, &enthalpy, &old_enthalpy, &lumped_mass, &heat_load,
-                      &phase_state, &nodal_diagonal, &nodal_rhs})
+    for (Vector *v : {&system_rhs,
+                      &temperature,
+                      &enthalpy,
+                      &old_enthalpy,
+                      &lumped_mass,
+                      &heat_load,
+                      &phase_state,
+                      &nodal_diagonal,
+                      &nodal_rhs})
       v->reinit(owned, mpi_communicator);
     for (Vector *v : {&temperature_ghosted, &enthalpy_ghosted, &phase_state_ghosted})
       v->reinit(owned, relevant, mpi_communicator);
 
     // Lumped mass: the vertex (trapezoidal) rule makes the Q1 mass matrix
     // diagonal; m_K holds each cell's share of it, m_i is their sum.
-    const QTrapezoid<dim>                vertex_rule;
-    FEValues<dim>                        fe_values(fe, vertex_rule, update_values | update_JxW_values);
-    const unsigned int                   n = fe.n_dofs_per_cell();
+    const QTrapezoid<dim> vertex_rule;
+    FEValues<dim>         fe_values(fe, vertex_rule, update_values | update_JxW_values);
+    const unsigned int    n = fe.n_dofs_per_cell();
     std::vector<types::global_dof_index> dofs(n);
     cell_mass.assign(triangulation.n_active_cells(), dealii::Vector<double>());
     for (const auto &cell : dof_handler.active_cell_iterators())
@@ -160,9 +167,8 @@ namespace ContactStefan
       if (cell->is_locally_owned())
         {
           cell->get_dof_indices(dofs);
-          hanging_node_constraints.distribute_local_to_global(cell_mass[cell->active_cell_index()],
-                                                              dofs,
-                                                              mass[law_of_body.at(cell->material_id())]);
+          hanging_node_constraints.distribute_local_to_global(
+            cell_mass[cell->active_cell_index()], dofs, mass[law_of_body.at(cell->material_id())]);
         }
     for (unsigned int l = 0; l < n_distinct_body_laws; ++l)
       {
@@ -222,9 +228,9 @@ namespace ContactStefan
   template <int dim>
   void ThermalField<dim>::initialize(const double t0)
   {
-    time               = t0;
-    first_step         = true;
-    Function<dim> &f   = functions.initial_condition();
+    time             = t0;
+    first_step       = true;
+    Function<dim> &f = functions.initial_condition();
     f.set_time(t0);
     Vector values(owned, mpi_communicator);
     VectorTools::interpolate(dof_handler, f, values);
@@ -363,11 +369,14 @@ namespace ContactStefan
     if (!functions.heat_load_present())
       return;
 
-    const unsigned int    n = fe.n_dofs_per_cell();
-    const QGauss<dim>     quadrature(fe.degree + 1);
-    const QGauss<dim - 1> face_quadrature(fe.degree + 1);
-    FEValues<dim>         fe_values(fe, quadrature, update_values | update_quadrature_points | update_JxW_values);
-    FEFaceValues<dim>     fe_face_values(fe, face_quadrature,
+    const unsigned int                   n = fe.n_dofs_per_cell();
+    const QGauss<dim>                    quadrature(fe.degree + 1);
+    const QGauss<dim - 1>                face_quadrature(fe.degree + 1);
+    FEValues<dim>                        fe_values(fe,
+                            quadrature,
+                            update_values | update_quadrature_points | update_JxW_values);
+    FEFaceValues<dim>                    fe_face_values(fe,
+                                     face_quadrature,
                                      update_values | update_quadrature_points | update_JxW_values);
     std::vector<types::global_dof_index> dofs(n);
     for (const unsigned int id : prm.body_ids)
@@ -470,8 +479,8 @@ namespace ContactStefan
     double area = 0;
     for (const auto dof : owned)
       if (!hanging_node_constraints.is_constrained(dof))
-        area += lumped_mass[dof] * law(dof).fraction_through_temperature(transition_temperature,
-                                                                          enthalpy[dof]);
+        area += lumped_mass[dof] *
+                law(dof).fraction_through_temperature(transition_temperature, enthalpy[dof]);
     return Utilities::MPI::sum(area, mpi_communicator);
   }
 

@@ -10,7 +10,9 @@ TMPDIR=$(mktemp -d) && export TMPDIR
 "$binary" "$scene" > stdout.txt 2> stderr.txt
 status=$?
 if [ $status -ne 1 ]; then echo "exit code $status, expected 1"; cat stderr.txt; exit 1; fi
-if [ "$(wc -l < stderr.txt)" -ne 1 ]; then echo "stderr is not one line:"; cat stderr.txt; exit 1; fi
+if [ "$(wc -l < stderr.txt)" -ne 1 ]; then
+  echo "stderr is not one line:"; cat stderr.txt; exit 1
+fi
 if ! grep -qF -- "$expected" stderr.txt; then
   echo "stderr does not contain '$expected':"; cat stderr.txt; exit 1
 fi

@@ -20,7 +20,8 @@ using UnitTest::check;
 namespace
 {
   // The interface nodes: (active count, max |p - p_exact|) over all ranks.
-  std::pair<unsigned int, double> interface_state(const MechanicalField<2> &field, const double p_exact)
+  std::pair<unsigned int, double> interface_state(const MechanicalField<2> &field,
+                                                  const double              p_exact)
   {
     unsigned int active = 0;
     double       error  = 0;
@@ -31,7 +32,8 @@ namespace
           active += field.is_active(c);
           error = std::max(error, std::abs(field.contact_pressure(c) - p_exact));
         }
-    return {Utilities::MPI::sum(active, MPI_COMM_WORLD), Utilities::MPI::max(error, MPI_COMM_WORLD)};
+    return {Utilities::MPI::sum(active, MPI_COMM_WORLD),
+            Utilities::MPI::max(error, MPI_COMM_WORLD)};
   }
 } // namespace
 
@@ -43,8 +45,8 @@ int main(int argc, char *argv[])
   FieldTest::Scene scene(argv[1], [](AllParameters &) {});
   const bool       patch = scene.prm.exact_solution.type == Parameters::ExactSolution::Type::patch;
 
-  MechanicalField<2> field(scene.prm, *scene.materials, *scene.functions, scene.triangulation,
-                           scene.timer, scene.pcout);
+  MechanicalField<2> field(
+    scene.prm, *scene.materials, *scene.functions, scene.triangulation, scene.timer, scene.pcout);
   field.setup_dofs();
   field.initialize(0.);
   field.begin_time_step(1., 1.);
@@ -55,7 +57,8 @@ int main(int argc, char *argv[])
       // Exact: both blocks E = 1, nu = 0.3, total height 1, delta = 0.01.
       const double p_exact = 0.01 / (1 - 0.3 * 0.3);
       check(report.active_nodes == 9, "all 9 interface nodes in contact");
-      check(std::abs(report.max_pressure - p_exact) < 1e-12 * p_exact, "max pressure = E* delta / H");
+      check(std::abs(report.max_pressure - p_exact) < 1e-12 * p_exact,
+            "max pressure = E* delta / H");
       check(std::abs(report.forces.at("interface 0-1") - p_exact) < 1e-12 * p_exact,
             "interface force = pressure x width");
       const auto [active, error] = interface_state(field, p_exact);
@@ -63,7 +66,8 @@ int main(int argc, char *argv[])
     }
   else
     // tests/scenes/block_on_obstacle.prm: weight 2 and traction 1.5 on a unit block.
-    check(std::abs(report.forces.at("boundary 2") - 3.5) < 1e-10, "floor force = weight + traction = 3.5");
+    check(std::abs(report.forces.at("boundary 2") - 3.5) < 1e-10,
+          "floor force = weight + traction = 3.5");
 
   const ContactStepReport again = field.solve();
   check(again.iterations == 1 && again.active_nodes == report.active_nodes,
@@ -88,8 +92,8 @@ int main(int argc, char *argv[])
       check(active_after == 9 && error_after < 1e-12 * p_exact,
             "contact set and pressures re-derived from the displacement alone");
     }
-  const ContactStepReport after = field.solve();
-  bool same_forces = true;
+  const ContactStepReport after       = field.solve();
+  bool                    same_forces = true;
   for (const auto &[group, force] : report.forces)
     same_forces &= std::abs(after.forces.at(group) - force) <= 1e-12 * std::abs(force);
   check(after.iterations == 1 && after.active_nodes == report.active_nodes && same_forces,

@@ -6,8 +6,8 @@
 // the new mesh: the same operators (conductivity, lumped mass, stiffness), the
 // same normal conditions, and the same result of one coupled time step.
 // Scene: the C2 patch test with both physics on (two bodies, an interface, rollers).
-#include <deal.II/base/mpi.h>
 #include <deal.II/base/function_lib.h>
+#include <deal.II/base/mpi.h>
 
 #include <deal.II/dofs/dof_tools.h>
 
@@ -28,7 +28,8 @@ namespace
 
   // Flag the locally owned active cell that contains p.
   template <typename Flag>
-  void flag_cell_at(parallel::distributed::Triangulation<2> &tria, const Point<2> &p, const Flag &flag)
+  void
+  flag_cell_at(parallel::distributed::Triangulation<2> &tria, const Point<2> &p, const Flag &flag)
   {
     for (const auto &cell : tria.active_cell_iterators())
       if (cell->is_locally_owned() && cell->point_inside(p))
@@ -67,8 +68,8 @@ namespace
 
   FieldTest::Vector conductivity_of_probe(const ThermalField<2> &f)
   {
-    const auto &dh = f.get_dof_handler();
-    FieldTest::Vector      theta(dh.locally_owned_dofs(), MPI_COMM_WORLD), result(theta);
+    const auto       &dh = f.get_dof_handler();
+    FieldTest::Vector theta(dh.locally_owned_dofs(), MPI_COMM_WORLD), result(theta);
     VectorTools::interpolate(dh, Probe(1), theta);
     IndexSet relevant;
     DoFTools::extract_locally_relevant_dofs(dh, relevant);
@@ -80,8 +81,8 @@ namespace
 
   FieldTest::Vector stiffness_of_probe(const MechanicalField<2> &f)
   {
-    const auto &dh = f.get_dof_handler();
-    FieldTest::Vector      u(dh.locally_owned_dofs(), MPI_COMM_WORLD), result(u);
+    const auto       &dh = f.get_dof_handler();
+    FieldTest::Vector u(dh.locally_owned_dofs(), MPI_COMM_WORLD), result(u);
     VectorTools::interpolate(dh, Probe(dh.get_fe_collection().n_components()), u);
     IndexSet relevant;
     DoFTools::extract_locally_relevant_dofs(dh, relevant);
@@ -104,7 +105,7 @@ int main(int argc, char *argv[])
     std::fclose(stdout);
   FieldTest::Scene scene(argv[1], [](AllParameters &prm) {
     prm.physics.thermal                       = true;
-    prm.refinement.initial_global_refinements = 2; // 16 x 16 cells
+    prm.refinement.initial_global_refinements = 2;   // 16 x 16 cells
     prm.materials.at(1).conductivities        = {3}; // bodies differ thermally
     prm.materials.at(1).density               = 2;
     // Body 1 differs in every cached per-cell quantity, so that a cache left
@@ -112,9 +113,9 @@ int main(int argc, char *argv[])
     prm.materials.at(1).anisotropy[0]  = 2;
     prm.materials.at(1).anisotropy[1]  = 0.5;
     prm.materials.at(1).youngs_modulus = 2;
-    prm.initial_condition.function            = "sin(3 * x) + y * y";
+    prm.initial_condition.function     = "sin(3 * x) + y * y";
   });
-  auto &tria = scene.triangulation;
+  auto            &tria = scene.triangulation;
 
   // The mesh before the change: one cell near (0.1, 0.1) refined (body 0, away
   // from the interface at y = 0.5, so the interface stays conforming).
@@ -148,15 +149,17 @@ int main(int argc, char *argv[])
         "conductivity operator after the change = that of a fresh set-up");
   check(relative(survivor.thermal.get_lumped_mass(), fresh.thermal.get_lumped_mass()) < 1e-14,
         "lumped mass after the change = that of a fresh set-up");
-  check(relative(stiffness_of_probe(survivor.mechanical), stiffness_of_probe(fresh.mechanical)) < 1e-14,
+  check(relative(stiffness_of_probe(survivor.mechanical), stiffness_of_probe(fresh.mechanical)) <
+          1e-14,
         "stiffness operator after the change = that of a fresh set-up");
 
-  const auto &a = survivor.mechanical.get_normal_conditions();
-  const auto &b = fresh.mechanical.get_normal_conditions();
+  const auto &a    = survivor.mechanical.get_normal_conditions();
+  const auto &b    = fresh.mechanical.get_normal_conditions();
   bool        same = a.size() == b.size();
   for (unsigned int i = 0; same && i < a.size(); ++i)
     same = a[i].kind == b[i].kind && a[i].dofs_k == b[i].dofs_k && a[i].position == b[i].position &&
-           a[i].normal == b[i].normal && a[i].weight == b[i].weight && a[i].stiffness == b[i].stiffness;
+           a[i].normal == b[i].normal && a[i].weight == b[i].weight &&
+           a[i].stiffness == b[i].stiffness;
   check(Utilities::MPI::min(same ? 1 : 0, MPI_COMM_WORLD) == 1,
         "normal conditions (nodes, normals, weights, stiffness) = those of a fresh set-up");
 
@@ -168,7 +171,8 @@ int main(int argc, char *argv[])
       f->mechanical.solve();
       f->thermal.solve();
     }
-  FieldTest::Vector u_survivor(survivor.mechanical.get_dof_handler().locally_owned_dofs(), MPI_COMM_WORLD),
+  FieldTest::Vector u_survivor(survivor.mechanical.get_dof_handler().locally_owned_dofs(),
+                               MPI_COMM_WORLD),
     u_fresh(u_survivor);
   u_survivor = survivor.mechanical.get_displacement();
   u_fresh    = fresh.mechanical.get_displacement();

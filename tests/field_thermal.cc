@@ -28,8 +28,8 @@ int main(int argc, char *argv[])
     prm.physics.thermal                       = true;
   });
 
-  ThermalField<2> field(scene.prm, *scene.materials, *scene.functions, scene.triangulation, scene.timer,
-                        scene.pcout);
+  ThermalField<2> field(
+    scene.prm, *scene.materials, *scene.functions, scene.triangulation, scene.timer, scene.pcout);
   field.setup_dofs();
   check(field.get_dof_handler().n_dofs() == 25, "4 x 4 cells have 25 temperature DoFs");
   field.initialize(0.);
@@ -47,13 +47,13 @@ int main(int argc, char *argv[])
   FieldTest::Vector theta_exact(field.get_dof_handler().locally_owned_dofs(), MPI_COMM_WORLD);
   VectorTools::interpolate(field.get_dof_handler(), exact, theta_exact);
   FieldTest::Vector theta(theta_exact);
-  theta = field.get_temperature();
+  theta              = field.get_temperature();
   const double error = FieldTest::max_difference(theta, theta_exact);
   check(error < 1e-13 * FieldTest::max_abs(theta_exact), "nodal temperature exact to round-off");
 
   // A second solve in the same step (as inside a fixed-point coupling loop).
   const EnthalpyStepReport again = field.solve();
-  FieldTest::Vector                   theta_again(theta);
+  FieldTest::Vector        theta_again(theta);
   theta_again = field.get_temperature();
   check(again.active_set_iterations == 1 && FieldTest::max_difference(theta_again, theta) < 1e-14,
         "a repeated solve() in the same step gives the same temperature");

@@ -64,7 +64,9 @@ fi
 {
   grep '^RESULT' stdout.txt | grep -v 'RESULT wall time'
   awk 'NR == 1 { for (i = 1; i <= NF; ++i) if ($i != "wall_time") keep[i] = 1 }
-       { line = ""; for (i = 1; i <= NF; ++i) if (i in keep) line = line (line == "" ? "" : " ") $i; print line }' \
+       { line = ""
+         for (i = 1; i <= NF; ++i) if (i in keep) line = line (line == "" ? "" : " ") $i
+         print line }' \
       "$directory/$statistics"
 } > "$out"
 
@@ -79,7 +81,8 @@ for requirement in "${requirements[@]}"; do
     if ! [[ "$value" =~ ^[-+]?[0-9]*\.?[0-9]+([eE][-+]?[0-9]+)?$ ]]; then
       echo "requirement '$requirement': '$value' is not a number"; failed=1; continue
     fi
-    if ! awk -v v="$value" -v b="$bound" -v op="$op" 'BEGIN { exit !(op == "<" ? v < b : v > b) }'; then
+    if ! awk -v v="$value" -v b="$bound" -v op="$op" \
+         'BEGIN { exit !(op == "<" ? v < b : v > b) }'; then
       echo "requirement failed: $key = $value, required $op $bound"; failed=1
     else
       echo "requirement met: $key = $value $op $bound"

@@ -3,11 +3,11 @@
 // active-set test, and the Hertz formulas (numbers of C1 in doc/benchmarks.md).
 #include <contact-stefan/contact.h>
 
-#include "unit_test_tools.h"
-
 #include <cmath>
 #include <cstdio>
 #include <string>
+
+#include "unit_test_tools.h"
 
 using namespace ContactStefan::Contact;
 
@@ -33,7 +33,8 @@ int main()
   NormalAccumulator straight;
   straight.add_face({{0., 0.}}, {{1., 0.}}, {{0.5, -0.5}});
   straight.add_face({{1., 0.}}, {{2., 0.}}, {{1.5, -0.5}});
-  check(close(straight.normal()[0], 0.) && close(straight.normal()[1], 1.), "straight boundary: normal");
+  check(close(straight.normal()[0], 0.) && close(straight.normal()[1], 1.),
+        "straight boundary: normal");
   check(close(straight.weight(), 1.), "straight boundary: lumped weight = half of both faces");
 
   // Convex corner of the square [0,1]^2 at (1,1): faces x = 1 and y = 1 give the bisector.
@@ -63,10 +64,11 @@ int main()
         const ConstraintRow row = normal_constraint(k, &l, n, g, c, on_partner);
         double              v[4];
         std::copy(u, u + 4, v);
-        v[row.target] = apply(row, u);
+        v[row.target]     = apply(row, u);
         const double jump = n[0] * (v[0] - v[2]) + n[1] * (v[1] - v[3]);
-        check(close(jump, g), std::string("interface row solved for ") + (on_partner ? "partner " : "side k ") +
-                                "component " + std::to_string(c) + " satisfies the condition");
+        check(close(jump, g),
+              std::string("interface row solved for ") + (on_partner ? "partner " : "side k ") +
+                "component " + std::to_string(c) + " satisfies the condition");
       }
   {
     const ConstraintRow row = normal_constraint(k, nullptr, n, g, 1, false);
@@ -77,8 +79,8 @@ int main()
   }
 
   // Active-set test.
-  check(is_active(1., -0.5, 1., 0.) && !is_active(0., -1e-3, 1., 0.) && is_active(0., 1e-3, 1., 0.) &&
-          !is_active(1e-14, 0., 1., 1e-12),
+  check(is_active(1., -0.5, 1., 0.) && !is_active(0., -1e-3, 1., 0.) &&
+          is_active(0., 1e-3, 1., 0.) && !is_active(1e-14, 0., 1., 1e-12),
         "active if lambda + c d exceeds the tolerance");
 
   // Hertz: doc/benchmarks.md C1 (R = 1, E = 1, nu = 0.3, P = 1e-3).

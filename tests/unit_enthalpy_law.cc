@@ -4,12 +4,12 @@
 // Prints deterministic lines; returns 1 if any check fails.
 #include <contact-stefan/enthalpy_law.h>
 
-#include "unit_test_tools.h"
-
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
 #include <string>
+
+#include "unit_test_tools.h"
 
 using namespace ContactStefan;
 
@@ -36,9 +36,9 @@ namespace
   // Properties every law must have, checked on a grid of enthalpies.
   void check_consistency(const EnthalpyLaw &law, const std::string &name)
   {
-    bool   inverse = true, pieces = true, monotone = true, primitive = true, states = true;
-    double previous_theta = -HUGE_VAL;
-    const double step = 1e-3;
+    bool         inverse = true, pieces = true, monotone = true, primitive = true, states = true;
+    double       previous_theta = -HUGE_VAL;
+    const double step           = 1e-3;
     for (double h = -5; h <= 5; h += step)
       {
         const double       theta = law.temperature(h);
@@ -53,8 +53,7 @@ namespace
         monotone &= (theta >= previous_theta);
         previous_theta = theta;
         // Psi' = beta (central difference, exact for a quadratic up to round-off).
-        const double dpsi =
-          (law.beta_primitive(h + 1e-6) - law.beta_primitive(h - 1e-6)) / 2e-6;
+        const double dpsi = (law.beta_primitive(h + 1e-6) - law.beta_primitive(h - 1e-6)) / 2e-6;
         primitive &= std::abs(dpsi - theta) < 1e-6 * (1 + std::abs(theta));
         // A state's own enthalpy maps back to the state.
         states &= (law.state_of_enthalpy(h) == s) && s < law.n_states();
@@ -73,8 +72,10 @@ int main()
   // Theta + 1 above.
   const EnthalpyLaw a({0.}, {1.}, {1., 1.});
   check(a.n_states() == 3, "one transition: 3 states");
-  check(close(a.enthalpy(-0.5), -0.5) && close(a.enthalpy(0.5), 1.5), "one transition: H off the plateau");
-  check(a.enthalpy_range(0.).first == 0. && a.enthalpy_range(0.).second == 1., "one transition: H(T_m) = [0, 1]");
+  check(close(a.enthalpy(-0.5), -0.5) && close(a.enthalpy(0.5), 1.5),
+        "one transition: H off the plateau");
+  check(a.enthalpy_range(0.).first == 0. && a.enthalpy_range(0.).second == 1.,
+        "one transition: H(T_m) = [0, 1]");
   check(a.temperature(0.3) == 0. && close(a.temperature(1.7), 0.7) && close(a.temperature(-2), -2),
         "one transition: beta");
   check(a.state_of_enthalpy(-1e-14) == 0 && a.state_of_enthalpy(0.) == 1 &&
@@ -82,9 +83,11 @@ int main()
         "one transition: plateau is the closed interval [0, 1]");
   check(a.state_of_temperature(0.) == 1 && a.state_of_temperature(1e-300) == 2,
         "one transition: state of a temperature");
-  check(close(a.liquid_fraction(0.25), 0.25) && a.liquid_fraction(-1) == 0 && a.liquid_fraction(3) == 1,
+  check(close(a.liquid_fraction(0.25), 0.25) && a.liquid_fraction(-1) == 0 &&
+          a.liquid_fraction(3) == 1,
         "one transition: liquid fraction");
-  check(close(a.beta_primitive(-2), 2.) && a.beta_primitive(0.5) == 0. && close(a.beta_primitive(2), 0.5),
+  check(close(a.beta_primitive(-2), 2.) && a.beta_primitive(0.5) == 0. &&
+          close(a.beta_primitive(2), 0.5),
         "one transition: Psi values");
   check_consistency(a, "one transition");
 
@@ -98,10 +101,13 @@ int main()
   const EnthalpyLaw two({0., 0.5}, {1., 0.5}, {1., 1.2, 0.8});
   check(two.n_states() == 5, "two transitions: 5 states");
   // Plateaus at [0, 1] (Theta = 0) and [1.6, 2.1] (Theta = 0.5).
-  check(two.state_of_enthalpy(1.3) == 2 && close(two.temperature(1.3), 0.25), "two transitions: middle branch");
-  check(two.state_of_enthalpy(1.8) == 3 && two.temperature(1.8) == 0.5, "two transitions: second plateau");
+  check(two.state_of_enthalpy(1.3) == 2 && close(two.temperature(1.3), 0.25),
+        "two transitions: middle branch");
+  check(two.state_of_enthalpy(1.8) == 3 && two.temperature(1.8) == 0.5,
+        "two transitions: second plateau");
   check(close(two.temperature(2.5), 0.5 + 0.4 / 0.8), "two transitions: top branch");
-  check(close(two.phase_index(0.5), 0.5) && close(two.phase_index(1.85), 1.5) && two.phase_index(9) == 2,
+  check(close(two.phase_index(0.5), 0.5) && close(two.phase_index(1.85), 1.5) &&
+          two.phase_index(9) == 2,
         "two transitions: phase index");
   check(close(two.fraction_through_temperature(0.5, 1.85), 0.5) &&
           two.fraction_through_temperature(0.25, 1.3) == 1 &&
@@ -121,7 +127,8 @@ int main()
                           close(mix_same.temperature(1.7), 0.7)),
         "mixture of a law with itself is the law");
   const EnthalpyLaw mix = EnthalpyLaw::weighted_sum({{0.5, &a}, {0.5, &two}});
-  check(mix.n_transitions() == 2 && close(mix.latent_heat(0), 1.) && close(mix.latent_heat(1), 0.25),
+  check(mix.n_transitions() == 2 && close(mix.latent_heat(0), 1.) &&
+          close(mix.latent_heat(1), 0.25),
         "mixture: plateaus at the union of temperatures, heights weighted");
   bool mixture_is_average = true;
   for (double theta = -2; theta <= 2; theta += 0.01)
@@ -132,7 +139,10 @@ int main()
   check_consistency(mix, "mixture");
 
   // Invalid data.
-  check(throws([] { EnthalpyLaw({0., 0.}, {1., 1.}, {1., 1., 1.}); }), "rejects non-increasing temperatures");
+  check(throws([] {
+          EnthalpyLaw({0., 0.}, {1., 1.}, {1., 1., 1.});
+        }),
+        "rejects non-increasing temperatures");
   check(throws([] { EnthalpyLaw({0.}, {-1.}, {1., 1.}); }), "rejects negative latent heat");
   check(throws([] { EnthalpyLaw({0.}, {1.}, {1., 0.}); }), "rejects zero heat capacity");
   check(throws([] { EnthalpyLaw({0.}, {1.}, {1.}); }), "rejects a missing phase capacity");

@@ -31,8 +31,8 @@ namespace
 
   constexpr double sqrt_pi = 1.7724538509055160273;
 
-  void report(const std::string &label, const double value, const unsigned int digits,
-              const bool ok)
+  void
+  report(const std::string &label, const double value, const unsigned int digits, const bool ok)
   {
     std::cout << label << " = " << std::fixed << std::setprecision(digits) << value
               << (ok ? "  OK" : "  FAILED") << '\n';
@@ -50,8 +50,11 @@ namespace
     std::cout << label << " = " << std::fixed << std::setprecision(digits) << value << '\n';
   }
 
-  void compare(const std::string &label, const double value, const double reference,
-               const double tolerance, const unsigned int digits)
+  void compare(const std::string &label,
+               const double       value,
+               const double       reference,
+               const double       tolerance,
+               const unsigned int digits)
   {
     report(label, value, digits, std::abs(value - reference) <= tolerance);
   }
@@ -72,14 +75,19 @@ namespace
   {
     std::vector<double> k, rho_c, T, rho_L;
     double              T_hot, T_cold;
-    NeumannSolution     solve() const { return NeumannSolution(k, rho_c, T, rho_L, T_hot, T_cold); }
+    NeumannSolution     solve() const
+    {
+      return NeumannSolution(k, rho_c, T, rho_L, T_hot, T_cold);
+    }
   };
 
   // One-sided extrapolation from samples f_i = f(x0 + i h s), i = 1..4 (s = +-1):
   // the cubic through them gives f(x0) = 4 f1 - 6 f2 + 4 f3 - f4 and
   // f'(x0) = s/h (-13/3 f1 + 19/2 f2 - 7 f3 + 11/6 f4).
-  std::pair<double, double> one_sided(const std::function<double(double)> &f, const double x0,
-                                      const double h, const double side)
+  std::pair<double, double> one_sided(const std::function<double(double)> &f,
+                                      const double                         x0,
+                                      const double                         h,
+                                      const double                         side)
   {
     double f_i[4];
     for (unsigned int i = 0; i < 4; ++i)
@@ -109,7 +117,7 @@ namespace
     const auto            theta = [&](const double x) { return sol.temperature(x, t); };
 
     // Fronts s[0..n+1] from x = 0 outwards: 0, s_{n-1}, ..., s_0.
-    std::vector<double> s = {0.};
+    std::vector<double> s       = {0.};
     bool                ordered = true;
     for (unsigned int j = n; j-- > 0;)
       {
@@ -122,35 +130,37 @@ namespace
     double max_stefan = 0, max_heat = 0, max_gradient = 0;
     for (unsigned int j = 0; j < n; ++j)
       {
-        const unsigned int r        = n - j; // index of s_j in s
-        const double       s_j      = s[r];
-        const double       w_cold   = (j == 0 ? s_j : s[r + 1] - s_j);
-        const double       h        = fd_one_sided_fraction * std::min(s_j - s[r - 1], w_cold);
-        const auto         hot_side = one_sided(theta, s_j, h, -1.);
+        const unsigned int r         = n - j; // index of s_j in s
+        const double       s_j       = s[r];
+        const double       w_cold    = (j == 0 ? s_j : s[r + 1] - s_j);
+        const double       h         = fd_one_sided_fraction * std::min(s_j - s[r - 1], w_cold);
+        const auto         hot_side  = one_sided(theta, s_j, h, -1.);
         const auto         cold_side = one_sided(theta, s_j, h, +1.);
-        max_continuity = std::max({max_continuity, std::abs(hot_side.first - d.T[j]) / range,
-                                   std::abs(cold_side.first - d.T[j]) / range});
+        max_continuity               = std::max({max_continuity,
+                                                 std::abs(hot_side.first - d.T[j]) / range,
+                                                 std::abs(cold_side.first - d.T[j]) / range});
 
         const double tau   = fd_time_fraction * t;
         const double ds_dt = d1([&](double tt) { return sol.front_position(j, tt); }, t, tau);
         const double melt = d.rho_L[j] * ds_dt, q_hot = -d.k[j + 1] * hot_side.second,
                      q_cold = -d.k[j] * cold_side.second;
-        const double scale = std::abs(melt) + std::abs(q_hot) + std::abs(q_cold);
-        max_stefan = std::max(max_stefan, std::abs(melt - (q_hot - q_cold)) / scale);
+        const double scale  = std::abs(melt) + std::abs(q_hot) + std::abs(q_cold);
+        max_stefan          = std::max(max_stefan, std::abs(melt - (q_hot - q_cold)) / scale);
       }
 
     // rho c Theta_t = k Theta_xx in the middle of every region (and at a point of
     // the cold region), and temperature_gradient() against differences.
     for (unsigned int r = 0; r <= n; ++r)
       {
-        const unsigned int p = n - r;
-        const double width = (r < n ? s[r + 1] - s[r] : s[n]);
-        const double x = (r < n ? 0.5 * (s[r] + s[r + 1]) : s[n] + 0.5 * width);
-        const double h = fd_space_fraction * width;
-        const double storage = d.rho_c[p] * d1([&](double tt) { return sol.temperature(x, tt); },
-                                               t, fd_time_fraction * t);
+        const unsigned int p     = n - r;
+        const double       width = (r < n ? s[r + 1] - s[r] : s[n]);
+        const double       x     = (r < n ? 0.5 * (s[r] + s[r + 1]) : s[n] + 0.5 * width);
+        const double       h     = fd_space_fraction * width;
+        const double       storage =
+          d.rho_c[p] *
+          d1([&](double tt) { return sol.temperature(x, tt); }, t, fd_time_fraction * t);
         const double conduction = d.k[p] * d2(theta, x, h);
-        const double scale = std::abs(storage) + std::abs(conduction);
+        const double scale      = std::abs(storage) + std::abs(conduction);
         max_heat = std::max(max_heat, scale > 0 ? std::abs(storage - conduction) / scale : 0.);
         const double g = sol.temperature_gradient(x, t), g_fd = d1(theta, x, h);
         max_gradient = std::max(max_gradient, std::abs(g - g_fd) / (range / width));
@@ -159,7 +169,10 @@ namespace
     const double far = s[n] + 40 * std::sqrt(d.k[0] / d.rho_c[0] * t);
     max_continuity = std::max(max_continuity, std::abs(sol.temperature(far, t) - d.T_cold) / range);
 
-    report(name + ": max boundary/continuity residual", max_continuity, 6, max_continuity < fd_tolerance);
+    report(name + ": max boundary/continuity residual",
+           max_continuity,
+           6,
+           max_continuity < fd_tolerance);
     report(name + ": max Stefan residual", max_stefan, 6, max_stefan < fd_tolerance);
     report(name + ": max heat equation residual", max_heat, 6, max_heat < fd_tolerance);
     report(name + ": max gradient residual", max_gradient, 6, max_gradient < fd_tolerance);
@@ -214,9 +227,15 @@ int main()
     const double theta[] = {0.65508992, 0.32076443, -0.19164527, -0.51305808, -0.73482059};
     for (unsigned int i = 0; i < 5; ++i)
       compare("Theta(" + std::to_string(x[i]).substr(0, 4) + ",1) case A",
-              sol.temperature(x[i], 1.), theta[i], 5e-8, 10);
-    compare("lambda case A by closed-form bisection", classical_lambda_by_bisection(case_A),
-            sol.classical_lambda(), 1e-12, 11);
+              sol.temperature(x[i], 1.),
+              theta[i],
+              5e-8,
+              10);
+    compare("lambda case A by closed-form bisection",
+            classical_lambda_by_bisection(case_A),
+            sol.classical_lambda(),
+            1e-12,
+            11);
   }
 
   // Case C (SI): liquid k = 2, solid k = 3, rho = 3000, c = 1200 / 1000, L = 4e5,
@@ -224,16 +243,22 @@ int main()
   // reproduced with the Julian year of 365.25 days (365 days would give
   // s = 85.5956 m, the Gregorian 365.2425 days 85.6241 m after 1000 years).
   const double year = 365.25 * 86400.;
-  const Data   case_C{{3., 2.}, {3000. * 1000., 3000. * 1200.}, {1200.}, {3000. * 4e5}, 1500., 800.};
+  const Data case_C{{3., 2.}, {3000. * 1000., 3000. * 1200.}, {1200.}, {3000. * 4e5}, 1500., 800.};
   {
     const NeumannSolution sol = case_C.solve();
     compare("lambda case C", sol.classical_lambda(), 0.3233364063, 1e-9 * 0.3233364063, 11);
     compare("s(1000 years) case C [m]", sol.front_position(0, 1e3 * year), 85.624951, 1e-6, 6);
     compare("s(1e5 years) case C [m]", sol.front_position(0, 1e5 * year), 856.249506, 1e-6, 6);
-    compare("lambda case C by closed-form bisection", classical_lambda_by_bisection(case_C),
-            sol.classical_lambda(), 1e-12, 11);
+    compare("lambda case C by closed-form bisection",
+            classical_lambda_by_bisection(case_C),
+            sol.classical_lambda(),
+            1e-12,
+            11);
     compare("|closed-form residual| at lambda case C",
-            std::abs(classical_residual(case_C, sol.classical_lambda())), 0., 1e-12, 11);
+            std::abs(classical_residual(case_C, sol.classical_lambda())),
+            0.,
+            1e-12,
+            11);
   }
 
   // One-phase problem: T_cold = T_m, St = 1, lambda sqrt(pi) exp(lambda^2) erf(lambda) = 1.
@@ -242,7 +267,10 @@ int main()
     const double l = one_phase.solve().classical_lambda();
     compare("lambda one-phase St = 1", l, 0.6200626333, 1e-9 * 0.6200626333, 11);
     compare("|one-phase equation residual|",
-            std::abs(l * sqrt_pi * std::exp(l * l) * std::erf(l) - 1.), 0., 1e-13, 11);
+            std::abs(l * sqrt_pi * std::exp(l * l) * std::erf(l) - 1.),
+            0.,
+            1e-13,
+            11);
   }
 
   // An asymmetric dimensionless two-phase problem against the closed form.
@@ -270,7 +298,9 @@ int main()
     for (unsigned int j = 0; j < 3; ++j)
       print("mu_" + std::to_string(j) + " three transitions", sol3.front_coefficient(j), 10);
     for (unsigned int j = 0; j < 3; ++j)
-      print("s_" + std::to_string(j) + "(1000 years) rock [m]", solr.front_position(j, 1e3 * year), 6);
+      print("s_" + std::to_string(j) + "(1000 years) rock [m]",
+            solr.front_position(j, 1e3 * year),
+            6);
   }
   verify_by_finite_differences("case A", case_A, 1.);
   verify_by_finite_differences("case C", case_C, 1e3 * year);
@@ -285,12 +315,14 @@ int main()
     const Data            single{{1., 2.}, {1., 1.5}, {0.}, {1.}, 1.5, -1.};
     const Data            split{{1., 2., 2.}, {1., 1.5, 1.5}, {0., 0.6}, {1., 0.}, 1.5, -1.};
     const NeumannSolution a = single.solve(), b = split.solve();
-    compare("mu_0 with fictitious transition", b.front_coefficient(0), a.front_coefficient(0),
-            1e-12, 11);
-    compare("Theta at fictitious front", a.temperature(b.front_position(1, 1.), 1.), 0.6, 1e-12, 11);
+    compare(
+      "mu_0 with fictitious transition", b.front_coefficient(0), a.front_coefficient(0), 1e-12, 11);
+    compare(
+      "Theta at fictitious front", a.temperature(b.front_position(1, 1.), 1.), 0.6, 1e-12, 11);
     double max_difference = 0;
     for (double x = 0; x < 3; x += 0.125)
-      max_difference = std::max(max_difference, std::abs(a.temperature(x, 1.) - b.temperature(x, 1.)));
+      max_difference =
+        std::max(max_difference, std::abs(a.temperature(x, 1.) - b.temperature(x, 1.)));
     compare("max |Theta difference| with fictitious transition", max_difference, 0., 1e-12, 11);
   }
 
@@ -302,9 +334,15 @@ int main()
   expect_throw<IA>("size mismatch", [] { NeumannSolution({1, 1}, {1, 1, 1}, {0.}, {1}, 2, -1); });
   expect_throw<IA>("zero conductivity", [] { NeumannSolution({1, 0}, {1, 1}, {0.}, {1}, 2, -1); });
   expect_throw<IA>("negative capacity", [] { NeumannSolution({1, 1}, {-1, 1}, {0.}, {1}, 2, -1); });
-  expect_throw<IA>("negative latent heat", [] { NeumannSolution({1, 1}, {1, 1}, {0.}, {-1}, 2, -1); });
-  expect_throw<IA>("T_hot not above the transition", [] { NeumannSolution({1, 1}, {1, 1}, {0.}, {1}, 0, -1); });
-  expect_throw<IA>("T_cold above the transition", [] { NeumannSolution({1, 1}, {1, 1}, {0.}, {1}, 1, 0.5); });
+  expect_throw<IA>("negative latent heat", [] {
+    NeumannSolution({1, 1}, {1, 1}, {0.}, {-1}, 2, -1);
+  });
+  expect_throw<IA>("T_hot not above the transition", [] {
+    NeumannSolution({1, 1}, {1, 1}, {0.}, {1}, 0, -1);
+  });
+  expect_throw<IA>("T_cold above the transition", [] {
+    NeumannSolution({1, 1}, {1, 1}, {0.}, {1}, 1, 0.5);
+  });
   expect_throw<IA>("one-phase problem without latent heat", [] {
     NeumannSolution({1, 1}, {1, 1}, {0.}, {0.}, 1, 0);
   });

@@ -23,9 +23,10 @@ namespace ContactStefan
   template <int dim>
   constexpr void assert_two_dimensional()
   {
-    static_assert(dim == 2, "contact-stefan is a plane-strain (2D) code: normals, rigid modes, "
-                            "the elasticity tensor in Voigt form and the parsed functions of "
-                            "x, y, t are two-dimensional");
+    static_assert(dim == 2,
+                  "contact-stefan is a plane-strain (2D) code: normals, rigid modes, "
+                  "the elasticity tensor in Voigt form and the parsed functions of "
+                  "x, y, t are two-dimensional");
   }
 } // namespace ContactStefan
 

@@ -25,9 +25,12 @@ namespace ContactStefan
     public:
       // A straight face from a to b; `inside` is any point of the cell (the
       // normal is oriented away from it).
-      void   add_face(const Vector2 &a, const Vector2 &b, const Vector2 &inside);
+      void    add_face(const Vector2 &a, const Vector2 &b, const Vector2 &inside);
       Vector2 normal() const;
-      double  weight() const { return lumped_weight; }
+      double  weight() const
+      {
+        return lumped_weight;
+      }
       // The largest angle (radians) between a face normal and the averaged
       // normal: near zero on a smooth boundary, large at a corner.
       double max_deviation() const;
@@ -44,9 +47,9 @@ namespace ContactStefan
     // dofs_k, dofs_l: the x and y DoFs of the two sides (l unused without partner).
     struct ConstraintRow
     {
-      std::uint64_t                                  target;
+      std::uint64_t                                 target;
       std::vector<std::pair<std::uint64_t, double>> entries;
-      double                                         inhomogeneity;
+      double                                        inhomogeneity;
     };
     // Solve for side k's component `component` (it must have n_component != 0), or
     // for the partner's if `on_partner` (interfaces only).
@@ -60,7 +63,8 @@ namespace ContactStefan
     // The primal-dual active-set test: with lambda >= 0 the compressive normal
     // force and d = n.(u_k - u_l) - g the gap violation, the node is active next
     // iteration if lambda + c d exceeds the tolerance.
-    inline bool is_active(const double lambda, const double d, const double c, const double tolerance)
+    inline bool
+    is_active(const double lambda, const double d, const double c, const double tolerance)
     {
       return lambda + c * d > tolerance;
     }

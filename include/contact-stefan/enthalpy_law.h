@@ -49,9 +49,18 @@ namespace ContactStefan
     static EnthalpyLaw
     weighted_sum(const std::vector<std::pair<double, const EnthalpyLaw *>> &terms);
 
-    unsigned int n_transitions() const { return temperatures.size(); }
-    unsigned int n_states() const { return 2 * n_transitions() + 1; }
-    static bool is_plateau(const unsigned int state) { return state % 2 == 1; }
+    unsigned int n_transitions() const
+    {
+      return temperatures.size();
+    }
+    unsigned int n_states() const
+    {
+      return 2 * n_transitions() + 1;
+    }
+    static bool is_plateau(const unsigned int state)
+    {
+      return state % 2 == 1;
+    }
 
     // The piece of the graph that contains enthalpy h. Plateaus are closed
     // intervals, branches the open ones between them.
@@ -64,9 +73,9 @@ namespace ContactStefan
     double temperature(const double h) const;
     // On a linear branch h = offset(state) + slope(state)*Theta; on a plateau slope
     // is zero and offset is meaningless (use plateau_temperature).
-    double slope(const unsigned int state) const;
-    double offset(const unsigned int state) const;
-    double plateau_temperature(const unsigned int state) const;
+    double      slope(const unsigned int state) const;
+    double      offset(const unsigned int state) const;
+    double      plateau_temperature(const unsigned int state) const;
     LinearPiece piece(const unsigned int state) const;
 
     // Psi(h) = integral of beta from the bottom of the first plateau (from 0 for
@@ -91,9 +100,18 @@ namespace ContactStefan
     // fraction_through the last transition (0 for a law without transitions).
     double liquid_fraction(const double h) const;
 
-    double transition_temperature(const unsigned int j) const { return temperatures[j]; }
-    double latent_heat(const unsigned int j) const { return latent_heats[j]; }
-    double heat_capacity(const unsigned int phase) const { return capacities[phase]; }
+    double transition_temperature(const unsigned int j) const
+    {
+      return temperatures[j];
+    }
+    double latent_heat(const unsigned int j) const
+    {
+      return latent_heats[j];
+    }
+    double heat_capacity(const unsigned int phase) const
+    {
+      return capacities[phase];
+    }
     double min_heat_capacity() const;
     double max_heat_capacity() const;
 
@@ -105,12 +123,12 @@ namespace ContactStefan
     // and the constant offsets[0] of branch 0.
     void compute_breakpoints(const double offset_of_branch_0);
 
-    std::vector<double> temperatures;  // T_j, n entries
-    std::vector<double> latent_heats;  // rho L_j, n entries
-    std::vector<double> capacities;    // rho c_p, n+1 entries
-    std::vector<double> offsets;       // branch p: h = offsets[p] + capacities[p]*Theta
-    std::vector<double> h_minus;       // lower end of plateau j
-    std::vector<double> h_plus;        // upper end of plateau j
+    std::vector<double> temperatures; // T_j, n entries
+    std::vector<double> latent_heats; // rho L_j, n entries
+    std::vector<double> capacities;   // rho c_p, n+1 entries
+    std::vector<double> offsets;      // branch p: h = offsets[p] + capacities[p]*Theta
+    std::vector<double> h_minus;      // lower end of plateau j
+    std::vector<double> h_plus;       // upper end of plateau j
   };
 } // namespace ContactStefan
 

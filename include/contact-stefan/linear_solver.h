@@ -7,6 +7,7 @@
 #define contact_stefan_linear_solver_h
 
 #include <deal.II/base/conditional_ostream.h>
+
 #include <deal.II/lac/solver_control.h>
 #include <deal.II/lac/trilinos_precondition.h>
 #include <deal.II/lac/trilinos_solver.h>

@@ -39,10 +39,10 @@ namespace ContactStefan
     double                plane_strain_modulus;
     // sigma_zz = out_of_plane_lambda * tr(e) in plane strain (lambda for
     // isotropic data; a 2D anisotropic tensor does not know C_zzkl: 0).
-    double                out_of_plane_lambda;
-    EnthalpyLaw           enthalpy_law;
-    Tensor<2, 2>          conductivity_shape; // K: kappa of phase p is k_p K
-    std::vector<double>   conductivities;     // k_p, one per phase
+    double              out_of_plane_lambda;
+    EnthalpyLaw         enthalpy_law;
+    Tensor<2, 2>        conductivity_shape; // K: kappa of phase p is k_p K
+    std::vector<double> conductivities;     // k_p, one per phase
 
     double conductivity(const unsigned int phase) const
     {

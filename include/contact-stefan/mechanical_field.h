@@ -89,7 +89,7 @@ namespace ContactStefan
     bool                         has_partner;
     std::array<double, 2>        normal;
     double                       weight;
-    double                       stiffness; // normal diagonal of the stiffness matrix
+    double                       stiffness;      // normal diagonal of the stiffness matrix
     double                       gap    = 0;     // g at the current time
     bool                         corner = false; // faces disagree by more than the corner angle
   };
@@ -134,9 +134,9 @@ namespace ContactStefan
     {
       return contact_groups;
     }
-    bool is_active(const NormalCondition &c) const; // owned condition in contact
-    double contact_pressure(const NormalCondition &c) const; // owned condition
-    double contact_gap(const NormalCondition &c) const;      // owned condition
+    bool         is_active(const NormalCondition &c) const;        // owned condition in contact
+    double       contact_pressure(const NormalCondition &c) const; // owned condition
+    double       contact_gap(const NormalCondition &c) const;      // owned condition
     unsigned int body_slot(const unsigned int body) const
     {
       return slot_of_body.at(body);
@@ -161,12 +161,12 @@ namespace ContactStefan
     void make_fixed_constraints();
 
     // contact_step.cc
-    void   update_condition_gaps();
-    void   build_contact_constraints(unsigned int &n_skipped);
-    void   check_rigid_body_modes() const;
-    void   assemble_system();
-    void   solve_linear_system();
-    double normal_displacement_jump(const NormalCondition &c) const;
+    void          update_condition_gaps();
+    void          build_contact_constraints(unsigned int &n_skipped);
+    void          check_rigid_body_modes() const;
+    void          assemble_system();
+    void          solve_linear_system();
+    double        normal_displacement_jump(const NormalCondition &c) const;
     Vector       &active_flags(const NormalCondition &c);
     const Vector &active_flags_ghosted(const NormalCondition &c) const;
     struct Decision
@@ -174,9 +174,8 @@ namespace ContactStefan
       const NormalCondition *c;
       double                 lambda, d, c_eff;
     };
-    std::vector<Decision> contact_decisions(const Vector &residual,
-                                            double       &local_scale,
-                                            double       &max_penetration) const;
+    std::vector<Decision>
+    contact_decisions(const Vector &residual, double &local_scale, double &max_penetration) const;
     void store_contact_output(const std::vector<Decision> &decisions, ContactStepReport &report);
 
     const AllParameters                             &prm;

@@ -12,7 +12,8 @@
 namespace ContactStefan
 {
   template <int dim>
-  void make_mesh(const AllParameters &prm, parallel::distributed::Triangulation<dim> &triangulation);
+  void make_mesh(const AllParameters                       &prm,
+                 parallel::distributed::Triangulation<dim> &triangulation);
 } // namespace ContactStefan
 
 #endif

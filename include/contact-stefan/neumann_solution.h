@@ -32,7 +32,10 @@ namespace ContactStefan
                     const double               T_hot,
                     const double               T_cold);
 
-    unsigned int n_transitions() const { return temperatures.size(); }
+    unsigned int n_transitions() const
+    {
+      return temperatures.size();
+    }
 
     // Theta(x,t) and dTheta/dx for t > 0, x >= 0.
     double temperature(const double x, const double t) const;

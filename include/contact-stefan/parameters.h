@@ -189,7 +189,7 @@ namespace ContactStefan
       double       hot_temperature, cold_temperature, origin;
       // "hertz": a rigid cylinder of this radius; "patch": stacked blocks pushed
       // down by delta (the C2 patch test).
-      double       cylinder_radius, patch_displacement;
+      double cylinder_radius, patch_displacement;
 
       static void declare(ParameterHandler &prm);
       void        parse(ParameterHandler &prm);
@@ -260,19 +260,19 @@ namespace ContactStefan
 
   struct AllParameters
   {
-    Parameters::Geometry                               geometry;
-    std::vector<unsigned int>                          body_ids;
-    std::map<unsigned int, Parameters::BodyMaterial>   materials;
-    std::map<unsigned int, Parameters::ThermalBoundary> thermal_boundaries;
+    Parameters::Geometry                                   geometry;
+    std::vector<unsigned int>                              body_ids;
+    std::map<unsigned int, Parameters::BodyMaterial>       materials;
+    std::map<unsigned int, Parameters::ThermalBoundary>    thermal_boundaries;
     std::map<unsigned int, Parameters::MechanicalBoundary> mechanical_boundaries;
-    Parameters::Contact                                contact;
-    Parameters::Physics                                physics;
-    Parameters::InitialCondition                       initial_condition;
-    Parameters::ExactSolution                          exact_solution;
-    Parameters::TimeStepping                           time;
-    Parameters::Solver                                 solver;
-    Parameters::Refinement                             refinement;
-    Parameters::Output                                 output;
+    Parameters::Contact                                    contact;
+    Parameters::Physics                                    physics;
+    Parameters::InitialCondition                           initial_condition;
+    Parameters::ExactSolution                              exact_solution;
+    Parameters::TimeStepping                               time;
+    Parameters::Solver                                     solver;
+    Parameters::Refinement                                 refinement;
+    Parameters::Output                                     output;
 
     // Declare everything for the given body and boundary lists.
     static void declare(ParameterHandler                &prm,

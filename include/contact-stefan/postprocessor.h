@@ -77,14 +77,14 @@ namespace ContactStefan
     std::vector<std::pair<double, std::string>> pvd_records;
 
     // Accumulated over the run.
-    double       initial_total_enthalpy = 0;
-    double       last_l2_error = 0, last_l2_norm = 0, last_max_error = 0;
-    double       space_time_error_squared = 0, space_time_norm_squared = 0;
-    double       max_energy_residual         = 0;
-    unsigned int total_active_set_iterations = 0, steps_with_fallback = 0;
-    unsigned int inconsistent_enthalpy_nodes = 0;
-    unsigned int total_contact_iterations = 0, max_contact_iterations = 0;
-    unsigned int first_contact_iterations = 0, max_contact_iterations_warm = 0;
+    double            initial_total_enthalpy = 0;
+    double            last_l2_error = 0, last_l2_norm = 0, last_max_error = 0;
+    double            space_time_error_squared = 0, space_time_norm_squared = 0;
+    double            max_energy_residual         = 0;
+    unsigned int      total_active_set_iterations = 0, steps_with_fallback = 0;
+    unsigned int      inconsistent_enthalpy_nodes = 0;
+    unsigned int      total_contact_iterations = 0, max_contact_iterations = 0;
+    unsigned int      first_contact_iterations = 0, max_contact_iterations_warm = 0;
     ContactStepReport last_contact_report;
   };
 } // namespace ContactStefan

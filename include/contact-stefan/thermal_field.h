@@ -76,10 +76,10 @@ namespace ContactStefan
                  const ConditionalOStream                        &pcout);
 
     // --- the step contract ----------------------------------------------------
-    void               setup_dofs();
-    void               initialize(const double t0);
-    void               begin_time_step(const double t, const double tau);
-    EnthalpyStepReport solve();
+    void                  setup_dofs();
+    void                  initialize(const double t0);
+    void                  begin_time_step(const double t, const double tau);
+    EnthalpyStepReport    solve();
     std::vector<Vector *> primary_state(); // {h, h_old}, owned vectors
     void                  after_transfer();
     // Adds temperature, enthalpy, phase index and liquid fraction. The vectors
@@ -109,7 +109,7 @@ namespace ContactStefan
     {
       return support_points;
     }
-    bool               phase_change_present() const
+    bool phase_change_present() const
     {
       return materials.phase_change_present();
     }
@@ -138,11 +138,11 @@ namespace ContactStefan
     void set_nodal_state_from_enthalpy();
 
     // enthalpy_step.cc
-    void         assemble_system(const bool assemble_matrix);
-    unsigned int solve_for_pieces(
-      const std::function<LinearPiece(const types::global_dof_index)> &piece_of,
-      Vector                                                          &h_new);
-    bool         active_set_iteration(EnthalpyStepReport &report);
+    void assemble_system(const bool assemble_matrix);
+    unsigned int
+         solve_for_pieces(const std::function<LinearPiece(const types::global_dof_index)> &piece_of,
+                          Vector                                                          &h_new);
+    bool active_set_iteration(EnthalpyStepReport &report);
     unsigned int relaxation_fallback();
     double       compute_energy_balance(unsigned int &inconsistent_nodes) const;
 
@@ -186,8 +186,8 @@ namespace ContactStefan
     // Per-cell operators by active cell index: the conductivity shape matrix
     // S_K (per mesh), A_K = k_K S_K (with the lagged phase mixture), the lumped
     // vertex weights m_K and the heat load F_K.
-    std::vector<LocalMatrix>            cell_shape_conductivity, cell_conductivity;
-    std::vector<dealii::Vector<double>> cell_mass, cell_load;
+    std::vector<LocalMatrix>                      cell_shape_conductivity, cell_conductivity;
+    std::vector<dealii::Vector<double>>           cell_mass, cell_load;
     std::map<types::global_dof_index, Point<dim>> support_points;
 
     double time = 0, time_step = 0, previous_time_step = 0;
