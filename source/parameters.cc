@@ -1044,6 +1044,16 @@ namespace ContactStefan
     refinement.parse(prm);
     output.parse(prm);
 
+    check_consistency();
+  }
+
+
+
+  // Checks across subsections, once everything is parsed: what the exact
+  // solutions, the geometry and the physics switches require of each other.
+  void AllParameters::check_consistency() const
+  {
+    using Exact = Parameters::ExactSolution::Type;
     if (geometry.mesh_type == Parameters::Geometry::MeshType::rectangle)
       require(geometry.layer_interfaces.size() + 1 == body_ids.size(),
               "Bodies/Body ids",

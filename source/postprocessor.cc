@@ -404,7 +404,6 @@ namespace ContactStefan
   template <int dim>
   void Postprocessor<dim>::print_mechanical_results(const unsigned int n_steps) const
   {
-    using Kind = NormalCondition::Kind;
     result(pcout, "displacement dofs", mechanical->get_dof_handler().n_dofs());
     result(pcout, "contact iterations first step", first_contact_iterations);
     result(pcout, "max contact iterations", max_contact_iterations);
@@ -417,122 +416,144 @@ namespace ContactStefan
       result(pcout, "contact force " + group, force);
     result(pcout, "max contact pressure", last_contact_report.max_pressure);
 
+    if (prm.exact_solution.type == ExactType::hertz)
+      print_hertz_results();
+    if (prm.exact_solution.type == ExactType::patch)
+      print_patch_results();
+  }
+
+
+
+  // C1 (doc/benchmarks.md): the Hertz solution for the computed force, against
+  // the pressure at the obstacle's nodes.
+  template <int dim>
+  void Postprocessor<dim>::print_hertz_results() const
+  {
+    using Kind             = NormalCondition::Kind;
     const auto &exact      = prm.exact_solution;
     const auto &owned      = mechanical->get_dof_handler().locally_owned_dofs();
     const auto &conditions = mechanical->get_normal_conditions();
-    if (exact.type == ExactType::hertz)
-      {
-        // The contact nodes of the obstacle: position, pressure and weight.
-        std::vector<std::array<double, 3>> local;
-        double                             local_force = 0;
-        for (const auto &c : conditions)
-          if (c.kind == Kind::obstacle && owned.is_element(c.dofs_k[0]))
-            {
-              const double p = mechanical->is_active(c) ? mechanical->contact_pressure(c) : 0.;
-              local.push_back({{c.position[0], p, c.weight}});
-              local_force += p * c.weight;
-            }
-        const double         P      = Utilities::MPI::sum(local_force, mpi_communicator);
-        const double         E_star = materials[exact.body].plane_strain_modulus;
-        const Contact::Hertz hertz(P, exact.cylinder_radius, E_star);
-        double               contact_length = 0, p0 = 0, error2 = 0, norm2 = 0;
-        for (const auto &[x, p, w] : local)
+    {
+      // The contact nodes of the obstacle: position, pressure and weight.
+      std::vector<std::array<double, 3>> local;
+      double                             local_force = 0;
+      for (const auto &c : conditions)
+        if (c.kind == Kind::obstacle && owned.is_element(c.dofs_k[0]))
           {
-            contact_length += (p > 0 ? w : 0.);
-            p0 = std::max(p0, p);
-            error2 += w * (p - hertz.pressure(x)) * (p - hertz.pressure(x));
-            norm2 += w * hertz.pressure(x) * hertz.pressure(x);
+            const double p = mechanical->is_active(c) ? mechanical->contact_pressure(c) : 0.;
+            local.push_back({{c.position[0], p, c.weight}});
+            local_force += p * c.weight;
           }
-        contact_length = Utilities::MPI::sum(contact_length, mpi_communicator);
-        p0             = Utilities::MPI::max(p0, mpi_communicator);
-        error2         = Utilities::MPI::sum(error2, mpi_communicator);
-        norm2          = Utilities::MPI::sum(norm2, mpi_communicator);
-        // The computed half-width is half the lumped length of the active nodes.
-        const double a = 0.5 * contact_length;
-        result(pcout, "Hertz force P", P);
-        result(pcout, "Hertz half-width", a);
-        result(pcout, "Hertz exact half-width", hertz.half_width);
-        result(pcout,
-               "Hertz half-width relative error",
-               std::abs(a - hertz.half_width) / hertz.half_width);
-        result(pcout, "Hertz peak pressure", p0);
-        result(pcout, "Hertz exact peak pressure", hertz.peak_pressure);
-        result(pcout,
-               "Hertz peak pressure relative error",
-               std::abs(p0 - hertz.peak_pressure) / hertz.peak_pressure);
-        result(pcout, "Hertz pressure profile relative L2 error", std::sqrt(error2 / norm2));
-        double spacing = HUGE_VAL;
-        for (const auto &c : conditions)
-          if (c.kind == Kind::obstacle)
-            spacing = std::min(spacing, c.weight);
-        result(pcout, "contact mesh width", Utilities::MPI::min(spacing, mpi_communicator));
-      }
-    if (exact.type == ExactType::patch)
-      {
-        // Uniform stress sigma_yy = -(delta - g) / sum_b (H_b / E*_b) (the blocks
-        // act as springs in series; H_b from the mesh) when the interface closes
-        // (delta >= gap), zero otherwise; every interface node in contact.
-        double gap = -HUGE_VAL; // the (constant) interface gap
-        for (const auto &c : conditions)
-          if (c.kind == Kind::interface)
-            gap = std::max(gap, c.gap);
-        gap               = Utilities::MPI::max(gap, mpi_communicator);
-        double compliance = 0;
-        for (const unsigned int id : prm.body_ids)
-          compliance += mechanical->body_height(id) / materials[id].plane_strain_modulus;
-        const bool   closed  = exact.patch_displacement >= gap;
-        const double sigma_y = closed ? -(exact.patch_displacement - gap) / compliance : 0.;
-        const double scale   = closed ? std::abs(sigma_y) : exact.patch_displacement / compliance;
-        double       stress_error = 0, pressure_error = 0, min_gap = HUGE_VAL;
-        unsigned int interface_nodes = 0, active = 0;
-        const auto  &dof_handler = mechanical->get_dof_handler();
-        const hp::QCollection<dim> q{QMidpoint<dim>()};
-        hp::FEValues<dim> hp_fe_values(dof_handler.get_fe_collection(), q, update_gradients);
-        for (const auto &cell : dof_handler.active_cell_iterators())
-          if (cell->is_locally_owned())
-            {
-              hp_fe_values.reinit(cell);
-              const auto                              &fv = hp_fe_values.get_present_fe_values();
-              std::vector<std::vector<Tensor<1, dim>>> grads(
-                1, std::vector<Tensor<1, dim>>(fv.get_fe().n_components()));
-              fv.get_function_gradients(mechanical->get_displacement(), grads);
-              const unsigned int      slot = mechanical->body_slot(cell->material_id());
-              SymmetricTensor<2, dim> strain;
-              for (unsigned int i = 0; i < dim; ++i)
-                for (unsigned int j = i; j < dim; ++j)
-                  strain[i][j] = 0.5 * (grads[0][slot * dim + i][j] + grads[0][slot * dim + j][i]);
-              const SymmetricTensor<2, dim> sigma =
-                materials[cell->material_id()].elasticity * strain;
-              stress_error = std::max({stress_error,
-                                       std::abs(sigma[0][0]),
-                                       std::abs(sigma[0][1]),
-                                       std::abs(sigma[1][1] - sigma_y)});
-            }
-        for (const auto &c : conditions)
-          if (c.kind == Kind::interface && owned.is_element(c.dofs_k[0]))
-            {
-              ++interface_nodes;
-              active += mechanical->is_active(c);
-              pressure_error =
-                std::max(pressure_error,
-                         std::abs(mechanical->contact_pressure(c) - std::abs(sigma_y)));
-              min_gap = std::min(min_gap, mechanical->contact_gap(c));
-            }
-        result(pcout, "patch exact sigma_yy", sigma_y);
-        result(pcout,
-               "patch stress relative error",
-               Utilities::MPI::max(stress_error, mpi_communicator) / scale);
-        result(pcout,
-               "patch pressure relative error",
-               Utilities::MPI::max(pressure_error, mpi_communicator) / scale);
-        result(pcout,
-               "patch interface nodes",
-               Utilities::MPI::sum(interface_nodes, mpi_communicator));
-        result(pcout,
-               "patch interface nodes active",
-               Utilities::MPI::sum(active, mpi_communicator));
-        result(pcout, "patch min interface gap", Utilities::MPI::min(min_gap, mpi_communicator));
-      }
+      const double         P      = Utilities::MPI::sum(local_force, mpi_communicator);
+      const double         E_star = materials[exact.body].plane_strain_modulus;
+      const Contact::Hertz hertz(P, exact.cylinder_radius, E_star);
+      double               contact_length = 0, p0 = 0, error2 = 0, norm2 = 0;
+      for (const auto &[x, p, w] : local)
+        {
+          contact_length += (p > 0 ? w : 0.);
+          p0 = std::max(p0, p);
+          error2 += w * (p - hertz.pressure(x)) * (p - hertz.pressure(x));
+          norm2 += w * hertz.pressure(x) * hertz.pressure(x);
+        }
+      contact_length = Utilities::MPI::sum(contact_length, mpi_communicator);
+      p0             = Utilities::MPI::max(p0, mpi_communicator);
+      error2         = Utilities::MPI::sum(error2, mpi_communicator);
+      norm2          = Utilities::MPI::sum(norm2, mpi_communicator);
+      // The computed half-width is half the lumped length of the active nodes.
+      const double a = 0.5 * contact_length;
+      result(pcout, "Hertz force P", P);
+      result(pcout, "Hertz half-width", a);
+      result(pcout, "Hertz exact half-width", hertz.half_width);
+      result(pcout,
+             "Hertz half-width relative error",
+             std::abs(a - hertz.half_width) / hertz.half_width);
+      result(pcout, "Hertz peak pressure", p0);
+      result(pcout, "Hertz exact peak pressure", hertz.peak_pressure);
+      result(pcout,
+             "Hertz peak pressure relative error",
+             std::abs(p0 - hertz.peak_pressure) / hertz.peak_pressure);
+      result(pcout, "Hertz pressure profile relative L2 error", std::sqrt(error2 / norm2));
+      double spacing = HUGE_VAL;
+      for (const auto &c : conditions)
+        if (c.kind == Kind::obstacle)
+          spacing = std::min(spacing, c.weight);
+      result(pcout, "contact mesh width", Utilities::MPI::min(spacing, mpi_communicator));
+    }
+  }
+
+
+
+  // C2 (doc/benchmarks.md): the patch test's uniform stress and pressure.
+  template <int dim>
+  void Postprocessor<dim>::print_patch_results() const
+  {
+    using Kind             = NormalCondition::Kind;
+    const auto &exact      = prm.exact_solution;
+    const auto &owned      = mechanical->get_dof_handler().locally_owned_dofs();
+    const auto &conditions = mechanical->get_normal_conditions();
+    {
+      // Uniform stress sigma_yy = -(delta - g) / sum_b (H_b / E*_b) (the blocks
+      // act as springs in series; H_b from the mesh) when the interface closes
+      // (delta >= gap), zero otherwise; every interface node in contact.
+      double gap = -HUGE_VAL; // the (constant) interface gap
+      for (const auto &c : conditions)
+        if (c.kind == Kind::interface)
+          gap = std::max(gap, c.gap);
+      gap               = Utilities::MPI::max(gap, mpi_communicator);
+      double compliance = 0;
+      for (const unsigned int id : prm.body_ids)
+        compliance += mechanical->body_height(id) / materials[id].plane_strain_modulus;
+      const bool   closed  = exact.patch_displacement >= gap;
+      const double sigma_y = closed ? -(exact.patch_displacement - gap) / compliance : 0.;
+      const double scale   = closed ? std::abs(sigma_y) : exact.patch_displacement / compliance;
+      double       stress_error = 0, pressure_error = 0, min_gap = HUGE_VAL;
+      unsigned int interface_nodes = 0, active = 0;
+      const auto  &dof_handler = mechanical->get_dof_handler();
+      const hp::QCollection<dim> q{QMidpoint<dim>()};
+      hp::FEValues<dim>          hp_fe_values(dof_handler.get_fe_collection(), q, update_gradients);
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        if (cell->is_locally_owned())
+          {
+            hp_fe_values.reinit(cell);
+            const auto                              &fv = hp_fe_values.get_present_fe_values();
+            std::vector<std::vector<Tensor<1, dim>>> grads(
+              1, std::vector<Tensor<1, dim>>(fv.get_fe().n_components()));
+            fv.get_function_gradients(mechanical->get_displacement(), grads);
+            const unsigned int      slot = mechanical->body_slot(cell->material_id());
+            SymmetricTensor<2, dim> strain;
+            for (unsigned int i = 0; i < dim; ++i)
+              for (unsigned int j = i; j < dim; ++j)
+                strain[i][j] = 0.5 * (grads[0][slot * dim + i][j] + grads[0][slot * dim + j][i]);
+            const SymmetricTensor<2, dim> sigma =
+              materials[cell->material_id()].elasticity * strain;
+            stress_error = std::max({stress_error,
+                                     std::abs(sigma[0][0]),
+                                     std::abs(sigma[0][1]),
+                                     std::abs(sigma[1][1] - sigma_y)});
+          }
+      for (const auto &c : conditions)
+        if (c.kind == Kind::interface && owned.is_element(c.dofs_k[0]))
+          {
+            ++interface_nodes;
+            active += mechanical->is_active(c);
+            pressure_error =
+              std::max(pressure_error,
+                       std::abs(mechanical->contact_pressure(c) - std::abs(sigma_y)));
+            min_gap = std::min(min_gap, mechanical->contact_gap(c));
+          }
+      result(pcout, "patch exact sigma_yy", sigma_y);
+      result(pcout,
+             "patch stress relative error",
+             Utilities::MPI::max(stress_error, mpi_communicator) / scale);
+      result(pcout,
+             "patch pressure relative error",
+             Utilities::MPI::max(pressure_error, mpi_communicator) / scale);
+      result(pcout,
+             "patch interface nodes",
+             Utilities::MPI::sum(interface_nodes, mpi_communicator));
+      result(pcout, "patch interface nodes active", Utilities::MPI::sum(active, mpi_communicator));
+      result(pcout, "patch min interface gap", Utilities::MPI::min(min_gap, mpi_communicator));
+    }
   }
 
 

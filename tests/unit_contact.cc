@@ -87,7 +87,7 @@ int main()
   const Hertz h(1e-3, 1., 1. / (1 - 0.09));
   std::printf("Hertz half-width %.10f, peak pressure %.10f\n", h.half_width, h.peak_pressure);
   check(close(h.half_width, 0.0340389187, 1e-9) && close(h.peak_pressure, 0.0187027026, 1e-9),
-        "Hertz: a and p0 match BENCHMARKS.md");
+        "Hertz: a and p0 match doc/benchmarks.md C1");
   check(close(h.pressure(0.), h.peak_pressure) && h.pressure(h.half_width) == 0. &&
           close(h.pressure(0.5 * h.half_width), h.peak_pressure * std::sqrt(0.75)),
         "Hertz: pressure profile");

@@ -282,6 +282,8 @@ namespace ContactStefan
 
     // Read and check a parameter file; throws InputError.
     void read(const std::string &filename);
+    // The checks across subsections (part of read()).
+    void check_consistency() const;
 
     // The handler with every parameter at its default, for --print-parameters.
     static void declare_defaults(ParameterHandler &prm);

@@ -62,6 +62,8 @@ namespace ContactStefan
     void   output_vtu(const unsigned int step, const double time);
     void   print_thermal_results(const unsigned int n_steps, const double time) const;
     void   print_mechanical_results(const unsigned int n_steps) const;
+    void   print_hertz_results() const;
+    void   print_patch_results() const;
     double mesh_width() const;
 
     const AllParameters                             &prm;
