@@ -29,6 +29,53 @@ namespace ContactStefan
 
 
 
+    double constraint_multiplier(const std::vector<double>              &target,
+                                 const std::vector<std::vector<double>> &others,
+                                 const std::vector<double>              &residual,
+                                 const double                            tolerance)
+    {
+      const auto dot = [](const std::vector<double> &a, const std::vector<double> &b) {
+        double s = 0;
+        for (unsigned int i = 0; i < a.size(); ++i)
+          s += a[i] * b[i];
+        return s;
+      };
+      // Orthonormal basis of span(others) by modified Gram-Schmidt (dependent
+      // columns dropped), then project it out of the target direction.
+      std::vector<std::vector<double>> basis;
+      for (std::vector<double> q : others)
+        {
+          const double norm0 = std::sqrt(dot(q, q));
+          for (const auto &b : basis)
+            {
+              const double s = dot(q, b);
+              for (unsigned int i = 0; i < q.size(); ++i)
+                q[i] -= s * b[i];
+            }
+          const double norm = std::sqrt(dot(q, q));
+          if (norm > tolerance * norm0 && norm > 0)
+            {
+              for (double &x : q)
+                x /= norm;
+              basis.push_back(q);
+            }
+        }
+      std::vector<double> t = target;
+      for (const auto &b : basis)
+        {
+          const double s = dot(t, b);
+          for (unsigned int i = 0; i < t.size(); ++i)
+            t[i] -= s * b[i];
+        }
+      const double tt = dot(t, t);
+      if (!(tt > tolerance * tolerance * dot(target, target)))
+        return 0.;
+      // r = mu t + (terms in span(others)), and t is orthogonal to them.
+      return dot(t, residual) / tt;
+    }
+
+
+
     Vector2 NormalAccumulator::normal() const
     {
       const double norm = std::sqrt(sum[0] * sum[0] + sum[1] * sum[1]);

@@ -24,9 +24,11 @@
 #include <contact-stefan/contact.h>
 #include <contact-stefan/mechanical_field.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
+#include <unordered_map>
 
 namespace ContactStefan
 {
@@ -291,9 +293,16 @@ namespace ContactStefan
 
 
   // For every owned obstacle/interface condition (not tied): the compressive
-  // normal force lambda = -n.(K u - f)_k read off the residual, the gap
-  // violation d = n.(u_k - u_l) - g and the scaled complementarity constant.
-  // scale: the largest |lambda| + c |d| on this rank.
+  // normal force lambda, the gap violation d = n.(u_k - u_l) - g and the scaled
+  // complementarity constant. scale: the largest |lambda| + c |d| on this rank.
+  //
+  // lambda comes from the residual K u - f at the DoFs of the node (pair),
+  // which holds the reactions of every constraint acting there: the contact
+  // condition, and a roller, a prescribed component or another active contact
+  // condition at the same vertex. Contact::constraint_multiplier separates
+  // them (the residual is a combination of the constraints' gradients), so a
+  // node where an interface meets a roller face reports the contact force
+  // alone, not the roller's reaction with it.
   template <int dim>
   std::vector<typename MechanicalField<dim>::Decision>
   MechanicalField<dim>::contact_decisions(const Vector &residual,
@@ -302,15 +311,71 @@ namespace ContactStefan
   {
     using Kind                 = NormalCondition::Kind;
     const bool            tied = prm.contact.interfaces == Parameters::Contact::Interfaces::tied;
+    const auto is_contact      = [&](const NormalCondition &c) {
+      return c.kind != Kind::roller && !(c.kind == Kind::interface && tied);
+    };
+    Vector r(owned, relevant, mpi_communicator);
+    r = residual;
+    // The active contact conditions at each DoF they involve.
+    std::unordered_map<types::global_dof_index, std::vector<const NormalCondition *>> active_at;
+    for (const auto &c : normal_conditions)
+      if (is_contact(c) && active_flags_ghosted(c)[c.dofs_k[0]] > 0.5)
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            active_at[c.dofs_k[d]].push_back(&c);
+            if (c.has_partner)
+              active_at[c.dofs_l[d]].push_back(&c);
+          }
+
     std::vector<Decision> decisions;
     local_scale = 0, max_penetration = 0;
     for (const auto &c : normal_conditions)
-      if (c.kind != Kind::roller && !(c.kind == Kind::interface && tied) &&
-          owned.is_element(c.dofs_k[0]))
+      if (is_contact(c) && owned.is_element(c.dofs_k[0]))
         {
-          double lambda = 0;
-          for (unsigned int d = 0; d < dim; ++d)
-            lambda -= c.normal[d] * residual[c.dofs_k[d]];
+          // The DoFs of the node (pair) and the gradient of this condition on them.
+          std::vector<types::global_dof_index> D(c.dofs_k.begin(), c.dofs_k.end());
+          if (c.has_partner)
+            D.insert(D.end(), c.dofs_l.begin(), c.dofs_l.end());
+          const auto index = [&](const types::global_dof_index dof) {
+            return std::find(D.begin(), D.end(), dof) - D.begin();
+          };
+          const auto gradient = [&](const NormalCondition &o) {
+            std::vector<double> g(D.size(), 0.);
+            for (unsigned int d = 0; d < dim; ++d)
+              {
+                if (const auto i = index(o.dofs_k[d]); i < long(D.size()))
+                  g[i] += o.normal[d];
+                if (const auto i = index(o.dofs_l[d]); o.has_partner && i < long(D.size()))
+                  g[i] -= o.normal[d];
+              }
+            return g;
+          };
+          // The other constraints on D: fixed lines (rollers, prescribed
+          // components; hanging-node lines are not reactions) and the other
+          // active contact conditions at this vertex.
+          std::vector<std::vector<double>> others;
+          std::set<const NormalCondition *> seen{&c};
+          for (const auto dof : D)
+            {
+              if (fixed_constraints.is_constrained(dof) &&
+                  !hanging_node_constraints.is_constrained(dof))
+                {
+                  std::vector<double> g(D.size(), 0.);
+                  g[index(dof)] = 1;
+                  for (const auto &[j, a] : *fixed_constraints.get_constraint_entries(dof))
+                    if (const auto i = index(j); i < long(D.size()))
+                      g[i] -= a;
+                  others.push_back(g);
+                }
+              if (const auto it = active_at.find(dof); it != active_at.end())
+                for (const NormalCondition *o : it->second)
+                  if (seen.insert(o).second)
+                    others.push_back(gradient(*o));
+            }
+          std::vector<double> r_D(D.size());
+          for (unsigned int i = 0; i < D.size(); ++i)
+            r_D[i] = r[D[i]];
+          const double lambda = -Contact::constraint_multiplier(gradient(c), others, r_D);
           const double d = normal_displacement_jump(c) - c.gap;
           const double c_eff =
             prm.contact.complementarity_constant * complementarity_scale * c.stiffness;
@@ -331,19 +396,24 @@ namespace ContactStefan
     pressure = 0;
     gap      = 0;
     std::map<std::string, double> forces;
-    double                        max_pressure = 0;
+    double                        max_pressure = 0, min_active_pressure = HUGE_VAL;
     for (const auto &dec : decisions)
       {
         pressure[dec.c->dofs_k[0]] = dec.lambda / dec.c->weight;
         gap[dec.c->dofs_k[0]]      = -dec.d;
         forces[dec.c->group] += dec.lambda;
         max_pressure = std::max(max_pressure, dec.lambda / dec.c->weight);
+        if (is_active(*dec.c))
+          min_active_pressure = std::min(min_active_pressure, dec.lambda / dec.c->weight);
       }
     pressure.compress(VectorOperation::insert);
     gap.compress(VectorOperation::insert);
     for (const auto &group : contact_groups)
       report.forces[group] = Utilities::MPI::sum(forces[group], mpi_communicator);
-    report.max_pressure = Utilities::MPI::max(max_pressure, mpi_communicator);
+    report.max_pressure        = Utilities::MPI::max(max_pressure, mpi_communicator);
+    report.min_active_pressure = Utilities::MPI::min(min_active_pressure, mpi_communicator);
+    if (report.min_active_pressure == HUGE_VAL)
+      report.min_active_pressure = 0;
   }
 
 
@@ -482,6 +552,7 @@ namespace ContactStefan
     assemble_load();
     make_fixed_constraints();
     update_condition_gaps();
+    functions.check_finite_values(mpi_communicator);
     Vector residual(owned, mpi_communicator);
     apply_stiffness(displacement_ghosted, residual, true);
     complementarity_scale = 1;

@@ -1,6 +1,9 @@
 #include <contact-stefan/materials.h>
 #include <contact-stefan/neumann_solution.h>
 
+#include <cmath>
+#include <memory>
+
 namespace ContactStefan
 {
   using Elasticity = Parameters::BodyMaterial::Elasticity;
@@ -102,7 +105,50 @@ namespace ContactStefan
   Materials::Materials(const AllParameters &prm)
   {
     for (const auto &[id, m] : prm.materials)
-      materials.emplace(id, Material(m));
+      {
+        // Each number is finite when read; what follows from them can still
+        // overflow (E = 1e308 gives an infinite lambda): refuse it here, before
+        // any work, naming the entries it comes from.
+        const std::string path = "Materials/Body " + std::to_string(id) + "/";
+        std::unique_ptr<Material> material;
+        try
+          {
+            material = std::make_unique<Material>(m);
+          }
+        catch (const std::exception &e)
+          {
+            throw InputError(path + "Phase change", e.what());
+          }
+        bool finite_elasticity = std::isfinite(material->plane_strain_modulus) &&
+                                 std::isfinite(material->out_of_plane_lambda);
+        for (unsigned int i = 0; i < 2; ++i)
+          for (unsigned int j = 0; j < 2; ++j)
+            for (unsigned int k = 0; k < 2; ++k)
+              for (unsigned int l = 0; l < 2; ++l)
+                finite_elasticity &= std::isfinite(material->elasticity[i][j][k][l]);
+        if (!finite_elasticity)
+          throw InputError(path + (m.elasticity == Elasticity::anisotropic ? "Elasticity tensor" :
+                                   m.elasticity == Elasticity::lame        ? "Lame lambda" :
+                                                                             "Youngs modulus"),
+                           "the elasticity tensor it gives is not finite (overflow)");
+        const EnthalpyLaw &law    = material->enthalpy_law;
+        bool               finite = true;
+        for (unsigned int p = 0; p <= law.n_transitions(); ++p)
+          finite &= std::isfinite(law.heat_capacity(p));
+        for (unsigned int j = 0; j < law.n_transitions(); ++j)
+          finite &= std::isfinite(law.latent_heat(j)) &&
+                    std::isfinite(law.enthalpy_range(law.transition_temperature(j)).second);
+        if (!finite)
+          throw InputError(path + "Density",
+                           "density times heat capacity or latent heat is not finite (overflow)");
+        for (const double k : material->conductivities)
+          for (unsigned int i = 0; i < 2; ++i)
+            for (unsigned int j = 0; j < 2; ++j)
+              if (!std::isfinite(k * material->conductivity_shape[i][j]))
+                throw InputError(path + "Conductivities",
+                                 "conductivity times anisotropy is not finite (overflow)");
+        materials.emplace(id, *material);
+      }
   }
 
 

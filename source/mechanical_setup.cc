@@ -347,6 +347,7 @@ namespace ContactStefan
         }
 
     update_condition_gaps();
+    functions.check_finite_values(mpi_communicator);
     for (Vector *v : {&obstacle_active, &interface_active})
       *v = 0.;
     for (const auto &c : normal_conditions)
@@ -379,6 +380,7 @@ namespace ContactStefan
     assemble_load();
     make_fixed_constraints();
     update_condition_gaps();
+    functions.check_finite_values(mpi_communicator);
   }
 
 

@@ -6,11 +6,80 @@
 #include <contact-stefan/common.h>
 #include <contact-stefan/mesh.h>
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <set>
+#include <sstream>
 
 namespace ContactStefan
 {
+  namespace
+  {
+    std::string point_text(const Point<2> &p)
+    {
+      std::ostringstream s;
+      s << '(' << p[0] << ", " << p[1] << ')';
+      return s.str();
+    }
+
+    // A Gmsh mesh must be a valid Q1 mesh: every cell's bilinear map has a
+    // positive Jacobian determinant at its four vertices (a negative one at all
+    // four is an inverted cell, mixed signs a self-overlapping "bow-tie" cell),
+    // and no two vertices that cells use coincide (the mesh would be cut there:
+    // bodies must share the nodes of their interfaces). One line names the file
+    // and the first bad cell.
+    void check_mesh(const Triangulation<2> &mesh, const std::string &file)
+    {
+      for (const auto &cell : mesh.active_cell_iterators())
+        {
+          // deal.II's vertex order: 0 (0,0), 1 (1,0), 2 (0,1), 3 (1,1).
+          const Point<2> v[4] = {cell->vertex(0), cell->vertex(1), cell->vertex(2), cell->vertex(3)};
+          const auto     cross = [](const Tensor<1, 2> &a, const Tensor<1, 2> &b) {
+            return a[0] * b[1] - a[1] * b[0];
+          };
+          const double J[4] = {cross(v[1] - v[0], v[2] - v[0]),
+                               cross(v[1] - v[0], v[3] - v[1]),
+                               cross(v[3] - v[2], v[2] - v[0]),
+                               cross(v[3] - v[2], v[3] - v[1])};
+          const double size = cell->diameter() * cell->diameter();
+          for (const double j : J)
+            if (!(j > 1e-12 * size))
+              throw InputError("Geometry/Mesh file",
+                               "'" + file + "': cell " + std::to_string(cell->index()) +
+                                 " with vertices " + point_text(v[0]) + " " + point_text(v[1]) +
+                                 " " + point_text(v[3]) + " " + point_text(v[2]) + " is " +
+                                 (std::max({J[0], J[1], J[2], J[3]}) <= 0 ? "inverted or degenerate" :
+                                                                           "self-overlapping") +
+                                 " (its Jacobian is not positive at every vertex)");
+        }
+      std::vector<std::pair<Point<2>, unsigned int>> used;
+      const std::vector<bool>                       &is_used = mesh.get_used_vertices();
+      for (unsigned int i = 0; i < mesh.n_vertices(); ++i)
+        if (is_used[i])
+          used.emplace_back(mesh.get_vertices()[i], i);
+      std::sort(used.begin(), used.end(), [](const auto &a, const auto &b) {
+        return a.first[0] < b.first[0] || (a.first[0] == b.first[0] && a.first[1] < b.first[1]);
+      });
+      double extent = 0;
+      for (const auto &[p, i] : used)
+        extent = std::max({extent, std::abs(p[0]), std::abs(p[1])});
+      for (unsigned int k = 0; k < used.size(); ++k)
+        for (unsigned int m = k + 1;
+             m < used.size() && used[m].first[0] - used[k].first[0] <= 1e-12 * extent;
+             ++m)
+          if (used[k].first.distance(used[m].first) <= 1e-12 * extent)
+            throw InputError("Geometry/Mesh file",
+                             "'" + file + "': vertices " + std::to_string(used[k].second) +
+                               " and " + std::to_string(used[m].second) + " coincide at " +
+                               point_text(used[k].first) +
+                               ": the mesh is cut there (bodies must share their interface "
+                               "nodes)");
+    }
+  } // namespace
+
+
+
   // The mesh: a rectangle (optionally in horizontal layers, one body each) or a
   // Gmsh file. Body and boundary ids in the mesh are checked against the
   // parameter file here, before any time step runs.
@@ -44,8 +113,11 @@ namespace ContactStefan
       }
     else
       {
-        GridIn<dim> grid_in;
-        grid_in.attach_triangulation(triangulation);
+        // Read into a serial coarse mesh first and check it there: p4est and the
+        // hp constraints would crash on an inverted or self-overlapping cell.
+        Triangulation<dim> coarse;
+        GridIn<dim>        grid_in;
+        grid_in.attach_triangulation(coarse);
         std::ifstream in(g.mesh_file);
         try
           {
@@ -54,8 +126,18 @@ namespace ContactStefan
         catch (const std::exception &e)
           {
             throw InputError("Geometry/Mesh file",
-                             "'" + g.mesh_file + "' is not a readable Gmsh mesh");
+                             "'" + g.mesh_file + "' is not a readable Gmsh mesh (" +
+                               one_line(e.what()).substr(0, 120) + ")");
           }
+        check_mesh(coarse, g.mesh_file);
+        const double cells =
+          coarse.n_active_cells() * std::pow(4., prm.refinement.initial_global_refinements);
+        if (cells > prm.refinement.max_cells)
+          throw InputError("Mesh refinement/Initial global refinements",
+                           "the mesh would have " + std::to_string(cells) +
+                             " cells, more than 'Mesh refinement/Max cells' = " +
+                             std::to_string(prm.refinement.max_cells));
+        triangulation.copy_triangulation(coarse);
       }
 
     // Every material id must be a body and every thermal boundary must exist.
@@ -98,6 +180,12 @@ namespace ContactStefan
                                               r.prerefinement_radius + 0.5 * cell->diameter())
               cell->set_refine_flag();
           triangulation.execute_coarsening_and_refinement();
+          if (triangulation.n_global_active_cells() > r.max_cells)
+            throw InputError("Mesh refinement/Pre-refinement steps",
+                             "pre-refinement step " + std::to_string(step + 1) + " makes " +
+                               std::to_string(triangulation.n_global_active_cells()) +
+                               " cells, more than 'Mesh refinement/Max cells' = " +
+                               std::to_string(r.max_cells));
         }
   }
 

@@ -6,6 +6,7 @@
 #include <contact-stefan/parameters.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <regex>
@@ -47,6 +48,15 @@ namespace ContactStefan
           if (ids[i] == ids[j])
             throw InputError(path, "id " + std::to_string(ids[i]) + " is listed twice");
       return ids;
+    }
+
+    // A number entry that must be finite (Patterns::Double lets "nan" and "inf" through).
+    double get_finite(ParameterHandler &prm, const std::string &path, const std::string &entry)
+    {
+      const double value = prm.get_double(entry);
+      if (!std::isfinite(value))
+        throw InputError(path + entry, "must be a finite number, got '" + prm.get(entry) + "'");
+      return value;
     }
 
     void require(const bool condition, const std::string &path, const std::string &reason)
@@ -102,8 +112,15 @@ namespace ContactStefan
     if (stack != std::string::npos)
       message = message.substr(0, stack);
     message = std::regex_replace(message, std::regex("-{5,}"), " ");
+    // A message may quote a line of a binary file: no control or non-ASCII
+    // bytes reach the terminal, and no quoted line runs on for pages.
+    for (char &c : message)
+      if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f)
+        c = c == '\n' || c == '\t' || c == '\r' ? ' ' : '?';
     message = std::regex_replace(message, std::regex("\\s+"), " ");
     message = std::regex_replace(message, std::regex("^ | $"), "");
+    if (message.size() > 300)
+      message = message.substr(0, 300) + " ...";
     return message;
   }
 
@@ -229,6 +246,9 @@ namespace ContactStefan
             mesh_file = prm_directory + mesh_file;
           std::ifstream in(mesh_file);
           require(static_cast<bool>(in), "Geometry/Mesh file", "cannot open '" + mesh_file + "'");
+          require(std::filesystem::is_regular_file(mesh_file),
+                  "Geometry/Mesh file",
+                  "'" + mesh_file + "' is not a regular file");
         }
       prm.leave_subsection();
     }
@@ -299,7 +319,7 @@ namespace ContactStefan
     void BodyMaterial::parse(ParameterHandler &prm, const std::string &path)
     {
       name    = prm.get("Name");
-      density = prm.get_double("Density");
+      density = get_finite(prm, path + "/", "Density");
       require(density > 0, path + "/Density", "must be > 0, got " + str(density));
       conductivities = parse_doubles(prm.get("Conductivities"), path + "/Conductivities");
       for (const double k : conductivities)
@@ -318,11 +338,11 @@ namespace ContactStefan
       elasticity          = e == "isotropic" ? Elasticity::isotropic :
                             e == "lame"      ? Elasticity::lame :
                                                Elasticity::anisotropic;
-      youngs_modulus      = prm.get_double("Youngs modulus");
-      poisson_ratio       = prm.get_double("Poisson ratio");
-      lame_lambda         = prm.get_double("Lame lambda");
-      lame_mu             = prm.get_double("Lame mu");
-      thermal_expansion   = prm.get_double("Thermal expansion");
+      youngs_modulus      = get_finite(prm, path + "/", "Youngs modulus");
+      poisson_ratio       = get_finite(prm, path + "/", "Poisson ratio");
+      lame_lambda         = get_finite(prm, path + "/", "Lame lambda");
+      lame_mu             = get_finite(prm, path + "/", "Lame mu");
+      thermal_expansion   = get_finite(prm, path + "/", "Thermal expansion");
       voigt = parse_doubles(prm.get("Elasticity tensor"), path + "/Elasticity tensor");
       if (elasticity == Elasticity::isotropic)
         {
@@ -529,13 +549,13 @@ namespace ContactStefan
       prm.enter_subsection("Contact");
       interfaces    = prm.get("Interfaces") == "tied" ? Interfaces::tied : Interfaces::contact;
       interface_gap = prm.get("Interface gap");
-      complementarity_constant = prm.get_double("Complementarity constant");
+      complementarity_constant = get_finite(prm, "Contact/", "Complementarity constant");
       max_iterations           = prm.get_integer("Max iterations");
-      tolerance                = prm.get_double("Tolerance");
+      tolerance                = get_finite(prm, "Contact/", "Tolerance");
       max_set_repetitions      = prm.get_integer("Max set repetitions");
       max_c_reductions         = prm.get_integer("Max c reductions");
-      rigid_mode_tolerance     = prm.get_double("Rigid mode tolerance");
-      corner_angle             = prm.get_double("Roller corner angle");
+      rigid_mode_tolerance     = get_finite(prm, "Contact/", "Rigid mode tolerance");
+      corner_angle             = get_finite(prm, "Contact/", "Roller corner angle");
       prm.leave_subsection();
       check_function(interface_gap, "Contact/Interface gap", false);
       require(complementarity_constant > 0, "Contact/Complementarity constant", "must be > 0");
@@ -652,11 +672,11 @@ namespace ContactStefan
                                                         Type::none;
       function           = prm.get("Function");
       body               = prm.get_integer("Body");
-      hot_temperature    = prm.get_double("Hot temperature");
-      cold_temperature   = prm.get_double("Cold temperature");
-      origin             = prm.get_double("Origin");
-      cylinder_radius    = prm.get_double("Cylinder radius");
-      patch_displacement = prm.get_double("Patch displacement");
+      hot_temperature    = get_finite(prm, "Exact solution/", "Hot temperature");
+      cold_temperature   = get_finite(prm, "Exact solution/", "Cold temperature");
+      origin             = get_finite(prm, "Exact solution/", "Origin");
+      cylinder_radius    = get_finite(prm, "Exact solution/", "Cylinder radius");
+      patch_displacement = get_finite(prm, "Exact solution/", "Patch displacement");
       prm.leave_subsection();
     }
 
@@ -671,20 +691,42 @@ namespace ContactStefan
                         "0.1",
                         Patterns::Double(),
                         "tau (s), > 0; the last step is shortened to end at T.");
+      prm.declare_entry("Max time steps",
+                        "1000000",
+                        Patterns::Integer(1),
+                        "A run that would need more steps than this ((T - t0) / tau) is "
+                        "refused before any work: a guard against a mistyped time step or "
+                        "end time. Raise it for a long run on purpose.");
       prm.leave_subsection();
     }
 
     void TimeStepping::parse(ParameterHandler &prm)
     {
       prm.enter_subsection("Time stepping");
-      start_time = prm.get_double("Start time");
-      end_time   = prm.get_double("End time");
-      time_step  = prm.get_double("Time step");
+      start_time = get_finite(prm, "Time stepping/", "Start time");
+      end_time   = get_finite(prm, "Time stepping/", "End time");
+      time_step  = get_finite(prm, "Time stepping/", "Time step");
+      max_steps  = prm.get_integer("Max time steps");
       prm.leave_subsection();
       require(time_step > 0, "Time stepping/Time step", "must be > 0, got " + str(time_step));
+      require(std::isnormal(time_step),
+              "Time stepping/Time step",
+              "must be a normal floating-point number, got " + str(time_step));
       require(end_time > start_time,
               "Time stepping/End time",
               "must be greater than Start time (" + str(start_time) + "), got " + str(end_time));
+      // Time must advance in every step: t + tau > t in floating point at the
+      // start and (the largest t) at the end.
+      require(start_time + time_step > start_time && end_time - time_step < end_time,
+              "Time stepping/Time step",
+              str(time_step) + " is below the floating-point resolution of t near " +
+                str(std::max(std::abs(start_time), std::abs(end_time))) +
+                ": time would not advance");
+      const double steps = std::ceil((end_time - start_time) / time_step);
+      require(steps <= max_steps,
+              "Time stepping/Time step",
+              "the run would take " + str(steps) + " steps, more than 'Time stepping/Max time " +
+                "steps' = " + std::to_string(max_steps));
     }
 
 
@@ -770,17 +812,17 @@ namespace ContactStefan
       linear_solver =
         prm.get("Linear solver") == "direct" ? LinearSolverType::direct : LinearSolverType::cg_amg;
       direct_solver_type        = prm.get("Direct solver type");
-      cg_tolerance              = prm.get_double("CG tolerance");
+      cg_tolerance              = get_finite(prm, "Solver/", "CG tolerance");
       cg_max_iterations         = prm.get_integer("CG max iterations");
       max_active_set_iterations = prm.get_integer("Max active-set iterations");
       enthalpy_solver = prm.get("Enthalpy solver") == "relaxation" ? EnthalpySolver::relaxation :
                                                                      EnthalpySolver::active_set;
-      active_set_step_tolerance       = prm.get_double("Active-set step tolerance");
-      line_search_sufficient_decrease = prm.get_double("Line search sufficient decrease");
-      line_search_min_step            = prm.get_double("Line search minimum step");
+      active_set_step_tolerance       = get_finite(prm, "Solver/", "Active-set step tolerance");
+      line_search_sufficient_decrease = get_finite(prm, "Solver/", "Line search sufficient decrease");
+      line_search_min_step            = get_finite(prm, "Solver/", "Line search minimum step");
       extrapolate_active_set          = prm.get_bool("Extrapolate active set");
-      relaxation_parameter_fraction   = prm.get_double("Relaxation parameter");
-      relaxation_tolerance            = prm.get_double("Relaxation tolerance");
+      relaxation_parameter_fraction   = get_finite(prm, "Solver/", "Relaxation parameter");
+      relaxation_tolerance            = get_finite(prm, "Solver/", "Relaxation tolerance");
       relaxation_max_iterations       = prm.get_integer("Relaxation max iterations");
       prm.leave_subsection();
       require(cg_tolerance > 0 && cg_tolerance < 1, "Solver/CG tolerance", "must lie in (0, 1)");
@@ -817,6 +859,13 @@ namespace ContactStefan
                         Patterns::Integer(0, 20),
                         "... this many times. Creates hanging nodes at the rim of the refined "
                         "zone; contact interfaces between bodies must not cross that rim.");
+      prm.declare_entry("Max cells",
+                        "10000000",
+                        Patterns::Integer(1),
+                        "A mesh that would have more cells than this (coarse cells times "
+                        "4^global refinements, then after each pre-refinement step) is refused "
+                        "before it is built: a guard against a mistyped subdivision or "
+                        "refinement count that would exhaust the memory. Raise it on purpose.");
       prm.leave_subsection();
     }
 
@@ -828,8 +877,9 @@ namespace ContactStefan
         parse_doubles(prm.get("Pre-refinement center"), "Mesh refinement/Pre-refinement center");
       require(c.size() == 2, "Mesh refinement/Pre-refinement center", "needs two numbers");
       prerefinement_center = Point<2>(c[0], c[1]);
-      prerefinement_radius = prm.get_double("Pre-refinement radius");
+      prerefinement_radius = get_finite(prm, "Mesh refinement/", "Pre-refinement radius");
       prerefinement_steps  = prm.get_integer("Pre-refinement steps");
+      max_cells            = prm.get_integer("Max cells");
       prm.leave_subsection();
     }
 
@@ -951,6 +1001,8 @@ namespace ContactStefan
       std::ifstream in(filename);
       if (!in)
         throw InputError("parameter file '" + filename + "' cannot be opened");
+      if (!std::filesystem::is_regular_file(filename))
+        throw InputError("parameter file '" + filename + "' is not a regular file");
     }
     const auto        slash = filename.rfind('/');
     const std::string prm_directory =
@@ -1054,6 +1106,20 @@ namespace ContactStefan
   void AllParameters::check_consistency() const
   {
     using Exact = Parameters::ExactSolution::Type;
+    if (geometry.mesh_type == Parameters::Geometry::MeshType::rectangle)
+      {
+        const double cells = double(geometry.subdivisions[0]) * geometry.subdivisions[1] *
+                             std::pow(4., refinement.initial_global_refinements);
+        require(cells <= refinement.max_cells,
+                "Geometry/Subdivisions",
+                "with the global refinements the mesh would have " + str(cells) +
+                  " cells, more than 'Mesh refinement/Max cells' = " +
+                  std::to_string(refinement.max_cells));
+      }
+    if (exact_solution.type == Exact::hertz)
+      require(exact_solution.cylinder_radius > 0,
+              "Exact solution/Cylinder radius",
+              "must be > 0 for the Hertz solution, got " + str(exact_solution.cylinder_radius));
     if (geometry.mesh_type == Parameters::Geometry::MeshType::rectangle)
       require(geometry.layer_interfaces.size() + 1 == body_ids.size(),
               "Bodies/Body ids",

@@ -269,6 +269,7 @@ namespace ContactStefan
     double      max_error = 0;
     for (const auto dof : dof_handler.locally_owned_dofs())
       max_error = std::max(max_error, std::abs(theta_h_all[dof] - exact->value(points.at(dof))));
+    functions.check_finite_values(mpi_communicator);
     last_max_error = Utilities::MPI::max(max_error, mpi_communicator);
 
     if (tau > 0)
@@ -415,6 +416,7 @@ namespace ContactStefan
     for (const auto &[group, force] : last_contact_report.forces)
       result(pcout, "contact force " + group, force);
     result(pcout, "max contact pressure", last_contact_report.max_pressure);
+    result(pcout, "min contact pressure at active nodes", last_contact_report.min_active_pressure);
 
     if (prm.exact_solution.type == ExactType::hertz)
       print_hertz_results();

@@ -3,6 +3,9 @@
 #include <contact-stefan/materials.h>
 #include <contact-stefan/scene_functions.h>
 
+#include <cmath>
+#include <sstream>
+
 namespace ContactStefan
 {
   namespace
@@ -34,47 +37,135 @@ namespace ContactStefan
       const NeumannSolution &solution;
       const double           origin;
     };
+
+    // A function whose every returned value is checked for finiteness.
+    template <int dim>
+    class Checked : public Function<dim>
+    {
+    public:
+      Checked(std::unique_ptr<Function<dim>>                        function,
+              const std::string                                    &parameter,
+              typename SceneFunctions<dim>::NonFiniteRecord        &record)
+        : Function<dim>(function->n_components)
+        , function(std::move(function))
+        , parameter(parameter)
+        , record(record)
+      {}
+      void set_time(const double t) override
+      {
+        Function<dim>::set_time(t);
+        function->set_time(t);
+      }
+      double value(const Point<dim> &p, const unsigned int component = 0) const override
+      {
+        const double v = function->value(p, component);
+        if (!std::isfinite(v))
+          record.note(parameter, p, this->get_time(), v);
+        return v;
+      }
+      void vector_value(const Point<dim> &p, dealii::Vector<double> &values) const override
+      {
+        function->vector_value(p, values);
+        for (const double v : values)
+          if (!std::isfinite(v))
+            record.note(parameter, p, this->get_time(), v);
+      }
+
+    private:
+      const std::unique_ptr<Function<dim>>           function;
+      const std::string                              parameter;
+      typename SceneFunctions<dim>::NonFiniteRecord &record;
+    };
   } // namespace
+
+
+
+  template <int dim>
+  void SceneFunctions<dim>::NonFiniteRecord::note(const std::string &parameter,
+                                                  const Point<dim>  &point,
+                                                  const double       time,
+                                                  const double       value)
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (found)
+      return;
+    found = true;
+    std::ostringstream s;
+    s << "parameter '" << parameter << "': evaluates to " << value << " at (x, y) = (" << point[0]
+      << ", " << point[1] << "), t = " << time;
+    message = s.str();
+  }
+
+
+
+  template <int dim>
+  void SceneFunctions<dim>::check_finite_values(const MPI_Comm mpi_communicator) const
+  {
+    const unsigned int none  = Utilities::MPI::n_mpi_processes(mpi_communicator);
+    const unsigned int first = Utilities::MPI::min(
+      record->found ? Utilities::MPI::this_mpi_process(mpi_communicator) : none, mpi_communicator);
+    if (first == none)
+      return;
+    throw InputError(Utilities::MPI::broadcast(mpi_communicator, record->message, first));
+  }
+
+
+
+  template <int dim>
+  std::unique_ptr<Function<dim>>
+  SceneFunctions<dim>::checked(std::unique_ptr<Function<dim>> function,
+                               const std::string             &parameter) const
+  {
+    return std::make_unique<Checked<dim>>(std::move(function), parameter, *record);
+  }
 
 
 
   template <int dim>
   SceneFunctions<dim>::SceneFunctions(const AllParameters &prm)
     : prm(prm)
+    , record(std::make_unique<NonFiniteRecord>())
   {
     assert_two_dimensional<dim>();
     using Exact = Parameters::ExactSolution::Type;
     if (prm.exact_solution.type == Exact::neumann)
       neumann_solution = std::make_unique<NeumannSolution>(ContactStefan::neumann_solution(prm));
     if (prm.exact_solution.type == Exact::neumann || prm.exact_solution.type == Exact::function)
-      exact = make_exact();
+      exact = checked(make_exact(), "Exact solution/Function");
 
     for (const auto &[id, m] : prm.materials)
       {
-        heat_sources[id] = parse<dim>({m.heat_source});
+        const std::string body = "Materials/Body " + std::to_string(id) + "/";
+        heat_sources[id] = checked(parse<dim>({m.heat_source}), body + "Heat source");
         heat_load |= !is_zero_expression(m.heat_source);
-        body_forces[id] = parse<dim>({m.body_force[0], m.body_force[1]});
+        body_forces[id] =
+          checked(parse<dim>({m.body_force[0], m.body_force[1]}), body + "Body force");
         mechanical_load |=
           !is_zero_expression(m.body_force[0]) || !is_zero_expression(m.body_force[1]);
       }
     for (const auto &[id, bc] : prm.thermal_boundaries)
       {
-        thermal_boundaries[id] = function_or_exact(bc.value);
+        thermal_boundaries[id] = checked(function_or_exact(bc.value),
+                                         "Boundary conditions/Thermal boundary " +
+                                           std::to_string(id) + "/Value");
         heat_load |=
           bc.type == Parameters::ThermalBoundary::Type::flux && !is_zero_expression(bc.value);
       }
-    initial = function_or_exact(prm.initial_condition.function);
+    initial = checked(function_or_exact(prm.initial_condition.function),
+                      "Initial conditions/Function");
 
     using Mechanical = Parameters::MechanicalBoundary::Type;
     for (const auto &[id, bc] : prm.mechanical_boundaries)
       {
-        mechanical_values[id] = parse<dim>({bc.value[0], bc.value[1]});
+        const std::string section =
+          "Boundary conditions/Mechanical boundary " + std::to_string(id) + "/";
+        mechanical_values[id] = checked(parse<dim>({bc.value[0], bc.value[1]}), section + "Value");
         if (bc.type == Mechanical::obstacle)
-          obstacle_gaps[id] = parse<dim>({bc.gap});
+          obstacle_gaps[id] = checked(parse<dim>({bc.gap}), section + "Gap");
         mechanical_load |= bc.type == Mechanical::traction &&
                            (!is_zero_expression(bc.value[0]) || !is_zero_expression(bc.value[1]));
       }
-    interface = parse<dim>({prm.contact.interface_gap});
+    interface = checked(parse<dim>({prm.contact.interface_gap}), "Contact/Interface gap");
   }
 
 

@@ -240,6 +240,7 @@ namespace ContactStefan
       enthalpy[dof] = from_temperature ? law(dof).enthalpy(values[dof]) : values[dof];
     enthalpy.compress(VectorOperation::insert);
     old_enthalpy = enthalpy;
+    functions.check_finite_values(mpi_communicator);
     set_nodal_state_from_enthalpy();
     assemble_cell_conductivities();
   }
@@ -274,6 +275,7 @@ namespace ContactStefan
       assemble_cell_conductivities();
     assemble_heat_load();
     make_dirichlet_constraints();
+    functions.check_finite_values(mpi_communicator);
   }
 
 
@@ -300,6 +302,7 @@ namespace ContactStefan
     assemble_cell_conductivities();
     assemble_heat_load();
     make_dirichlet_constraints();
+    functions.check_finite_values(mpi_communicator);
   }
 
 

@@ -60,6 +60,21 @@ namespace ContactStefan
                                     const unsigned int                  component,
                                     const bool                          on_partner);
 
+    // The multiplier of one constraint among several that act on the same few
+    // DoFs (an interface node pair, or an obstacle node, that is also on a
+    // roller or has a prescribed component). After the constrained solve the
+    // residual r = K u - f restricted to those DoFs is a combination
+    // sum_i mu_i g_i of the constraint gradients g_i (the reactions). Reading the
+    // contact force off r alone would mix in the roller's reaction; instead this
+    // returns the coefficient of `target`: the component of r along the part of
+    // `target` orthogonal to the span of `others` (least squares, exact when r
+    // lies in the span). Returns 0 if `target` lies in the span of the others
+    // (relative tolerance `tolerance`): then its multiplier is not determined.
+    double constraint_multiplier(const std::vector<double>              &target,
+                                 const std::vector<std::vector<double>> &others,
+                                 const std::vector<double>              &residual,
+                                 const double                            tolerance = 1e-10);
+
     // The primal-dual active-set test: with lambda >= 0 the compressive normal
     // force and d = n.(u_k - u_l) - g the gap violation, the node is active next
     // iteration if lambda + c d exceeds the tolerance.

@@ -67,6 +67,7 @@ namespace ContactStefan
     unsigned int changes      = 0; // summed over the iterations
     unsigned int c_reductions = 0; // cycling remedies applied
     double       max_pressure = 0;
+    double       min_active_pressure = 0; // over the nodes in contact (0 if none)
     // Total compressive normal force per obstacle boundary / interface.
     std::map<std::string, double> forces;
   };

@@ -197,7 +197,8 @@ namespace ContactStefan
 
     struct TimeStepping
     {
-      double start_time, end_time, time_step;
+      double       start_time, end_time, time_step;
+      unsigned int max_steps;
 
       static void declare(ParameterHandler &prm);
       void        parse(ParameterHandler &prm);
@@ -239,6 +240,7 @@ namespace ContactStefan
       Point<2>     prerefinement_center;
       double       prerefinement_radius;
       unsigned int prerefinement_steps;
+      unsigned int max_cells;
 
       static void declare(ParameterHandler &prm);
       void        parse(ParameterHandler &prm);

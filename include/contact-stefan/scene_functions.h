@@ -7,6 +7,11 @@
 //
 // A user sets the time of a function before evaluating it (Function::set_time);
 // the functions are shared, so every evaluation site sets it.
+//
+// Every function checks each value it returns: a NaN or an infinity (sqrt(-1-t),
+// log(0.5-t), 1/(x-0.5), ...) is recorded with the parameter, the point and the
+// time, and the next check_finite_values() -- called by each field after it has
+// evaluated its data -- stops the run on every rank with one line naming them.
 #ifndef contact_stefan_scene_functions_h
 #define contact_stefan_scene_functions_h
 
@@ -18,6 +23,7 @@
 
 #include <map>
 #include <memory>
+#include <mutex>
 #include <string>
 
 namespace ContactStefan
@@ -81,12 +87,34 @@ namespace ContactStefan
       return mechanical_load;
     }
 
+    // Collective: if any function on any rank returned a non-finite value since
+    // the start, throw InputError on every rank naming the parameter, the point
+    // and the time of the first such value (on the lowest rank that saw one).
+    void check_finite_values(const MPI_Comm mpi_communicator) const;
+
+    // The first non-finite value returned by any of the functions.
+    struct NonFiniteRecord
+    {
+      void               note(const std::string &parameter,
+                              const Point<dim>  &point,
+                              const double       time,
+                              const double       value);
+      std::mutex         mutex; // evaluations may run on several threads
+      bool               found = false;
+      std::string        message;
+    };
+
   private:
     // A fresh copy of the exact temperature (each user sets its own time).
     std::unique_ptr<Function<dim>> make_exact() const;
     std::unique_ptr<Function<dim>> function_or_exact(const std::string &expression) const;
 
+    // The parsed expression(s), wrapped so that every value is checked.
+    std::unique_ptr<Function<dim>> checked(std::unique_ptr<Function<dim>> function,
+                                           const std::string             &parameter) const;
+
     const AllParameters                                   &prm;
+    std::unique_ptr<NonFiniteRecord>                       record;
     std::unique_ptr<NeumannSolution>                       neumann_solution;
     std::unique_ptr<Function<dim>>                         exact, initial, interface;
     std::map<unsigned int, std::unique_ptr<Function<dim>>> heat_sources, thermal_boundaries;
