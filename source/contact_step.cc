@@ -26,12 +26,26 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <map>
 #include <set>
+#include <sstream>
 #include <unordered_map>
 
 namespace ContactStefan
 {
+  namespace
+  {
+    // A number for a message: 6 significant digits in any magnitude
+    // (std::to_string prints 1e-9 as 0.000000).
+    std::string number(const double x)
+    {
+      std::ostringstream s;
+      s << std::setprecision(6) << x;
+      return s.str();
+    }
+  } // namespace
+
   // The gap g of every obstacle and interface node at the current time.
   template <int dim>
   void MechanicalField<dim>::update_condition_gaps()
@@ -171,7 +185,7 @@ namespace ContactStefan
               if (sum <= prm.contact.rigid_mode_tolerance)
                 throw std::runtime_error(
                   "body " + std::to_string(prm.body_ids[i / 3]) + " is not held against " +
-                  names[i % 3] + " at t = " + std::to_string(time) +
+                  names[i % 3] + " at t = " + number(time) +
                   " (the elasticity system would be singular): with the current contact set "
                   "nothing holds it; give it displacement, roller or tied conditions in that "
                   "direction");
@@ -309,9 +323,9 @@ namespace ContactStefan
                                           double       &local_scale,
                                           double       &max_penetration) const
   {
-    using Kind                 = NormalCondition::Kind;
-    const bool            tied = prm.contact.interfaces == Parameters::Contact::Interfaces::tied;
-    const auto is_contact      = [&](const NormalCondition &c) {
+    using Kind            = NormalCondition::Kind;
+    const bool tied       = prm.contact.interfaces == Parameters::Contact::Interfaces::tied;
+    const auto is_contact = [&](const NormalCondition &c) {
       return c.kind != Kind::roller && !(c.kind == Kind::interface && tied);
     };
     Vector r(owned, relevant, mpi_communicator);
@@ -353,7 +367,7 @@ namespace ContactStefan
           // The other constraints on D: fixed lines (rollers, prescribed
           // components; hanging-node lines are not reactions) and the other
           // active contact conditions at this vertex.
-          std::vector<std::vector<double>> others;
+          std::vector<std::vector<double>>  others;
           std::set<const NormalCondition *> seen{&c};
           for (const auto dof : D)
             {
@@ -376,7 +390,7 @@ namespace ContactStefan
           for (unsigned int i = 0; i < D.size(); ++i)
             r_D[i] = r[D[i]];
           const double lambda = -Contact::constraint_multiplier(gradient(c), others, r_D);
-          const double d = normal_displacement_jump(c) - c.gap;
+          const double d      = normal_displacement_jump(c) - c.gap;
           const double c_eff =
             prm.contact.complementarity_constant * complementarity_scale * c.stiffness;
           decisions.push_back({&c, lambda, d, c_eff});
@@ -432,8 +446,7 @@ namespace ContactStefan
         if (it > prm.contact.max_iterations)
           throw std::runtime_error(
             "the contact step did not converge in 'Contact/Max iterations' = " +
-            std::to_string(prm.contact.max_iterations) +
-            " iterations at t = " + std::to_string(time));
+            std::to_string(prm.contact.max_iterations) + " iterations at t = " + number(time));
         unsigned int skipped = 0;
         build_contact_constraints(skipped);
         check_rigid_body_modes();
@@ -511,7 +524,7 @@ namespace ContactStefan
               throw std::runtime_error(
                 "the contact step converged to a set that violates the contact "
                 "conditions by " +
-                std::to_string(violation) + " (force units) at t = " + std::to_string(time) +
+                number(violation) + " (force units) at t = " + number(time) +
                 "; see 'Contact/Complementarity constant'");
             store_contact_output(decisions, report);
             break;
@@ -520,7 +533,7 @@ namespace ContactStefan
           {
             if (report.c_reductions == prm.contact.max_c_reductions)
               throw std::runtime_error(
-                "the contact active set keeps cycling at t = " + std::to_string(time) + " after " +
+                "the contact active set keeps cycling at t = " + number(time) + " after " +
                 std::to_string(report.c_reductions) +
                 " reductions of the complementarity constant "
                 "('Contact/Max c reductions')");

@@ -82,6 +82,10 @@ namespace ContactStefan
         time_step = prm.time.time_step;
         if (time + time_step > end - end_slack * time_step)
           time_step = end - time;
+        // Checked at parse time; guarded here so that no run can loop forever.
+        if (!(time + time_step > time))
+          throw std::runtime_error("time does not advance at t = " + std::to_string(time) +
+                                   " with tau = " + std::to_string(time_step));
         time += time_step;
         ++step_number;
 
@@ -141,7 +145,7 @@ namespace ContactStefan
                               thermal_report.plateau_nodes);
     std::snprintf(line + length,
                   sizeof(line) - length,
-                  "  wall %7.2f s  left ~%7.2f s",
+                  "  wall %7.2f s  left ~%8.3g s",
                   elapsed,
                   elapsed * (1 - done) / done);
     pcout << line << std::endl;

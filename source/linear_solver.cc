@@ -54,6 +54,8 @@ namespace ContactStefan
   {
     if (matrix == nullptr)
       throw std::logic_error("LinearSolver::solve() before initialize()");
+    // Nothing non-finite reaches Trilinos (whose error codes name nothing).
+    check_finite(b, "the right-hand side of the " + name + " system");
     if (prm.linear_solver == LinearSolverType::direct)
       {
         direct->solve(x, b);
@@ -68,5 +70,6 @@ namespace ContactStefan
         if (verbosity >= 2)
           pcout << "      CG (" << name << "): " << iterations << " iterations" << std::endl;
       }
+    check_finite(x, "the solution of the " + name + " system (overflow in the data?)");
   }
 } // namespace ContactStefan

@@ -83,40 +83,53 @@ int main(int argc, char *argv[])
       return 1;
     }
 
+  // Stop with one line and an exit code: 1 for bad input, 2 for a failure at
+  // run time. Input read before the run fails alike on every rank; a failure
+  // during the run may happen on one rank only, and the others would wait for
+  // it forever, so a parallel run is then aborted with that code.
+  const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD);
+  const auto         fail    = [&](const std::exception &e, const int code, const bool collective) {
+    if (n_ranks > 1 && !collective)
+      {
+        std::cerr << "contact-stefan: error (rank "
+                  << Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) << "): " << one_line(e.what())
+                  << std::endl;
+        MPI_Abort(MPI_COMM_WORLD, code);
+      }
+    if (root)
+      std::cerr << "contact-stefan: error: " << one_line(e.what()) << std::endl;
+    return code;
+  };
+
+  AllParameters parameters;
   try
     {
-      AllParameters parameters;
       parameters.read(filename);
-      if (check_only)
-        {
-          if (root)
-            std::cout << filename << ": OK" << std::endl;
-          return 0;
-        }
+    }
+  catch (const InputError &e)
+    {
+      return fail(e, 1, true);
+    }
+  if (check_only)
+    {
+      if (root)
+        std::cout << filename << ": OK" << std::endl;
+      return 0;
+    }
+  try
+    {
       CoupledProblem<2> problem(parameters, MPI_COMM_WORLD);
       problem.run();
     }
   catch (const InputError &e)
     {
-      if (root)
-        std::cerr << "contact-stefan: error: " << e.what() << std::endl;
-      return 1;
+      return fail(e, 1, false);
     }
   catch (const std::exception &e)
     {
       // Run-time failures (a solver that does not converge, a singular
-      // system): deal.II's long texts shortened to one line. Such a failure may
-      // happen on one rank only; the others would wait for it forever, so a
-      // parallel run is aborted.
-      if (Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1)
-        {
-          std::cerr << "contact-stefan: error (rank "
-                    << Utilities::MPI::this_mpi_process(MPI_COMM_WORLD)
-                    << "): " << one_line(e.what()) << std::endl;
-          MPI_Abort(MPI_COMM_WORLD, 2);
-        }
-      std::cerr << "contact-stefan: error: " << one_line(e.what()) << std::endl;
-      return 2;
+      // system, a non-finite result): deal.II's long texts shortened to one line.
+      return fail(e, 2, false);
     }
   return 0;
 }

@@ -109,7 +109,7 @@ namespace ContactStefan
         // Each number is finite when read; what follows from them can still
         // overflow (E = 1e308 gives an infinite lambda): refuse it here, before
         // any work, naming the entries it comes from.
-        const std::string path = "Materials/Body " + std::to_string(id) + "/";
+        const std::string         path = "Materials/Body " + std::to_string(id) + "/";
         std::unique_ptr<Material> material;
         try
           {

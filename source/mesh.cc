@@ -34,7 +34,10 @@ namespace ContactStefan
       for (const auto &cell : mesh.active_cell_iterators())
         {
           // deal.II's vertex order: 0 (0,0), 1 (1,0), 2 (0,1), 3 (1,1).
-          const Point<2> v[4] = {cell->vertex(0), cell->vertex(1), cell->vertex(2), cell->vertex(3)};
+          const Point<2> v[4]  = {cell->vertex(0),
+                                  cell->vertex(1),
+                                  cell->vertex(2),
+                                  cell->vertex(3)};
           const auto     cross = [](const Tensor<1, 2> &a, const Tensor<1, 2> &b) {
             return a[0] * b[1] - a[1] * b[0];
           };
@@ -49,8 +52,9 @@ namespace ContactStefan
                                "'" + file + "': cell " + std::to_string(cell->index()) +
                                  " with vertices " + point_text(v[0]) + " " + point_text(v[1]) +
                                  " " + point_text(v[3]) + " " + point_text(v[2]) + " is " +
-                                 (std::max({J[0], J[1], J[2], J[3]}) <= 0 ? "inverted or degenerate" :
-                                                                           "self-overlapping") +
+                                 (std::max({J[0], J[1], J[2], J[3]}) <= 0 ?
+                                    "inverted or degenerate" :
+                                    "self-overlapping") +
                                  " (its Jacobian is not positive at every vertex)");
         }
       std::vector<std::pair<Point<2>, unsigned int>> used;

@@ -817,13 +817,14 @@ namespace ContactStefan
       max_active_set_iterations = prm.get_integer("Max active-set iterations");
       enthalpy_solver = prm.get("Enthalpy solver") == "relaxation" ? EnthalpySolver::relaxation :
                                                                      EnthalpySolver::active_set;
-      active_set_step_tolerance       = get_finite(prm, "Solver/", "Active-set step tolerance");
-      line_search_sufficient_decrease = get_finite(prm, "Solver/", "Line search sufficient decrease");
-      line_search_min_step            = get_finite(prm, "Solver/", "Line search minimum step");
-      extrapolate_active_set          = prm.get_bool("Extrapolate active set");
-      relaxation_parameter_fraction   = get_finite(prm, "Solver/", "Relaxation parameter");
-      relaxation_tolerance            = get_finite(prm, "Solver/", "Relaxation tolerance");
-      relaxation_max_iterations       = prm.get_integer("Relaxation max iterations");
+      active_set_step_tolerance = get_finite(prm, "Solver/", "Active-set step tolerance");
+      line_search_sufficient_decrease =
+        get_finite(prm, "Solver/", "Line search sufficient decrease");
+      line_search_min_step          = get_finite(prm, "Solver/", "Line search minimum step");
+      extrapolate_active_set        = prm.get_bool("Extrapolate active set");
+      relaxation_parameter_fraction = get_finite(prm, "Solver/", "Relaxation parameter");
+      relaxation_tolerance          = get_finite(prm, "Solver/", "Relaxation tolerance");
+      relaxation_max_iterations     = prm.get_integer("Relaxation max iterations");
       prm.leave_subsection();
       require(cg_tolerance > 0 && cg_tolerance < 1, "Solver/CG tolerance", "must lie in (0, 1)");
       require(relaxation_parameter_fraction > 0 && relaxation_parameter_fraction <= 1,

@@ -109,7 +109,7 @@ namespace ContactStefan
       {
         total_active_set_iterations += report.active_set_iterations;
         steps_with_fallback += (report.relaxation_iterations > 0);
-        max_energy_residual = std::max(max_energy_residual, report.energy_residual);
+        max_energy_residual = max_with_nan(max_energy_residual, report.energy_residual);
         inconsistent_enthalpy_nodes += report.inconsistent_nodes;
         accumulate_errors(time, time_step);
       }
@@ -170,6 +170,19 @@ namespace ContactStefan
                                                 const double              wall_time) const
   {
     const double area = thermal ? thermal->melt_area() : 0.;
+    // Every number of the row is the same on every rank: check them all
+    // before any is written, so that no row with a NaN reaches the file.
+    std::vector<std::pair<std::string, double>> values{{"time", time},
+                                                       {"liquid_area", area},
+                                                       {"energy_residual", report.energy_residual},
+                                                       {"max_pressure",
+                                                        contact_report.max_pressure}};
+    for (const auto &[group, force] : contact_report.forces)
+      values.emplace_back("force of " + group, force);
+    for (const auto &[name, value] : values)
+      if (!std::isfinite(value))
+        throw std::runtime_error("step " + std::to_string(step) + ": the statistics value '" +
+                                 name + "' is not finite (" + std::to_string(value) + ")");
     if (Utilities::MPI::this_mpi_process(mpi_communicator) != 0)
       return;
 
@@ -268,9 +281,10 @@ namespace ContactStefan
     const auto &points    = thermal->get_support_points();
     double      max_error = 0;
     for (const auto dof : dof_handler.locally_owned_dofs())
-      max_error = std::max(max_error, std::abs(theta_h_all[dof] - exact->value(points.at(dof))));
+      max_error =
+        max_with_nan(max_error, std::abs(theta_h_all[dof] - exact->value(points.at(dof))));
     functions.check_finite_values(mpi_communicator);
-    last_max_error = Utilities::MPI::max(max_error, mpi_communicator);
+    last_max_error = global_max_with_nan(max_error, mpi_communicator);
 
     if (tau > 0)
       {
@@ -293,23 +307,28 @@ namespace ContactStefan
 
 
 
-  namespace
+  template <int dim>
+  void Postprocessor<dim>::add_result(const std::string &name, const double value) const
   {
-    void result(const ConditionalOStream &pcout, const std::string &name, const double value)
-    {
-      pcout << "RESULT " << name << " = " << std::setprecision(10) << value << std::endl;
-    }
-  } // namespace
+    results.emplace_back(name, value);
+  }
 
 
 
   template <int dim>
   void Postprocessor<dim>::print_results(const unsigned int n_steps, const double time) const
   {
+    results.clear();
     if (thermal)
       print_thermal_results(n_steps, time);
     if (mechanical)
       print_mechanical_results(n_steps);
+    for (const auto &[name, value] : results)
+      if (!std::isfinite(value))
+        throw std::runtime_error("the result '" + name + "' is not finite (" +
+                                 std::to_string(value) + "); no RESULT line is printed");
+    for (const auto &[name, value] : results)
+      pcout << "RESULT " << name << " = " << std::setprecision(10) << value << std::endl;
   }
 
 
@@ -318,24 +337,22 @@ namespace ContactStefan
   void Postprocessor<dim>::print_thermal_results(const unsigned int n_steps,
                                                  const double       time) const
   {
-    result(pcout, "time steps", n_steps);
-    result(pcout, "temperature dofs", thermal->get_dof_handler().n_dofs());
-    result(pcout,
-           "mean active-set iterations",
-           n_steps > 0 ? double(total_active_set_iterations) / n_steps : 0.);
-    result(pcout, "steps with relaxation fallback", steps_with_fallback);
-    result(pcout, "max energy-balance residual", max_energy_residual);
-    result(pcout, "nodes with h outside H(Theta)", inconsistent_enthalpy_nodes);
+    add_result("time steps", n_steps);
+    add_result("temperature dofs", thermal->get_dof_handler().n_dofs());
+    add_result("mean active-set iterations",
+               n_steps > 0 ? double(total_active_set_iterations) / n_steps : 0.);
+    add_result("steps with relaxation fallback", steps_with_fallback);
+    add_result("max energy-balance residual", max_energy_residual);
+    add_result("nodes with h outside H(Theta)", inconsistent_enthalpy_nodes);
     const double h = mesh_width();
     if (functions.exact_temperature())
       {
-        result(pcout, "mesh width", h);
-        result(pcout, "L2 error temperature", last_l2_error);
-        result(pcout, "relative L2 error temperature", last_l2_error / last_l2_norm);
-        result(pcout,
-               "relative space-time L2 error temperature",
-               std::sqrt(space_time_error_squared / space_time_norm_squared));
-        result(pcout, "max-norm error temperature", last_max_error);
+        add_result("mesh width", h);
+        add_result("L2 error temperature", last_l2_error);
+        add_result("relative L2 error temperature", last_l2_error / last_l2_norm);
+        add_result("relative space-time L2 error temperature",
+                   std::sqrt(space_time_error_squared / space_time_norm_squared));
+        add_result("max-norm error temperature", last_max_error);
       }
     if (prm.exact_solution.type == ExactType::equilibrium)
       {
@@ -369,15 +386,13 @@ namespace ContactStefan
         const Vector &temperature = thermal->get_temperature();
         double        deviation   = 0;
         for (const auto dof : thermal->get_dof_handler().locally_owned_dofs())
-          deviation = std::max(deviation, std::abs(temperature[dof] - T_f));
+          deviation = max_with_nan(deviation, std::abs(temperature[dof] - T_f));
         const double E_end = thermal->total_enthalpy();
-        result(pcout, "equilibrium temperature", T_f);
-        result(pcout,
-               "max deviation from equilibrium temperature",
-               Utilities::MPI::max(deviation, mpi_communicator));
-        result(pcout,
-               "relative change of total enthalpy",
-               std::abs(E_end - initial_total_enthalpy) / std::abs(initial_total_enthalpy));
+        add_result("equilibrium temperature", T_f);
+        add_result("max deviation from equilibrium temperature",
+                   global_max_with_nan(deviation, mpi_communicator));
+        add_result("relative change of total enthalpy",
+                   std::abs(E_end - initial_total_enthalpy) / std::abs(initial_total_enthalpy));
       }
     if (const NeumannSolution *neumann = functions.neumann())
       {
@@ -391,10 +406,10 @@ namespace ContactStefan
             const double      s_h =
               g.lower_left[0] + thermal->liquid_area(law.transition_temperature(j)) / height;
             const double s = prm.exact_solution.origin + neumann->front_position(j, time);
-            result(pcout, "front position" + suffix, s_h);
-            result(pcout, "exact front position" + suffix, s);
-            result(pcout, "front position error" + suffix, std::abs(s_h - s));
-            result(pcout, "front position error in mesh widths" + suffix, std::abs(s_h - s) / h);
+            add_result("front position" + suffix, s_h);
+            add_result("exact front position" + suffix, s);
+            add_result("front position error" + suffix, std::abs(s_h - s));
+            add_result("front position error in mesh widths" + suffix, std::abs(s_h - s) / h);
           }
       }
   }
@@ -405,18 +420,17 @@ namespace ContactStefan
   template <int dim>
   void Postprocessor<dim>::print_mechanical_results(const unsigned int n_steps) const
   {
-    result(pcout, "displacement dofs", mechanical->get_dof_handler().n_dofs());
-    result(pcout, "contact iterations first step", first_contact_iterations);
-    result(pcout, "max contact iterations", max_contact_iterations);
-    result(pcout, "max contact iterations after the first step", max_contact_iterations_warm);
-    result(pcout,
-           "mean contact iterations",
-           n_steps > 0 ? double(total_contact_iterations) / n_steps : 0.);
-    result(pcout, "active contact nodes", last_contact_report.active_nodes);
+    add_result("displacement dofs", mechanical->get_dof_handler().n_dofs());
+    add_result("contact iterations first step", first_contact_iterations);
+    add_result("max contact iterations", max_contact_iterations);
+    add_result("max contact iterations after the first step", max_contact_iterations_warm);
+    add_result("mean contact iterations",
+               n_steps > 0 ? double(total_contact_iterations) / n_steps : 0.);
+    add_result("active contact nodes", last_contact_report.active_nodes);
     for (const auto &[group, force] : last_contact_report.forces)
-      result(pcout, "contact force " + group, force);
-    result(pcout, "max contact pressure", last_contact_report.max_pressure);
-    result(pcout, "min contact pressure at active nodes", last_contact_report.min_active_pressure);
+      add_result("contact force " + group, force);
+    add_result("max contact pressure", last_contact_report.max_pressure);
+    add_result("min contact pressure at active nodes", last_contact_report.min_active_pressure);
 
     if (prm.exact_solution.type == ExactType::hertz)
       print_hertz_results();
@@ -453,33 +467,31 @@ namespace ContactStefan
       for (const auto &[x, p, w] : local)
         {
           contact_length += (p > 0 ? w : 0.);
-          p0 = std::max(p0, p);
+          p0 = max_with_nan(p0, p);
           error2 += w * (p - hertz.pressure(x)) * (p - hertz.pressure(x));
           norm2 += w * hertz.pressure(x) * hertz.pressure(x);
         }
       contact_length = Utilities::MPI::sum(contact_length, mpi_communicator);
-      p0             = Utilities::MPI::max(p0, mpi_communicator);
+      p0             = global_max_with_nan(p0, mpi_communicator);
       error2         = Utilities::MPI::sum(error2, mpi_communicator);
       norm2          = Utilities::MPI::sum(norm2, mpi_communicator);
       // The computed half-width is half the lumped length of the active nodes.
       const double a = 0.5 * contact_length;
-      result(pcout, "Hertz force P", P);
-      result(pcout, "Hertz half-width", a);
-      result(pcout, "Hertz exact half-width", hertz.half_width);
-      result(pcout,
-             "Hertz half-width relative error",
-             std::abs(a - hertz.half_width) / hertz.half_width);
-      result(pcout, "Hertz peak pressure", p0);
-      result(pcout, "Hertz exact peak pressure", hertz.peak_pressure);
-      result(pcout,
-             "Hertz peak pressure relative error",
-             std::abs(p0 - hertz.peak_pressure) / hertz.peak_pressure);
-      result(pcout, "Hertz pressure profile relative L2 error", std::sqrt(error2 / norm2));
+      add_result("Hertz force P", P);
+      add_result("Hertz half-width", a);
+      add_result("Hertz exact half-width", hertz.half_width);
+      add_result("Hertz half-width relative error",
+                 std::abs(a - hertz.half_width) / hertz.half_width);
+      add_result("Hertz peak pressure", p0);
+      add_result("Hertz exact peak pressure", hertz.peak_pressure);
+      add_result("Hertz peak pressure relative error",
+                 std::abs(p0 - hertz.peak_pressure) / hertz.peak_pressure);
+      add_result("Hertz pressure profile relative L2 error", std::sqrt(error2 / norm2));
       double spacing = HUGE_VAL;
       for (const auto &c : conditions)
         if (c.kind == Kind::obstacle)
           spacing = std::min(spacing, c.weight);
-      result(pcout, "contact mesh width", Utilities::MPI::min(spacing, mpi_communicator));
+      add_result("contact mesh width", Utilities::MPI::min(spacing, mpi_communicator));
     }
   }
 
@@ -528,10 +540,9 @@ namespace ContactStefan
                 strain[i][j] = 0.5 * (grads[0][slot * dim + i][j] + grads[0][slot * dim + j][i]);
             const SymmetricTensor<2, dim> sigma =
               materials[cell->material_id()].elasticity * strain;
-            stress_error = std::max({stress_error,
-                                     std::abs(sigma[0][0]),
-                                     std::abs(sigma[0][1]),
-                                     std::abs(sigma[1][1] - sigma_y)});
+            stress_error =
+              max_with_nan(max_with_nan(stress_error, std::abs(sigma[0][0])),
+                           max_with_nan(std::abs(sigma[0][1]), std::abs(sigma[1][1] - sigma_y)));
           }
       for (const auto &c : conditions)
         if (c.kind == Kind::interface && owned.is_element(c.dofs_k[0]))
@@ -539,22 +550,18 @@ namespace ContactStefan
             ++interface_nodes;
             active += mechanical->is_active(c);
             pressure_error =
-              std::max(pressure_error,
-                       std::abs(mechanical->contact_pressure(c) - std::abs(sigma_y)));
+              max_with_nan(pressure_error,
+                           std::abs(mechanical->contact_pressure(c) - std::abs(sigma_y)));
             min_gap = std::min(min_gap, mechanical->contact_gap(c));
           }
-      result(pcout, "patch exact sigma_yy", sigma_y);
-      result(pcout,
-             "patch stress relative error",
-             Utilities::MPI::max(stress_error, mpi_communicator) / scale);
-      result(pcout,
-             "patch pressure relative error",
-             Utilities::MPI::max(pressure_error, mpi_communicator) / scale);
-      result(pcout,
-             "patch interface nodes",
-             Utilities::MPI::sum(interface_nodes, mpi_communicator));
-      result(pcout, "patch interface nodes active", Utilities::MPI::sum(active, mpi_communicator));
-      result(pcout, "patch min interface gap", Utilities::MPI::min(min_gap, mpi_communicator));
+      add_result("patch exact sigma_yy", sigma_y);
+      add_result("patch stress relative error",
+                 global_max_with_nan(stress_error, mpi_communicator) / scale);
+      add_result("patch pressure relative error",
+                 global_max_with_nan(pressure_error, mpi_communicator) / scale);
+      add_result("patch interface nodes", Utilities::MPI::sum(interface_nodes, mpi_communicator));
+      add_result("patch interface nodes active", Utilities::MPI::sum(active, mpi_communicator));
+      add_result("patch min interface gap", Utilities::MPI::min(min_gap, mpi_communicator));
     }
   }
 

@@ -43,9 +43,9 @@ namespace ContactStefan
     class Checked : public Function<dim>
     {
     public:
-      Checked(std::unique_ptr<Function<dim>>                        function,
-              const std::string                                    &parameter,
-              typename SceneFunctions<dim>::NonFiniteRecord        &record)
+      Checked(std::unique_ptr<Function<dim>>                 function,
+              const std::string                             &parameter,
+              typename SceneFunctions<dim>::NonFiniteRecord &record)
         : Function<dim>(function->n_components)
         , function(std::move(function))
         , parameter(parameter)
@@ -101,9 +101,10 @@ namespace ContactStefan
   template <int dim>
   void SceneFunctions<dim>::check_finite_values(const MPI_Comm mpi_communicator) const
   {
-    const unsigned int none  = Utilities::MPI::n_mpi_processes(mpi_communicator);
-    const unsigned int first = Utilities::MPI::min(
-      record->found ? Utilities::MPI::this_mpi_process(mpi_communicator) : none, mpi_communicator);
+    const unsigned int none = Utilities::MPI::n_mpi_processes(mpi_communicator);
+    const unsigned int first =
+      Utilities::MPI::min(record->found ? Utilities::MPI::this_mpi_process(mpi_communicator) : none,
+                          mpi_communicator);
     if (first == none)
       return;
     throw InputError(Utilities::MPI::broadcast(mpi_communicator, record->message, first));
@@ -136,7 +137,7 @@ namespace ContactStefan
     for (const auto &[id, m] : prm.materials)
       {
         const std::string body = "Materials/Body " + std::to_string(id) + "/";
-        heat_sources[id] = checked(parse<dim>({m.heat_source}), body + "Heat source");
+        heat_sources[id]       = checked(parse<dim>({m.heat_source}), body + "Heat source");
         heat_load |= !is_zero_expression(m.heat_source);
         body_forces[id] =
           checked(parse<dim>({m.body_force[0], m.body_force[1]}), body + "Body force");
@@ -145,14 +146,14 @@ namespace ContactStefan
       }
     for (const auto &[id, bc] : prm.thermal_boundaries)
       {
-        thermal_boundaries[id] = checked(function_or_exact(bc.value),
-                                         "Boundary conditions/Thermal boundary " +
-                                           std::to_string(id) + "/Value");
+        thermal_boundaries[id] =
+          checked(function_or_exact(bc.value),
+                  "Boundary conditions/Thermal boundary " + std::to_string(id) + "/Value");
         heat_load |=
           bc.type == Parameters::ThermalBoundary::Type::flux && !is_zero_expression(bc.value);
       }
-    initial = checked(function_or_exact(prm.initial_condition.function),
-                      "Initial conditions/Function");
+    initial =
+      checked(function_or_exact(prm.initial_condition.function), "Initial conditions/Function");
 
     using Mechanical = Parameters::MechanicalBoundary::Type;
     for (const auto &[id, bc] : prm.mechanical_boundaries)

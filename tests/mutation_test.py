@@ -122,15 +122,16 @@ class Mutation:
     prm_kind: 'file', 'dir' (the parameter file is a directory) or 'missing';
     prm_name: its name; mesh: bytes of the scene's mesh, 'dir', 'missing' or None
     (the generated mesh); setup: f(work_dir) preparing more of the work dir;
-    slow: expected to run into the timeout (scheduled first)."""
+    slow: expected to run into the timeout (scheduled first); refuse: the input is
+    invalid, so a run that ends with exit code 0 is a failure too."""
 
     def __init__(self, mid, desc, base=None, sets=(), delete=None, append="",
                  prm_bytes=None, prm_kind="file", prm_name=SCENE_NAME, mesh=None,
-                 setup=None, slow=False):
+                 setup=None, slow=False, refuse=False):
         self.id, self.desc, self.base = mid, desc, base
         self.sets, self.delete, self.append = list(sets), delete, append
         self.prm_bytes, self.prm_kind, self.prm_name = prm_bytes, prm_kind, prm_name
-        self.mesh, self.setup, self.slow = mesh, setup, slow
+        self.mesh, self.setup, self.slow, self.refuse = mesh, setup, slow, refuse
 
 
 def slug(path):
@@ -144,6 +145,9 @@ BAD_NUMBERS = [
     ("mbig", "-1e308"), ("ovf", "1e309"), ("denorm", "1e-320"), ("zero", "0"),
     ("neg", "-1"), ("text", "abc"),
 ]
+# Valid numbers (a run may go on, it must stay finite); every other bad value
+# must be refused.
+MAY_RUN_NUMBERS = {"big", "denorm"}
 SHORT_BAD_NUMBERS = [("nan", "nan"), ("inf", "inf"), ("big", "1e308"), ("neg", "-1"),
                      ("text", "abc")]
 
@@ -159,24 +163,30 @@ BAD_FUNCTIONS = [
     ("ovf", "1e308*10", "overflows to inf"),
 ]
 
-# Function entries of each scene: (base, path, number of components).
+# Function entries of each scene: (base, path, number of components, the variants
+# that may stay finite where the scene evaluates them, so that a run may go on).
+# Every scene runs past t = 0.5 except the initial conditions (evaluated at the
+# start time only) and two_blocks_gmsh (t = 0, 100, ..., where floor(1.5-t) != 0);
+# 1/(x-0.5) is finite at quadrature points and on boundaries without x = 0.5.
+MAY_RUN = {"pole"}
+AT_START = {"pole", "log", "floor"}
 FUNCTION_ENTRIES = [
-    ("manu", "Materials/Body 0/Heat source", 1),
-    ("manu", "Boundary conditions/Thermal boundary 0/Value", 1),
-    ("manu", "Boundary conditions/Thermal boundary 1/Value", 1),
-    ("manu", "Initial conditions/Function", 1),
-    ("manu", "Exact solution/Function", 1),
-    ("neu", "Boundary conditions/Thermal boundary 0/Value", 1),
-    ("neu", "Initial conditions/Function", 1),
-    ("equi", "Initial conditions/Function", 1),
-    ("gmsh", "Boundary conditions/Thermal boundary 11/Value", 1),
-    ("patch", "Boundary conditions/Mechanical boundary 3/Value", 2),
-    ("patch", "Contact/Interface gap", 1),
-    ("hertz", "Boundary conditions/Mechanical boundary 3/Gap", 1),
-    ("block", "Materials/Body 0/Body force", 2),
-    ("block", "Boundary conditions/Mechanical boundary 3/Value", 2),
-    ("block", "Boundary conditions/Mechanical boundary 2/Gap", 1),
-    ("kink", "Boundary conditions/Mechanical boundary 12/Gap", 1),
+    ("manu", "Materials/Body 0/Heat source", 1, MAY_RUN),
+    ("manu", "Boundary conditions/Thermal boundary 0/Value", 1, MAY_RUN),
+    ("manu", "Boundary conditions/Thermal boundary 1/Value", 1, MAY_RUN),
+    ("manu", "Initial conditions/Function", 1, AT_START),
+    ("manu", "Exact solution/Function", 1, MAY_RUN),
+    ("neu", "Boundary conditions/Thermal boundary 0/Value", 1, MAY_RUN),
+    ("neu", "Initial conditions/Function", 1, AT_START),
+    ("equi", "Initial conditions/Function", 1, AT_START),
+    ("gmsh", "Boundary conditions/Thermal boundary 11/Value", 1, {"pole", "floor"}),
+    ("patch", "Boundary conditions/Mechanical boundary 3/Value", 2, MAY_RUN),
+    ("patch", "Contact/Interface gap", 1, MAY_RUN),
+    ("hertz", "Boundary conditions/Mechanical boundary 3/Gap", 1, MAY_RUN),
+    ("block", "Materials/Body 0/Body force", 2, MAY_RUN),
+    ("block", "Boundary conditions/Mechanical boundary 3/Value", 2, MAY_RUN),
+    ("block", "Boundary conditions/Mechanical boundary 2/Gap", 1, MAY_RUN),
+    ("kink", "Boundary conditions/Mechanical boundary 12/Gap", 1, MAY_RUN),
 ]
 
 # Entries that need a positive (finite, representable) number.
@@ -217,7 +227,7 @@ POSITIVE_ENTRIES = [
     ("block", "Contact/Roller corner angle", [("nan", "nan")]),
     ("neu", "Solver/Relaxation parameter", [("nan", "nan"), ("zero", "0")]),
     ("manu", "Mesh refinement/Initial global refinements",
-     [("neg", "-1"), ("frac", "1.5"), ("text", "abc"), ("big", "1e308")]),
+     [("neg", "-1"), ("frac", "1.5"), ("text", "abc"), ("huge-int", "1e308")]),
     ("manu", "Output/VTU interval", [("neg", "-1")]),
 ]
 SUBDIVISION_VALUES = [
@@ -425,6 +435,13 @@ def make_output_entry(name, kind):
     return setup
 
 
+# The default time step 0.1 instead of 100 makes two_blocks_gmsh take 10000 steps.
+SKIP_DELETIONS = {("gmsh", "Time stepping/Time step")}
+
+# Valid meshes, or meshes deal.II may repair (reorient); all others must be refused.
+MAY_RUN_MESHES = {"inverted", "clockwise", "huge-coord"}
+
+
 def build_mutations(base_texts):
     muts = []
     add = muts.append
@@ -433,6 +450,8 @@ def build_mutations(base_texts):
     for base, text in base_texts.items():
         scene = Scene(text)
         for path, i, value in scene.entries():
+            if (base, path) in SKIP_DELETIONS:
+                continue
             add(Mutation("%s.del.L%d" % (base, i + 1),
                          "delete line %d 'set %s = %s'" % (i + 1, path.rsplit("/", 1)[-1],
                                                           value),
@@ -451,10 +470,11 @@ def build_mutations(base_texts):
     for base, path, values in POSITIVE_ENTRIES:
         for short, value in values:
             add(Mutation("%s.num.%s.%s" % (base, slug(path), short),
-                         "%s = %s" % (path, value), base, sets=[(path, value)]))
+                         "%s = %s" % (path, value), base, sets=[(path, value)],
+                         refuse=short not in MAY_RUN_NUMBERS))
     for short, value in SUBDIVISION_VALUES:
         add(Mutation("manu.num.subdivisions.%s" % short, "Geometry/Subdivisions = %s" % value,
-                     "manu", sets=[("Geometry/Subdivisions", value)]))
+                     "manu", sets=[("Geometry/Subdivisions", value)], refuse=True))
 
     # Overflowing materials.
     add(Mutation("manu.ovf.rho-c", "Density = 1e308 and Heat capacities = 1e308 (rho c = inf)",
@@ -474,7 +494,7 @@ def build_mutations(base_texts):
     add(Mutation("patch.num.voigt-nan", "Elasticity tensor with a nan",
                  "patch", sets=[("Materials/Body 0/Elasticity", "anisotropic"),
                                 ("Materials/Body 0/Elasticity tensor",
-                                 "1, 0, 0, nan, 0, 1")]))
+                                 "1, 0, 0, nan, 0, 1")], refuse=True))
     add(Mutation("hertz.ovf.youngs", "Youngs modulus = 1e308 (obstacle contact)",
                  "hertz", sets=[("Materials/Body 0/Youngs modulus", "1e308")]))
     add(Mutation("neu.ovf.conductivity", "Conductivities = 1e308",
@@ -483,112 +503,123 @@ def build_mutations(base_texts):
     # 3. Wrong types.
     for k, (base, path, value) in enumerate(WRONG_TYPES):
         add(Mutation("%s.type.%s.%d" % (base, slug(path), k),
-                     "%s = %s (wrong type)" % (path, value), base, sets=[(path, value)]))
+                     "%s = %s (wrong type)" % (path, value), base, sets=[(path, value)],
+                     refuse=True))
 
     # 4. Broken functions and functions that turn non-finite.
-    for base, path, ncomp in FUNCTION_ENTRIES:
+    for base, path, ncomp, may_run in FUNCTION_ENTRIES:
         original = Scene(base_texts[base]).get(path, "0; 0" if ncomp == 2 else "0")
         for short, expression, what in BAD_FUNCTIONS:
             value = bad_function_value(original, ncomp, expression)
             add(Mutation("%s.fn.%s.%s" % (base, fn_slug(path), short),
-                         "%s = %s (%s)" % (path, value, what), base, sets=[(path, value)]))
+                         "%s = %s (%s)" % (path, value, what), base, sets=[(path, value)],
+                         refuse=short not in may_run))
         if ncomp == 2:
             add(Mutation("%s.fn.%s.ncomp1" % (base, fn_slug(path)),
                          "%s = 0 (one component instead of two)" % path, base,
-                         sets=[(path, "0")]))
+                         sets=[(path, "0")], refuse=True))
             add(Mutation("%s.fn.%s.ncomp3" % (base, fn_slug(path)),
                          "%s = 0; 0; 0 (three components)" % path, base,
-                         sets=[(path, "0; 0; 0")]))
+                         sets=[(path, "0; 0; 0")], refuse=True))
     # NaN that only the VTU files would show.
     add(Mutation("manu.fn.heat-source.vtu-sqrt",
                  "Heat source = sqrt(-1-t) with VTU output every step", "manu",
                  sets=[("Materials/Body 0/Heat source", "sqrt(-1-t)"),
-                       ("Output/VTU interval", "1")]))
+                       ("Output/VTU interval", "1")], refuse=True))
     add(Mutation("block.fn.body-force.vtu-pole",
                  "Body force = 0; 1/(x-0.5) with VTU output", "block",
                  sets=[("Materials/Body 0/Body force", "0; 1/(x-0.5)"),
                        ("Output/VTU interval", "1")]))
     add(Mutation("equi.fn.initial.exact-missing",
                  "Initial conditions/Function = exact with an exact solution that has none",
-                 "equi", sets=[("Initial conditions/Function", "exact")]))
+                 "equi", sets=[("Initial conditions/Function", "exact")], refuse=True))
 
     # 5. Garbage meshes.
     for short, desc, make, bases in MESH_MUTATIONS:
         for base in bases:
             add(Mutation("%s.mesh.%s" % (base, short), "Mesh file: %s" % desc, base,
-                         mesh=make))
+                         mesh=make, refuse=short not in MAY_RUN_MESHES))
 
     # 6. The parameter file itself, and the output.
     manu = base_texts["manu"]
+    R = dict(refuse=True)
     add(Mutation("prm.directory", "the parameter file is a directory (scene.prm/)",
-                 prm_kind="dir"))
-    add(Mutation("prm.missing", "the parameter file does not exist", prm_kind="missing"))
-    add(Mutation("prm.binary", "the parameter file is binary garbage", prm_bytes=BINARY_BYTES))
+                 prm_kind="dir", **R))
+    add(Mutation("prm.missing", "the parameter file does not exist", prm_kind="missing", **R))
+    add(Mutation("prm.binary", "the parameter file is binary garbage (with NUL bytes)",
+                 prm_bytes=BINARY_BYTES, **R))
+    add(Mutation("prm.binary-nonul", "the parameter file is binary garbage without NUL bytes",
+                 prm_bytes=BINARY_BYTES.replace(b"\x00", b""), **R))
     add(Mutation("prm.binary-tail", "a valid scene followed by binary garbage",
-                 prm_bytes=manu.encode() + BINARY_BYTES))
+                 prm_bytes=manu.encode() + BINARY_BYTES.replace(b"\x00", b""), **R))
     add(Mutation("prm.empty", "an empty parameter file (all defaults)", prm_bytes=b""))
     add(Mutation("prm.nul", "a NUL byte inside a value",
                  prm_bytes=manu.replace("set Density                 = 2",
-                                        "set Density                 = 2\x001").encode()))
+                                        "set Density                 = 2\x001").encode(), **R))
     add(Mutation("prm.escape", "an ANSI escape sequence in an entry name",
                  prm_bytes=(manu + "subsection Geometry\nset Sub\x1b[31mdivisions = 4, 4\nend\n"
-                            ).encode()))
+                            ).encode(), **R))
     add(Mutation("prm.latin1", "a Latin-1 (not UTF-8) byte in an unknown entry",
-                 prm_bytes=manu.encode() + b"subsection Geometry\nset Gr\xf6\xdfe = 1\nend\n"))
+                 prm_bytes=manu.encode() + b"subsection Geometry\nset Gr\xf6\xdfe = 1\nend\n",
+                 **R))
     add(Mutation("prm.crlf", "CRLF line endings",
                  prm_bytes=manu.replace("\n", "\r\n").encode()))
     add(Mutation("prm.json", "a .prm text in a file named scene.json",
-                 prm_bytes=manu.encode(), prm_name="scene.json"))
+                 prm_bytes=manu.encode(), prm_name="scene.json", **R))
     add(Mutation("prm.xml", "a .prm text in a file named scene.xml",
-                 prm_bytes=manu.encode(), prm_name="scene.xml"))
+                 prm_bytes=manu.encode(), prm_name="scene.xml", **R))
     add(Mutation("prm.no-extension", "a parameter file without extension",
                  prm_bytes=manu.encode(), prm_name="scene"))
     add(Mutation("prm.long-line", "a 1 MB value (Name)", "manu",
                  sets=[("Materials/Body 0/Name", "x" * 1000000)]))
     add(Mutation("manu.prm.unknown-subsection", "an unknown subsection", "manu",
-                 append="subsection Frobnication\n  set Speed = 1\nend\n"))
+                 append="subsection Frobnication\n  set Speed = 1\nend\n", **R))
     add(Mutation("manu.prm.unknown-entry", "an unknown entry in Geometry", "manu",
-                 append="subsection Geometry\n  set Colour = red\nend\n"))
+                 append="subsection Geometry\n  set Colour = red\nend\n", **R))
     add(Mutation("manu.prm.unterminated", "a subsection without 'end'", "manu",
-                 append="subsection Geometry\n"))
-    add(Mutation("manu.prm.extra-end", "one 'end' too many", "manu", append="end\n"))
+                 append="subsection Geometry\n", **R))
+    add(Mutation("manu.prm.extra-end", "one 'end' too many", "manu", append="end\n", **R))
     add(Mutation("manu.prm.no-equals", "a 'set' line without '='", "manu",
-                 append="subsection Geometry\n  set Subdivisions 4, 4\nend\n"))
+                 append="subsection Geometry\n  set Subdivisions 4, 4\nend\n", **R))
     add(Mutation("patch.prm.body-undeclared", "Body ids = 0, 1, 5 (no body 5 in the mesh)",
-                 "patch", sets=[("Bodies/Body ids", "0, 1, 5")]))
+                 "patch", sets=[("Bodies/Body ids", "0, 1, 5")], **R))
 
+    # Root writes into a 555 directory: then the run may go on.
     add(Mutation("manu.out.readonly", "Output/Directory under a read-only (555) directory",
-                 "manu", sets=[("Output/Directory", "ro/out")], setup=make_readonly_dir))
+                 "manu", sets=[("Output/Directory", "ro/out")], setup=make_readonly_dir,
+                 refuse=os.geteuid() != 0))
     add(Mutation("manu.out.file", "Output/Directory is an existing regular file",
-                 "manu", sets=[("Output/Directory", "blocker")], setup=make_blocker_file))
+                 "manu", sets=[("Output/Directory", "blocker")], setup=make_blocker_file, **R))
     add(Mutation("manu.out.file-parent", "Output/Directory below a regular file",
-                 "manu", sets=[("Output/Directory", "blocker/out")], setup=make_blocker_file))
+                 "manu", sets=[("Output/Directory", "blocker/out")], setup=make_blocker_file,
+                 **R))
     add(Mutation("manu.out.proc", "Output/Directory in /proc (unwritable even for root)",
-                 "manu", sets=[("Output/Directory", "/proc/contact-stefan-mutation")]))
+                 "manu", sets=[("Output/Directory", "/proc/contact-stefan-mutation")], **R))
     add(Mutation("manu.out.empty", "Output/Directory empty", "manu",
-                 sets=[("Output/Directory", "")]))
+                 sets=[("Output/Directory", "")], **R))
     add(Mutation("manu.out.stats-empty", "Output/Statistics file empty", "manu",
-                 sets=[("Output/Directory", "output"), ("Output/Statistics file", "")]))
+                 sets=[("Output/Directory", "output"), ("Output/Statistics file", "")], **R))
     add(Mutation("manu.out.stats-dir", "the statistics file exists as a directory", "manu",
                  sets=[("Output/Directory", "output")],
-                 setup=make_output_entry("statistics.txt", "dir")))
+                 setup=make_output_entry("statistics.txt", "dir"), **R))
     add(Mutation("manu.out.stats-subdir", "Statistics file = no/such/dir/stats.txt", "manu",
                  sets=[("Output/Directory", "output"),
-                       ("Output/Statistics file", "no/such/dir/stats.txt")]))
+                       ("Output/Statistics file", "no/such/dir/stats.txt")], **R))
     add(Mutation("manu.out.stats-full", "the statistics file is /dev/full (disk full)",
                  "manu", sets=[("Output/Directory", "output")],
-                 setup=make_output_entry("statistics.txt", "full")))
+                 setup=make_output_entry("statistics.txt", "full"), **R))
     add(Mutation("manu.out.vtu-full", "the first VTU file is /dev/full (disk full)",
                  "manu", sets=[("Output/Directory", "output"), ("Output/VTU interval", "1")],
-                 setup=make_output_entry("solution_00000.0.vtu", "full")))
+                 setup=make_output_entry("solution_00000.0.vtu", "full"), **R))
     add(Mutation("manu.out.pvd-full", "the PVD file is /dev/full (disk full)",
                  "manu", sets=[("Output/Directory", "output"), ("Output/VTU interval", "1")],
-                 setup=make_output_entry("solution.pvd", "full")))
+                 setup=make_output_entry("solution.pvd", "full"), **R))
     add(Mutation("manu.out.vtu-dir", "the first VTU file exists as a directory",
                  "manu", sets=[("Output/Directory", "output"), ("Output/VTU interval", "1")],
-                 setup=make_output_entry("solution_00000.0.vtu", "dir")))
+                 setup=make_output_entry("solution_00000.0.vtu", "dir"), **R))
 
-    # 7. Huge problems and time steps below the resolution of t.
+    # 7. Huge problems and time steps below the resolution of t. A run may go on
+    # only if it ends in time (slow: probably not; scheduled first).
     add(Mutation("patch.huge.refine12", "Initial global refinements = 12", "patch",
                  sets=[("Mesh refinement/Initial global refinements", "12")], slow=True))
     add(Mutation("manu.huge.refine12", "Initial global refinements = 12 (thermal)", "manu",
@@ -601,7 +632,7 @@ def build_mutations(base_texts):
                  "Time step = 1000 (t + tau == t)", "manu",
                  sets=[("Time stepping/Start time", "1e20"),
                        ("Time stepping/End time", "1.0000000001e20"),
-                       ("Time stepping/Time step", "1000")], slow=True))
+                       ("Time stepping/Time step", "1000")], slow=True, **R))
     add(Mutation("manu.time.end-1e308", "End time = 1e308", "manu",
                  sets=[("Time stepping/End time", "1e308")], slow=True))
     add(Mutation("manu.time.tau-1e-12", "Time step = 1e-12", "manu",
@@ -614,14 +645,15 @@ def build_mutations(base_texts):
                        ("Time stepping/End time", "2e-300"),
                        ("Time stepping/Time step", "1e-320")], slow=True))
     add(Mutation("neu.time.end-before-start", "End time = Start time = 0.1", "neu",
-                 sets=[("Time stepping/End time", "0.1")]))
+                 sets=[("Time stepping/End time", "0.1")], **R))
     add(Mutation("neu.solver.relaxation-endless",
                  "relaxation solver, parameter 1e-300, 2147483647 iterations", "neu",
                  sets=[("Solver/Enthalpy solver", "relaxation"),
                        ("Solver/Relaxation parameter", "1e-300"),
                        ("Solver/Relaxation max iterations", "2147483647")], slow=True))
     add(Mutation("neu.solver.cg-zero", "cg-amg with CG max iterations = 0", "neu",
-                 sets=[("Solver/Linear solver", "cg-amg"), ("Solver/CG max iterations", "0")]))
+                 sets=[("Solver/Linear solver", "cg-amg"), ("Solver/CG max iterations", "0")],
+                 **R))
     add(Mutation("hertz.contact.max-iterations-1e9", "Contact Max iterations = 2000000000, "
                  "Tolerance = 0", "hertz",
                  sets=[("Contact/Max iterations", "2000000000"), ("Contact/Tolerance", "0")],
@@ -639,9 +671,14 @@ def build_mutations(base_texts):
 
 NONFINITE = re.compile(r"(?<![A-Za-z_])[-+]?(nan|inf|infinity)(?![A-Za-z_])", re.I)
 CRASH_TEXT = ("terminate called", "Stacktrace", "stacktrace", "Backtrace", "backtrace",
-              "MPI_ABORT", "An error occurred in line", "Segmentation fault", "core dumped",
-              "Aborted")
+              "MPI_ABORT", "Segmentation fault")
 CONTROL = re.compile(rb"[\x00-\x08\x0b-\x1f\x7f]")
+
+
+# A serial run initialises MPI as a singleton; these settings (no orted, no shared
+# memory or network transports) cut its start-up from about 0.7 s to 0.3 s.
+MPI_SINGLETON_ENV = {"OMPI_MCA_ess_singleton_isolated": "1", "OMPI_MCA_pml": "ob1",
+                     "OMPI_MCA_btl": "self"}
 
 
 def prepare(m, work, base_texts, meshes):
@@ -794,7 +831,7 @@ def first_lines(data, n=2, width=200):
     return out.encode("ascii", "backslashreplace").decode() or "(empty)"
 
 
-def classify(rc, timed_out, out, err, output_problems, timeout):
+def classify(rc, timed_out, out, err, output_problems, timeout, must_refuse):
     """('refused' | 'ran' | 'fail', reason)."""
     text_err = err.decode("utf-8", "replace")
     text_out = out.decode("utf-8", "replace")
@@ -821,6 +858,8 @@ def classify(rc, timed_out, out, err, output_problems, timeout):
                 problems.append("non-finite number in stdout: '%s'" % line.strip()[:150])
                 break
         problems += output_problems
+        if must_refuse:
+            problems.insert(0, "the invalid input was accepted")
         if problems:
             return "fail", "exit 0 but " + "; ".join(problems[:3])
         return "ran", ""
@@ -845,6 +884,8 @@ def classify(rc, timed_out, out, err, output_problems, timeout):
                              line.decode("utf-8", "replace")).strip()
             if len(message) < 12 or re.fullmatch(r"[\w:]+", message):
                 problems.append("stderr does not name the cause: '%s'" % message)
+            elif message.endswith(("<", ":")):
+                problems.append("the error line is cut off: '%s'" % message[-60:])
         problems += output_problems
         if problems:
             return "fail", "exit %d but " % rc + "; ".join(problems[:3])
@@ -902,7 +943,8 @@ def run_case(m, args, root, base_texts, meshes):
     prm, scene = prepare(m, work, base_texts, meshes)
     env = dict(os.environ)
     env["TMPDIR"] = tmp  # Open MPI's session directory: one per case
-    env.pop("OMPI_COMM_WORLD_SIZE", None)
+    for key, value in MPI_SINGLETON_ENV.items():
+        env.setdefault(key, value)
     stdout_path, stderr_path = os.path.join(case, "stdout.txt"), os.path.join(case,
                                                                             "stderr.txt")
     start = time.monotonic()
@@ -923,7 +965,7 @@ def run_case(m, args, root, base_texts, meshes):
     elapsed = time.monotonic() - start
     out, err = read_bounded(stdout_path, 64 << 20), read_bounded(stderr_path)
     problems = [] if timed_out else check_outputs(work, scene)
-    verdict, reason = classify(rc, timed_out, out, err, problems, args.timeout)
+    verdict, reason = classify(rc, timed_out, out, err, problems, args.timeout, m.refuse)
     if verdict == "fail" and args.keep:
         keep_case(case, os.path.join(args.keep, m.id), m, reason)
     remove_tree(case)
@@ -974,7 +1016,8 @@ def main():
 
     if args.list:
         for m in mutations:
-            print("%-48s %s%s" % (m.id, ("[%s] " % BASES[m.base]) if m.base else "", m.desc))
+            print("%-48s %s %s%s" % (m.id, "refuse" if m.refuse else "either",
+                                     ("[%s] " % BASES[m.base]) if m.base else "", m.desc))
         print("%d mutations" % len(mutations))
         return 0
     if not args.binary:

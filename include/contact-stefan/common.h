@@ -2,7 +2,14 @@
 #ifndef contact_stefan_common_h
 #define contact_stefan_common_h
 
+#include <deal.II/base/mpi.h>
+
 #include <deal.II/lac/trilinos_vector.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
 
 namespace ContactStefan
 {
@@ -14,6 +21,36 @@ namespace ContactStefan
   // Tolerances at the level of floating-point round-off (not parameters): a
   // quantity computed from terms of size s is exact to round_off_factor * eps * s.
   constexpr double round_off_factor = 64;
+
+  // The larger of a and b, NaN if either is NaN. (std::max(0., NaN) is 0: a NaN
+  // error would read as no error.)
+  inline double max_with_nan(const double a, const double b)
+  {
+    return std::isnan(a) || std::isnan(b) ? std::numeric_limits<double>::quiet_NaN() :
+                                            std::max(a, b);
+  }
+
+  // The maximum over all ranks, NaN if any rank has a NaN (MPI_MAX on a NaN is
+  // implementation-defined).
+  inline double global_max_with_nan(const double local, const MPI_Comm mpi_communicator)
+  {
+    const bool any_nan = Utilities::MPI::max(std::isnan(local) ? 1 : 0, mpi_communicator) == 1;
+    return any_nan ? std::numeric_limits<double>::quiet_NaN() :
+                     Utilities::MPI::max(local, mpi_communicator);
+  }
+
+  // Collective: throws std::runtime_error on every rank, naming `what`, if any
+  // owned entry of v on any rank is not finite.
+  inline void check_finite(const Vector &v, const std::string &what)
+  {
+    unsigned int bad = 0;
+    for (const auto i : v.locally_owned_elements())
+      bad += !std::isfinite(v[i]);
+    if (Utilities::MPI::sum(bad, v.get_mpi_communicator()) > 0)
+      throw std::runtime_error(what + " is not finite (" +
+                               std::to_string(Utilities::MPI::sum(bad, v.get_mpi_communicator())) +
+                               " entries are NaN or infinite)");
+  }
 
   // The code is two-dimensional (plane strain): the contact normals, the
   // rigid-body modes (2 translations, 1 rotation), the Voigt form of C, the

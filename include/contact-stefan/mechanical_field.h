@@ -62,11 +62,11 @@ namespace ContactStefan
   // What one contact step did.
   struct ContactStepReport
   {
-    unsigned int iterations   = 0;
-    unsigned int active_nodes = 0; // obstacle and interface nodes in contact
-    unsigned int changes      = 0; // summed over the iterations
-    unsigned int c_reductions = 0; // cycling remedies applied
-    double       max_pressure = 0;
+    unsigned int iterations          = 0;
+    unsigned int active_nodes        = 0; // obstacle and interface nodes in contact
+    unsigned int changes             = 0; // summed over the iterations
+    unsigned int c_reductions        = 0; // cycling remedies applied
+    double       max_pressure        = 0;
     double       min_active_pressure = 0; // over the nodes in contact (0 if none)
     // Total compressive normal force per obstacle boundary / interface.
     std::map<std::string, double> forces;

@@ -65,6 +65,7 @@ namespace ContactStefan
     void   print_hertz_results() const;
     void   print_patch_results() const;
     double mesh_width() const;
+    void   add_result(const std::string &name, const double value) const;
 
     const AllParameters                             &prm;
     const Materials                                 &materials;
@@ -88,6 +89,11 @@ namespace ContactStefan
     unsigned int      total_contact_iterations = 0, max_contact_iterations = 0;
     unsigned int      first_contact_iterations = 0, max_contact_iterations_warm = 0;
     ContactStepReport last_contact_report;
+
+    // The RESULT lines of a run, collected and checked before any is printed:
+    // researchers publish these numbers, so a non-finite one stops the run with
+    // an error (exit code 2) instead of reaching the output.
+    mutable std::vector<std::pair<std::string, double>> results;
   };
 } // namespace ContactStefan
 

@@ -95,13 +95,13 @@ namespace ContactStefan
     // The first non-finite value returned by any of the functions.
     struct NonFiniteRecord
     {
-      void               note(const std::string &parameter,
-                              const Point<dim>  &point,
-                              const double       time,
-                              const double       value);
-      std::mutex         mutex; // evaluations may run on several threads
-      bool               found = false;
-      std::string        message;
+      void        note(const std::string &parameter,
+                       const Point<dim>  &point,
+                       const double       time,
+                       const double       value);
+      std::mutex  mutex; // evaluations may run on several threads
+      bool        found = false;
+      std::string message;
     };
 
   private:
