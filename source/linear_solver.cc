@@ -2,6 +2,7 @@
 
 #include <contact-stefan/linear_solver.h>
 
+#include <cmath>
 #include <stdexcept>
 
 namespace ContactStefan
@@ -24,18 +25,35 @@ namespace ContactStefan
   void LinearSolver::initialize(const TrilinosWrappers::SparseMatrix &A)
   {
     matrix = &A;
-    if (prm.linear_solver == LinearSolverType::direct)
+    // Nothing non-finite reaches Trilinos, whose error codes name nothing.
+    if (!std::isfinite(A.linfty_norm()))
+      throw std::runtime_error("the matrix of the " + name +
+                               " system is not finite (overflow: are material values or the "
+                               "time step extreme?)");
+    try
       {
-        direct = std::make_unique<TrilinosWrappers::SolverDirect>(
-          direct_control,
-          TrilinosWrappers::SolverDirect::AdditionalData(verbosity >= 2, prm.direct_solver_type));
-        direct->initialize(A);
+        if (prm.linear_solver == LinearSolverType::direct)
+          {
+            direct = std::make_unique<TrilinosWrappers::SolverDirect>(
+              direct_control,
+              TrilinosWrappers::SolverDirect::AdditionalData(verbosity >= 2,
+                                                             prm.direct_solver_type));
+            direct->initialize(A);
+          }
+        else
+          {
+            TrilinosWrappers::PreconditionAMG::AdditionalData data;
+            data.elliptic = true;
+            amg.initialize(A, data);
+          }
       }
-    else
+    catch (const std::exception &e)
       {
-        TrilinosWrappers::PreconditionAMG::AdditionalData data;
-        data.elliptic = true;
-        amg.initialize(A, data);
+        throw std::runtime_error("the " + name + " system could not be " +
+                                 (prm.linear_solver == LinearSolverType::direct ?
+                                    "factorised by " + prm.direct_solver_type :
+                                    std::string("preconditioned by AMG")) +
+                                 " (a singular or badly scaled matrix?): " + one_line(e.what()));
       }
   }
 

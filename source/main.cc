@@ -106,8 +106,9 @@ int main(int argc, char *argv[])
     {
       parameters.read(filename);
     }
-  catch (const InputError &e)
+  catch (const std::exception &e)
     {
+      // InputError, or a deal.II exception while parsing: bad input either way.
       return fail(e, 1, true);
     }
   if (check_only)

@@ -328,6 +328,8 @@ namespace ContactStefan
     displacement         = 0;
     old_displacement     = 0;
     displacement_ghosted = 0;
+    // The data at t0 (checked for finite values below, before any output).
+    assemble_load();
     make_fixed_constraints();
     const bool            tied = prm.contact.interfaces == Parameters::Contact::Interfaces::tied;
     std::set<std::string> obstacle_groups;
@@ -438,6 +440,25 @@ namespace ContactStefan
         }
     diagonal.compress(VectorOperation::add);
     stiffness_diagonal = diagonal;
+
+    // Huge moduli (E = 1e308) overflow in the sums of the cell matrices: refuse
+    // them here, before any work, naming the body.
+    unsigned int bad_slot = prm.body_ids.size();
+    for (const auto dof : owned)
+      if (!std::isfinite(diagonal[dof]))
+        bad_slot = std::min(bad_slot, dof_info.at(dof).slot);
+    bad_slot = Utilities::MPI::min(bad_slot, mpi_communicator);
+    if (bad_slot < prm.body_ids.size())
+      {
+        const unsigned int body = prm.body_ids[bad_slot];
+        const auto         type = prm.materials.at(body).elasticity;
+        using Elasticity        = Parameters::BodyMaterial::Elasticity;
+        throw InputError("Materials/Body " + std::to_string(body) + "/" +
+                           (type == Elasticity::isotropic ? "Youngs modulus" :
+                            type == Elasticity::lame      ? "Lame lambda" :
+                                                            "Elasticity tensor"),
+                         "the stiffness matrix it gives is not finite (overflow)");
+      }
   }
 
 

@@ -53,7 +53,15 @@ namespace ContactStefan
     // A number entry that must be finite (Patterns::Double lets "nan" and "inf" through).
     double get_finite(ParameterHandler &prm, const std::string &path, const std::string &entry)
     {
-      const double value = prm.get_double(entry);
+      double value;
+      try
+        {
+          value = prm.get_double(entry);
+        }
+      catch (const std::exception &)
+        {
+          throw InputError(path + entry, "cannot be read as a number: '" + prm.get(entry) + "'");
+        }
       if (!std::isfinite(value))
         throw InputError(path + entry, "must be a finite number, got '" + prm.get(entry) + "'");
       return value;

@@ -240,6 +240,10 @@ namespace ContactStefan
       enthalpy[dof] = from_temperature ? law(dof).enthalpy(values[dof]) : values[dof];
     enthalpy.compress(VectorOperation::insert);
     old_enthalpy = enthalpy;
+    // The data at t0 too, so that a function that is not finite from the start
+    // is refused before any output is written.
+    assemble_heat_load();
+    make_dirichlet_constraints();
     functions.check_finite_values(mpi_communicator);
     set_nodal_state_from_enthalpy();
     assemble_cell_conductivities();

@@ -13,6 +13,9 @@ if [ $status -ne 1 ]; then echo "exit code $status, expected 1"; cat stderr.txt;
 if [ "$(wc -l < stderr.txt)" -ne 1 ]; then
   echo "stderr is not one line:"; cat stderr.txt; exit 1
 fi
+if LC_ALL=C grep -q '[^[:print:]]' stderr.txt; then
+  echo "stderr holds control or non-ASCII bytes"; exit 1
+fi
 if ! grep -qF -- "$expected" stderr.txt; then
   echo "stderr does not contain '$expected':"; cat stderr.txt; exit 1
 fi

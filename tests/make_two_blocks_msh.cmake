@@ -4,19 +4,33 @@
 #   cmake -DOUTPUT=file.msh -P make_two_blocks_msh.cmake
 # With -DKINK=ON the whole mesh is body 1 and the bottom belongs to line 10 too,
 # so that line 10 has a corner at (0, 0) (the top stays 12).
+# With -DDEFECT=inverted the first cell is listed clockwise (inverted), with
+# bowtie its vertices cross (self-overlapping), with split body 2 has its own
+# copies of the interface vertices at x = 4 (the mesh is cut there): invalid
+# meshes for the bad-input tests.
 # The test meshes are generated, never committed.
 set(nx 8)
 set(ny 4)
 math(EXPR nnx "${nx} + 1")
 math(EXPR nny "${ny} + 1")
 math(EXPR n_nodes "${nnx} * ${nny}")
-set(text "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n${n_nodes}\n")
+set(n_mesh_nodes ${n_nodes})
+if(DEFECT STREQUAL "split")
+  math(EXPR n_mesh_nodes "${n_nodes} + ${nny}")
+endif()
+set(text "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n${n_mesh_nodes}\n")
 foreach(j RANGE ${ny})
   foreach(i RANGE ${nx})
     math(EXPR id "${j} * ${nnx} + ${i} + 1")
     string(APPEND text "${id} ${i} ${j} 0\n")
   endforeach()
 endforeach()
+if(DEFECT STREQUAL "split")
+  foreach(j RANGE ${ny})
+    math(EXPR id "${n_nodes} + ${j} + 1")
+    string(APPEND text "${id} 4 ${j} 0\n")
+  endforeach()
+endif()
 string(APPEND text "$EndNodes\n")
 
 set(elements "")
@@ -38,7 +52,17 @@ foreach(j RANGE ${last_j})
     else()
       set(body 2)
     endif()
-    add_element("3 2 ${body} ${body} ${a} ${b} ${c} ${d}")
+    if(DEFECT STREQUAL "split" AND i EQUAL 4)
+      math(EXPR a "${n_nodes} + ${j} + 1")
+      math(EXPR d "${a} + 1")
+    endif()
+    if(DEFECT STREQUAL "inverted" AND count EQUAL 0)
+      add_element("3 2 ${body} ${body} ${a} ${d} ${c} ${b}")
+    elseif(DEFECT STREQUAL "bowtie" AND count EQUAL 0)
+      add_element("3 2 ${body} ${body} ${a} ${c} ${b} ${d}")
+    else()
+      add_element("3 2 ${body} ${body} ${a} ${b} ${c} ${d}")
+    endif()
   endforeach()
 endforeach()
 foreach(j RANGE ${last_j})

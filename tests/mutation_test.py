@@ -442,7 +442,17 @@ SKIP_DELETIONS = {("gmsh", "Time stepping/Time step")}
 MAY_RUN_MESHES = {"inverted", "clockwise", "huge-coord"}
 
 
-def build_mutations(base_texts):
+def normalized_path(path):
+    return re.sub(r"(Body|Mechanical boundary|Thermal boundary) \d+", r"\1 0", path)
+
+
+def same_value(a, b):
+    return re.sub(r"\s+", "", a) == re.sub(r"\s+", "", b)
+
+
+def build_mutations(base_texts, defaults):
+    """defaults: {normalized path: default value} (doc/parameters.prm); deleting a
+    line that sets the default would leave the scene unchanged, so it is skipped."""
     muts = []
     add = muts.append
 
@@ -451,6 +461,9 @@ def build_mutations(base_texts):
         scene = Scene(text)
         for path, i, value in scene.entries():
             if (base, path) in SKIP_DELETIONS:
+                continue
+            default = defaults.get(normalized_path(path))
+            if default is not None and same_value(default, value):
                 continue
             add(Mutation("%s.del.L%d" % (base, i + 1),
                          "delete line %d 'set %s = %s'" % (i + 1, path.rsplit("/", 1)[-1],
@@ -471,7 +484,8 @@ def build_mutations(base_texts):
         for short, value in values:
             add(Mutation("%s.num.%s.%s" % (base, slug(path), short),
                          "%s = %s" % (path, value), base, sets=[(path, value)],
-                         refuse=short not in MAY_RUN_NUMBERS))
+                         refuse=short not in MAY_RUN_NUMBERS,
+                         slow=path.endswith("End time") and short == "big"))
     for short, value in SUBDIVISION_VALUES:
         add(Mutation("manu.num.subdivisions.%s" % short, "Geometry/Subdivisions = %s" % value,
                      "manu", sets=[("Geometry/Subdivisions", value)], refuse=True))
@@ -824,11 +838,17 @@ def check_outputs(work, scene):
     return problems
 
 
+def printable(text):
+    """text with control characters and non-ASCII escaped (safe for any terminal)."""
+    text = re.sub(r"[\x00-\x08\x0b-\x1f\x7f]", lambda m: "\\x%02x" % ord(m.group()), text)
+    return text.encode("ascii", "backslashreplace").decode()
+
+
 def first_lines(data, n=2, width=200):
     text = data.decode("utf-8", "backslashreplace")
-    lines = [l for l in text.splitlines() if l.strip()][:n]
+    lines = [l for l in text.split("\n") if l.strip()][:n]
     out = " | ".join(l[:width] + ("..." if len(l) > width else "") for l in lines)
-    return out.encode("ascii", "backslashreplace").decode() or "(empty)"
+    return printable(out) or "(empty)"
 
 
 def classify(rc, timed_out, out, err, output_problems, timeout, must_refuse):
@@ -838,7 +858,7 @@ def classify(rc, timed_out, out, err, output_problems, timeout, must_refuse):
     if timed_out:
         last = [l for l in text_out.splitlines() if l.strip()]
         return "fail", "timeout after %g s (hang); last stdout line: %s" % (
-            timeout, last[-1][:150] if last else "(none)")
+            timeout, printable(" ".join(last[-1].split())[:150]) if last else "(none)")
     if rc < 0:
         try:
             name = signal.Signals(-rc).name
@@ -855,7 +875,8 @@ def classify(rc, timed_out, out, err, output_problems, timeout, must_refuse):
             problems.append("stderr not empty: %s" % first_lines(err))
         for line in text_out.splitlines():
             if NONFINITE.search(line):
-                problems.append("non-finite number in stdout: '%s'" % line.strip()[:150])
+                problems.append("non-finite number in stdout: '%s'" %
+                                printable(line.strip()[:150]))
                 break
         problems += output_problems
         if must_refuse:
@@ -871,7 +892,7 @@ def classify(rc, timed_out, out, err, output_problems, timeout, must_refuse):
         if len(lines) != 1:
             problems.append("stderr has %d lines: %s" % (len(lines), first_lines(err, 3)))
         elif not lines[0].strip():
-            problems.append("stderr line is empty")
+            problems.append("the stderr line is empty")
         else:
             line = lines[0]
             if CONTROL.search(line):
@@ -885,11 +906,12 @@ def classify(rc, timed_out, out, err, output_problems, timeout, must_refuse):
             if len(message) < 12 or re.fullmatch(r"[\w:]+", message):
                 problems.append("stderr does not name the cause: '%s'" % message)
             elif message.endswith(("<", ":")):
-                problems.append("the error line is cut off: '%s'" % message[-60:])
+                problems.append("the error line ends in '%s' (cut off, or no cause named): "
+                                "'%s'" % (message[-1], message[-60:]))
         problems += output_problems
         if problems:
             return "fail", "exit %d but " % rc + "; ".join(problems[:3])
-        return "refused", text_err.strip()
+        return "refused", printable(text_err.strip())
     return "fail", "exit code %d; stderr: %s" % (rc, first_lines(err))
 
 
@@ -1010,7 +1032,12 @@ def main():
     for base, rel in BASES.items():
         with open(os.path.join(args.source_dir, rel)) as f:
             base_texts[base] = f.read()
-    mutations = build_mutations(base_texts)
+    defaults = {}
+    reference = os.path.join(args.source_dir, "doc", "parameters.prm")
+    if os.path.exists(reference):
+        with open(reference) as f:
+            defaults = {p: v for p, _, v in Scene(f.read()).entries()}
+    mutations = build_mutations(base_texts, defaults)
     if args.filter:
         mutations = [m for m in mutations if re.search(args.filter, m.id)]
 

@@ -1,0 +1,30 @@
+#!/bin/bash
+# expect_failure.sh BINARY SCENE.prm CODE EXPECTED: a run that fails part way
+# (bad data at a later time) must stop with exit code CODE, print exactly one
+# line to stderr containing EXPECTED, and leave complete output: every line of
+# the statistics table has the header's number of columns, and no NaN or
+# infinity appears in stdout or in the table.
+binary=$1 scene=$2 code=$3 expected=$4
+dir=$(mktemp -d) && cd "$dir" || exit 1
+trap 'rm -rf "$dir" "$TMPDIR"' EXIT
+TMPDIR=$(mktemp -d) && export TMPDIR
+"$binary" "$scene" > stdout.txt 2> stderr.txt
+status=$?
+if [ $status -ne "$code" ]; then echo "exit code $status, expected $code"; cat stderr.txt; exit 1; fi
+if [ "$(wc -l < stderr.txt)" -ne 1 ]; then
+  echo "stderr is not one line:"; cat stderr.txt; exit 1
+fi
+if ! grep -qF -- "$expected" stderr.txt; then
+  echo "stderr does not contain '$expected':"; cat stderr.txt; exit 1
+fi
+table=$(find . -name statistics.txt | head -1)
+if [ -z "$table" ] || [ "$(wc -l < "$table")" -lt 2 ]; then
+  echo "no statistics rows before the failure"; exit 1
+fi
+if ! awk 'NR == 1 { n = NF } NF != n { exit 1 }' "$table"; then
+  echo "incomplete statistics row:"; cat "$table"; exit 1
+fi
+if grep -qiE '(^|[^a-z])(nan|inf)([^a-z]|$)' stdout.txt "$table"; then
+  echo "a non-finite number reached the output:"; grep -iE 'nan|inf' stdout.txt "$table"; exit 1
+fi
+echo "OK: $(cat stderr.txt)"
