@@ -8,7 +8,7 @@ mode=${1:-run}
 case $mode in run|test) ;; *) echo "usage: $0 run|test" >&2; exit 2 ;; esac
 cd "$(dirname "$0")"
 
-packages="cmake make g++ libdeal.ii-dev numdiff openmpi-bin"
+packages="cmake make g++ libdeal.ii-dev numdiff openmpi-bin python3"
 missing=""
 for p in $packages; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" ||

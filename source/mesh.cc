@@ -11,6 +11,7 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <vector>
 
 namespace ContactStefan
 {
@@ -21,6 +22,41 @@ namespace ContactStefan
       std::ostringstream s;
       s << '(' << p[0] << ", " << p[1] << ')';
       return s.str();
+    }
+
+    // The header of a Gmsh file, checked before deal.II reads it (a file whose
+    // $MeshFormat does not match its body can make the reader loop): ASCII
+    // format 2.x or 4.x, and a $Nodes section whose first line has the form of
+    // that version (one count in 2.x, four numbers in 4.x).
+    void check_gmsh_header(const std::string &file)
+    {
+      std::ifstream in(file);
+      std::string   line, version, file_type;
+      const auto    fail = [&](const std::string &reason) {
+        throw InputError("Geometry/Mesh file",
+                         "'" + file + "' is not a readable Gmsh mesh: " + reason);
+      };
+      if (!std::getline(in, line) || line.rfind("$MeshFormat", 0) != 0)
+        fail("it does not start with $MeshFormat");
+      if (!(in >> version >> file_type))
+        fail("no version after $MeshFormat");
+      if (version.rfind("2.", 0) != 0 && version.rfind("4.", 0) != 0)
+        fail("format version " + version.substr(0, 20) + " (2.x or 4.x ASCII are read)");
+      if (file_type != "0")
+        fail("a binary Gmsh file (save it as ASCII)");
+      while (std::getline(in, line) && line.rfind("$Nodes", 0) != 0)
+        ;
+      if (!in)
+        fail("no $Nodes section");
+      std::getline(in, line);
+      std::istringstream  numbers(line);
+      std::vector<double> values;
+      for (double v; numbers >> v;)
+        values.push_back(v);
+      const std::size_t expected = version[0] == '2' ? 1 : 4;
+      if (values.size() != expected)
+        fail("the first line of $Nodes has " + std::to_string(values.size()) +
+             " numbers, but format " + version.substr(0, 20) + " has " + std::to_string(expected));
     }
 
     // A Gmsh mesh must be a valid Q1 mesh: every cell's bilinear map has a
@@ -119,6 +155,7 @@ namespace ContactStefan
       {
         // Read into a serial coarse mesh first and check it there: p4est and the
         // hp constraints would crash on an inverted or self-overlapping cell.
+        check_gmsh_header(g.mesh_file);
         Triangulation<dim> coarse;
         GridIn<dim>        grid_in;
         grid_in.attach_triangulation(coarse);

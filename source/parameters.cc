@@ -513,11 +513,11 @@ namespace ContactStefan
                         "c of the active-set test lambda + c d > 0, in units of the diagonal "
                         "stiffness of the node's normal displacement (so 1 balances force and "
                         "gap); > 0. The fixed point does not depend on it.");
-      prm.declare_entry(
-        "Max iterations",
-        "50",
-        Patterns::Integer(1),
-        "Limit of active-set iterations per contact step; reaching it is an error.");
+      prm.declare_entry("Max iterations",
+                        "50",
+                        Patterns::Integer(1, 10000),
+                        "Limit of active-set iterations per contact step; reaching it is an error. "
+                        "(At most 10000.)");
       prm.declare_entry("Tolerance",
                         "1e-10",
                         Patterns::Double(0),
@@ -539,16 +539,18 @@ namespace ContactStefan
                         "smallest pivot of the Gram matrix of the rigid modes' constraint "
                         "residuals (modes scaled to unit size) must exceed this; else the "
                         "run stops with a message naming the body and the free motion.");
-      prm.declare_entry("Max c reductions",
-                        "6",
-                        Patterns::Integer(0),
-                        "How often per step the cycling remedy may divide c by ten before the "
-                        "step is declared failed. c starts at full size in every step.");
-      prm.declare_entry("Max set repetitions",
-                        "1",
-                        Patterns::Integer(1),
-                        "Cycling guard: when an active set recurs this often, c is divided by "
-                        "ten (the dual update then dominates) and the count restarts.");
+      prm.declare_entry(
+        "Max c reductions",
+        "6",
+        Patterns::Integer(0, 30),
+        "How often per step the cycling remedy may divide c by ten before the "
+        "step is declared failed. c starts at full size in every step. (At most 30.)");
+      prm.declare_entry(
+        "Max set repetitions",
+        "1",
+        Patterns::Integer(1, 100),
+        "Cycling guard: when an active set recurs this often, c is divided by "
+        "ten (the dual update then dominates) and the count restarts. (At most 100.)");
       prm.leave_subsection();
     }
 
@@ -757,13 +759,13 @@ namespace ContactStefan
                         "Relative residual reduction of CG.");
       prm.declare_entry("CG max iterations",
                         "1000",
-                        Patterns::Integer(1),
-                        "Iteration limit of CG; hitting it is an error.");
+                        Patterns::Integer(1, 100000),
+                        "Iteration limit of CG; hitting it is an error. (At most 100000.)");
       prm.declare_entry("Max active-set iterations",
                         "50",
-                        Patterns::Integer(1),
+                        Patterns::Integer(1, 10000),
                         "Limit of linear solves of the active-set iteration per enthalpy "
-                        "step; reaching it switches to the relaxation fallback.");
+                        "step; reaching it switches to the relaxation fallback. (At most 10000.)");
       prm.declare_entry("Enthalpy solver",
                         "active-set",
                         Patterns::Selection("active-set|relaxation"),
@@ -809,8 +811,9 @@ namespace ContactStefan
         "this times the largest |m_i (h_i - h_i^old)| + tau |F_i| + tau |(A Theta)_i|.");
       prm.declare_entry("Relaxation max iterations",
                         "2000",
-                        Patterns::Integer(1),
-                        "Relaxation iteration limit; hitting it is an error.");
+                        Patterns::Integer(1, 100000),
+                        "Relaxation iteration limit; hitting it is an error. (At most 100000: "
+                        "the limit bounds the work of a step.)");
       prm.leave_subsection();
     }
 
@@ -1004,14 +1007,40 @@ namespace ContactStefan
 
 
 
+  namespace
+  {
+    // deal.II's parse error, naming the file where deal.II does not; files named
+    // .xml or .json are read in those formats (deal.II chooses by the name).
+    std::string parse_error(const std::string &filename, const std::exception &e)
+    {
+      std::string message = one_line(e.what());
+      if (message.find(filename) == std::string::npos)
+        message = "parameter file '" + filename + "': " + message;
+      const auto        dot       = filename.rfind('.');
+      const std::string extension = dot == std::string::npos ? "" : filename.substr(dot);
+      if (extension == ".xml" || extension == ".json")
+        message += " (read as " + extension.substr(1) + " because of the file name)";
+      return message;
+    }
+  } // namespace
+
+
+
   void AllParameters::read(const std::string &filename)
   {
     {
-      std::ifstream in(filename);
+      std::ifstream in(filename, std::ios::binary);
       if (!in)
         throw InputError("parameter file '" + filename + "' cannot be opened");
       if (!std::filesystem::is_regular_file(filename))
         throw InputError("parameter file '" + filename + "' is not a regular file");
+      // A binary file is not a parameter file (deal.II's message would quote
+      // the line up to its first NUL byte).
+      const std::string text((std::istreambuf_iterator<char>(in)),
+                             std::istreambuf_iterator<char>());
+      if (text.find('\0') != std::string::npos)
+        throw InputError("parameter file '" + filename +
+                         "' is not a text file (it contains NUL bytes)");
     }
     const auto        slash = filename.rfind('/');
     const std::string prm_directory =
@@ -1028,7 +1057,7 @@ namespace ContactStefan
         }
       catch (const std::exception &e)
         {
-          throw InputError(one_line(e.what()));
+          throw InputError(parse_error(filename, e));
         }
       prm.enter_subsection("Bodies");
       body_ids = parse_ids(prm.get("Body ids"), "Bodies/Body ids");
@@ -1053,7 +1082,7 @@ namespace ContactStefan
       }
     catch (const std::exception &e)
       {
-        throw InputError(one_line(e.what()));
+        throw InputError(parse_error(filename, e));
       }
 
     geometry.parse(prm, prm_directory);

@@ -19,7 +19,18 @@ error, ...) is a failure. Each case runs the binary serially in its own fresh
 work directory. The set of mutations is fixed (no randomness); --list prints it.
 
   mutation_test.py --binary build/contact-stefan --source-dir . [--jobs 2]
-                   [--timeout 30] [--list] [--keep DIR] [--filter REGEX]
+                   [--timeout 30] [--list] [--keep DIR] [--filter REGEX] [--verbose]
+
+Invalid inputs (a NaN, a directory as parameter file, a bow-tie cell, ...) are
+marked 'refuse' in --list: for them a clean exit 0 is a failure as well. Each case
+is limited to --memory-limit MiB of address space, 1 GiB files and no core file.
+It prints one FAIL line per failure, then
+  mutations: N  refused: R  ran: A  clean: C  failed: F
+  C passed, F failed
+and exits 1 if F > 0. In ctest (tests/CMakeLists.txt):
+  add_test(NAME mutation COMMAND /usr/bin/python3 ${T}/mutation_test.py
+           --binary ${BIN} --source-dir ${CMAKE_SOURCE_DIR} --cmake ${CMAKE_COMMAND})
+  set_tests_properties(mutation PROPERTIES PROCESSORS 2 TIMEOUT 900)
 
 Only the Python standard library is used (Debian's /usr/bin/python3).
 """
@@ -34,7 +45,6 @@ import re
 import resource
 import shutil
 import signal
-import stat
 import subprocess
 import sys
 import tempfile
@@ -91,12 +101,12 @@ class Scene:
 
     def set(self, path, value):
         """Replace every line that sets path; append the entry if there is none."""
-        hits = [(i, raw) for p, i, raw in
-                ((p, i, self.lines[i]) for p, i, _ in self.entries()) if p == path]
+        hits = [i for p, i, _ in self.entries() if p == path]
         if hits:
-            for i, raw in hits:
+            key = path.rsplit("/", 1)[-1]
+            for i in hits:
+                raw = self.lines[i]
                 indent = raw[: len(raw) - len(raw.lstrip())]
-                key = path.rsplit("/", 1)[-1]
                 self.lines[i] = "%sset %s = %s" % (indent, key, value)
         else:
             levels = path.split("/")
@@ -120,8 +130,9 @@ class Mutation:
     sets: [(path, value)] applied in order; delete: a line index of the base;
     append: text added at the end; prm_bytes: the whole parameter file (bytes);
     prm_kind: 'file', 'dir' (the parameter file is a directory) or 'missing';
-    prm_name: its name; mesh: bytes of the scene's mesh, 'dir', 'missing' or None
-    (the generated mesh); setup: f(work_dir) preparing more of the work dir;
+    prm_name: its name; mesh: None (the generated mesh of a Gmsh scene) or
+    f(mesh text) -> the bytes to write instead, 'dir' (a directory in its place) or
+    'missing'; setup: f(work_dir) preparing more of the work dir;
     slow: expected to run into the timeout (scheduled first); refuse: the input is
     invalid, so a run that ends with exit code 0 is a failure too."""
 
@@ -584,7 +595,7 @@ def build_mutations(base_texts, defaults):
                  prm_bytes=manu.encode(), prm_name="scene.xml", **R))
     add(Mutation("prm.no-extension", "a parameter file without extension",
                  prm_bytes=manu.encode(), prm_name="scene"))
-    add(Mutation("prm.long-line", "a 1 MB value (Name)", "manu",
+    add(Mutation("manu.prm.long-line", "a 1 MB value (Materials/Body 0/Name)", "manu",
                  sets=[("Materials/Body 0/Name", "x" * 1000000)]))
     add(Mutation("manu.prm.unknown-subsection", "an unknown subsection", "manu",
                  append="subsection Frobnication\n  set Speed = 1\nend\n", **R))
@@ -889,7 +900,9 @@ def classify(rc, timed_out, out, err, output_problems, timeout, must_refuse):
         lines = err.split(b"\n")
         if lines and lines[-1] == b"":
             lines.pop()
-        if len(lines) != 1:
+        if not lines:
+            problems.append("stderr is empty")
+        elif len(lines) != 1:
             problems.append("stderr has %d lines: %s" % (len(lines), first_lines(err, 3)))
         elif not lines[0].strip():
             problems.append("the stderr line is empty")
