@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace ContactStefan
@@ -69,7 +70,7 @@ namespace ContactStefan
         }
       const double tt = dot(t, t);
       if (!(tt > tolerance * tolerance * dot(target, target)))
-        return 0.;
+        return std::numeric_limits<double>::quiet_NaN();
       // r = mu t + (terms in span(others)), and t is orthogonal to them.
       return dot(t, residual) / tt;
     }

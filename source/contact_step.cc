@@ -330,6 +330,13 @@ namespace ContactStefan
     };
     Vector r(owned, relevant, mpi_communicator);
     r = residual;
+    // The fixed lines (not hanging-node ones) that name each DoF as an entry:
+    // a tie u_k = u_l names u_l.
+    std::unordered_map<types::global_dof_index, std::vector<types::global_dof_index>> named_by;
+    for (const auto &line : fixed_constraints.get_lines())
+      if (!hanging_node_constraints.is_constrained(line.index))
+        for (const auto &[j, a] : line.entries)
+          named_by[j].push_back(line.index);
     // The active contact conditions at each DoF they involve.
     std::unordered_map<types::global_dof_index, std::vector<const NormalCondition *>> active_at;
     for (const auto &c : normal_conditions)
@@ -346,10 +353,38 @@ namespace ContactStefan
     for (const auto &c : normal_conditions)
       if (is_contact(c) && owned.is_element(c.dofs_k[0]))
         {
-          // The DoFs of the node (pair) and the gradient of this condition on them.
+          // The DoFs that the constraints at this vertex tie together: those of
+          // the node (pair), closed under the fixed lines (a tie joins the two
+          // sides; a roller the two components) and the other active contact
+          // conditions (their partners), so that every reaction acting here is
+          // seen in full. A few rounds reach all of them (at most both sides'
+          // two components at one vertex).
           std::vector<types::global_dof_index> D(c.dofs_k.begin(), c.dofs_k.end());
           if (c.has_partner)
             D.insert(D.end(), c.dofs_l.begin(), c.dofs_l.end());
+          const auto add = [&](const types::global_dof_index dof) {
+            if (std::find(D.begin(), D.end(), dof) == D.end())
+              D.push_back(dof);
+          };
+          for (unsigned int round = 0; round < 3; ++round)
+            for (const auto dof : std::vector<types::global_dof_index>(D))
+              {
+                if (fixed_constraints.is_constrained(dof) &&
+                    !hanging_node_constraints.is_constrained(dof))
+                  for (const auto &[j, a] : *fixed_constraints.get_constraint_entries(dof))
+                    add(j);
+                if (const auto it = named_by.find(dof); it != named_by.end())
+                  for (const auto target : it->second)
+                    add(target);
+                if (const auto it = active_at.find(dof); it != active_at.end())
+                  for (const NormalCondition *o : it->second)
+                    for (unsigned int d = 0; d < dim; ++d)
+                      {
+                        add(o->dofs_k[d]);
+                        if (o->has_partner)
+                          add(o->dofs_l[d]);
+                      }
+              }
           const auto index = [&](const types::global_dof_index dof) {
             return std::find(D.begin(), D.end(), dof) - D.begin();
           };
@@ -389,8 +424,16 @@ namespace ContactStefan
           std::vector<double> r_D(D.size());
           for (unsigned int i = 0; i < D.size(); ++i)
             r_D[i] = r[D[i]];
-          const double lambda = -Contact::constraint_multiplier(gradient(c), others, r_D);
-          const double d      = normal_displacement_jump(c) - c.gap;
+          double lambda = -Contact::constraint_multiplier(gradient(c), others, r_D);
+          // Not determined by the constraints at this vertex (its direction lies in
+          // the span of the others): the residual's normal component on side k.
+          if (std::isnan(lambda))
+            {
+              lambda = 0;
+              for (unsigned int d = 0; d < dim; ++d)
+                lambda -= c.normal[d] * r[c.dofs_k[d]];
+            }
+          const double d = normal_displacement_jump(c) - c.gap;
           const double c_eff =
             prm.contact.complementarity_constant * complementarity_scale * c.stiffness;
           decisions.push_back({&c, lambda, d, c_eff});
@@ -569,19 +612,26 @@ namespace ContactStefan
     Vector residual(owned, mpi_communicator);
     apply_stiffness(displacement_ghosted, residual, true);
     complementarity_scale = 1;
-    double       local_scale, max_penetration;
-    const auto   decisions = contact_decisions(residual, local_scale, max_penetration);
-    const double tolerance =
-      prm.contact.tolerance * Utilities::MPI::max(local_scale, mpi_communicator);
-    for (Vector *v : {&obstacle_active, &interface_active})
-      *v = 0.;
-    for (const auto &dec : decisions)
-      active_flags(*dec.c)[dec.c->dofs_k[0]] =
-        Contact::is_active(dec.lambda, dec.d, dec.c_eff, tolerance) ? 1. : 0.;
-    obstacle_active.compress(VectorOperation::insert);
-    interface_active.compress(VectorOperation::insert);
-    obstacle_active_ghosted  = obstacle_active;
-    interface_active_ghosted = interface_active;
+    // Twice: the multipliers at a vertex with several contact conditions are
+    // separated with the other active conditions, so the set found in the first
+    // pass (from none) is the input of the second.
+    std::vector<Decision> decisions;
+    for (unsigned int pass = 0; pass < 2; ++pass)
+      {
+        double local_scale, max_penetration;
+        decisions = contact_decisions(residual, local_scale, max_penetration);
+        const double tolerance =
+          prm.contact.tolerance * Utilities::MPI::max(local_scale, mpi_communicator);
+        for (Vector *v : {&obstacle_active, &interface_active})
+          *v = 0.;
+        for (const auto &dec : decisions)
+          active_flags(*dec.c)[dec.c->dofs_k[0]] =
+            Contact::is_active(dec.lambda, dec.d, dec.c_eff, tolerance) ? 1. : 0.;
+        obstacle_active.compress(VectorOperation::insert);
+        interface_active.compress(VectorOperation::insert);
+        obstacle_active_ghosted  = obstacle_active;
+        interface_active_ghosted = interface_active;
+      }
     ContactStepReport report;
     store_contact_output(decisions, report);
   }

@@ -63,6 +63,7 @@ namespace ContactStefan
         mechanical->setup_dofs();
         mechanical->initialize(time);
       }
+    postprocessor->start(time, wall_clock.wall_time());
     pcout << "Mesh: " << triangulation.n_global_active_cells() << " cells on "
           << Utilities::MPI::n_mpi_processes(triangulation.get_communicator()) << " MPI rank(s)\n"
           << (thermal ? thermal->describe() :
@@ -71,7 +72,6 @@ namespace ContactStefan
           << (mechanical ? mechanical->describe() :
                            "Mechanics: off (no contact step, no displacement DoFs)")
           << std::endl;
-    postprocessor->start(time, wall_clock.wall_time());
 
     const double end = prm.time.end_time;
     // A step that would end within this fraction of a step of the end time is

@@ -124,7 +124,8 @@ int main(int argc, char *argv[])
     }
   catch (const InputError &e)
     {
-      return fail(e, 1, false);
+      // Every input check of the run phase is collective (all ranks throw alike).
+      return fail(e, 1, true);
     }
   catch (const std::exception &e)
     {

@@ -269,7 +269,7 @@ namespace ContactStefan
     build_contact_constraints(skipped);
     imposable_per_group = placed_per_group;
     const bool tied     = prm.contact.interfaces == Parameters::Contact::Interfaces::tied;
-    std::vector<NormalCondition> kept;
+    std::vector<NormalCondition> kept, left_out;
     unsigned int                 dropped = 0;
     for (const auto &c : normal_conditions)
       if (c.kind == NormalCondition::Kind::roller ||
@@ -277,7 +277,22 @@ namespace ContactStefan
           imposed_conditions.count({c.dofs_k[0], static_cast<int>(c.kind)}) == 1)
         kept.push_back(c);
       else
-        dropped += owned.is_element(c.dofs_k[0]);
+        left_out.push_back(c);
+    // Where a tied interface meets an obstacle, the tie takes one side's
+    // components and the other side's condition carries the contact of both:
+    // it gets their lumped boundary weight, so that its pressure is the force
+    // over the whole face length at the vertex. Only a condition with no such
+    // partner is really left out.
+    for (const auto &c : left_out)
+      {
+        auto partner = std::find_if(kept.begin(), kept.end(), [&](const NormalCondition &k) {
+          return k.kind == c.kind && k.group == c.group && k.position == c.position;
+        });
+        if (partner != kept.end())
+          partner->weight += c.weight;
+        else
+          dropped += owned.is_element(c.dofs_k[0]);
+      }
     normal_conditions.swap(kept);
     n_dropped_conditions = Utilities::MPI::sum(dropped, mpi_communicator);
     for (Vector *v :
@@ -700,19 +715,31 @@ namespace ContactStefan
     // per vertex and kind, and a corner of two obstacle boundaries has no single
     // normal. Refuse it instead of mixing them.
     std::map<types::global_dof_index, std::string> obstacle_at;
+    std::string                                    problem; // found on this rank
     for (auto &[key, e] : entries)
       if (e.condition.kind == Kind::obstacle)
         {
           const auto [it, inserted] = obstacle_at.emplace(std::get<0>(key), e.condition.group);
-          if (!inserted)
-            throw InputError("Boundary conditions/Mechanical boundaries",
-                             "the vertex at (" + std::to_string(e.condition.position[0]) + ", " +
-                               std::to_string(e.condition.position[1]) +
-                               ") is on two obstacle "
-                               "boundaries (" +
-                               it->second + ", " + e.condition.group +
-                               "); give the corner to one of them");
+          if (!inserted && problem.empty())
+            problem = "parameter 'Boundary conditions/Mechanical boundaries': the vertex at (" +
+                      std::to_string(e.condition.position[0]) + ", " +
+                      std::to_string(e.condition.position[1]) +
+                      ") is on two obstacle boundaries (" + it->second + ", " + e.condition.group +
+                      "); give the corner to one of them";
         }
+    for (auto &[key, e] : entries)
+      if (problem.empty())
+        try
+          {
+            e.normals.normal();
+          }
+        catch (const std::exception &error)
+          {
+            problem = "parameter 'Boundary conditions/Mechanical boundaries': at (" +
+                      std::to_string(e.condition.position[0]) + ", " +
+                      std::to_string(e.condition.position[1]) + ") " + error.what();
+          }
+    throw_collectively<InputError>(problem, mpi_communicator);
     for (auto &[key, e] : entries)
       {
         NormalCondition &c = e.condition;

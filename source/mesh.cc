@@ -220,13 +220,19 @@ namespace ContactStefan
             if (cell->is_locally_owned() && cell->center().distance(r.prerefinement_center) <
                                               r.prerefinement_radius + 0.5 * cell->diameter())
               cell->set_refine_flag();
-          triangulation.execute_coarsening_and_refinement();
-          if (triangulation.n_global_active_cells() > r.max_cells)
+          // Each flagged cell becomes four: refuse before the cells are built.
+          unsigned int flagged = 0;
+          for (const auto &cell : triangulation.active_cell_iterators())
+            flagged += cell->is_locally_owned() && cell->refine_flag_set();
+          const double cells = triangulation.n_global_active_cells() +
+                               3. * Utilities::MPI::sum(flagged, mpi_communicator);
+          if (cells > r.max_cells)
             throw InputError("Mesh refinement/Pre-refinement steps",
-                             "pre-refinement step " + std::to_string(step + 1) + " makes " +
-                               std::to_string(triangulation.n_global_active_cells()) +
+                             "pre-refinement step " + std::to_string(step + 1) + " would make " +
+                               std::to_string(cells) +
                                " cells, more than 'Mesh refinement/Max cells' = " +
                                std::to_string(r.max_cells));
+          triangulation.execute_coarsening_and_refinement();
         }
   }
 

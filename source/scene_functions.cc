@@ -43,13 +43,17 @@ namespace ContactStefan
     class Checked : public Function<dim>
     {
     public:
+      // used: the components that matter (all if empty); e.g. a displacement
+      // condition on y alone never uses its x expression.
       Checked(std::unique_ptr<Function<dim>>                 function,
               const std::string                             &parameter,
-              typename SceneFunctions<dim>::NonFiniteRecord &record)
+              typename SceneFunctions<dim>::NonFiniteRecord &record,
+              const std::vector<bool>                       &used)
         : Function<dim>(function->n_components)
         , function(std::move(function))
         , parameter(parameter)
         , record(record)
+        , used(used.empty() ? std::vector<bool>(this->n_components, true) : used)
       {}
       void set_time(const double t) override
       {
@@ -59,22 +63,23 @@ namespace ContactStefan
       double value(const Point<dim> &p, const unsigned int component = 0) const override
       {
         const double v = function->value(p, component);
-        if (!std::isfinite(v))
+        if (!std::isfinite(v) && used[component])
           record.note(parameter, p, this->get_time(), v);
         return v;
       }
       void vector_value(const Point<dim> &p, dealii::Vector<double> &values) const override
       {
         function->vector_value(p, values);
-        for (const double v : values)
-          if (!std::isfinite(v))
-            record.note(parameter, p, this->get_time(), v);
+        for (unsigned int c = 0; c < values.size(); ++c)
+          if (!std::isfinite(values[c]) && used[c])
+            record.note(parameter, p, this->get_time(), values[c]);
       }
 
     private:
       const std::unique_ptr<Function<dim>>           function;
       const std::string                              parameter;
       typename SceneFunctions<dim>::NonFiniteRecord &record;
+      const std::vector<bool>                        used;
     };
   } // namespace
 
@@ -115,9 +120,10 @@ namespace ContactStefan
   template <int dim>
   std::unique_ptr<Function<dim>>
   SceneFunctions<dim>::checked(std::unique_ptr<Function<dim>> function,
-                               const std::string             &parameter) const
+                               const std::string             &parameter,
+                               const std::vector<bool>       &used) const
   {
-    return std::make_unique<Checked<dim>>(std::move(function), parameter, *record);
+    return std::make_unique<Checked<dim>>(std::move(function), parameter, *record, used);
   }
 
 
@@ -160,7 +166,11 @@ namespace ContactStefan
       {
         const std::string section =
           "Boundary conditions/Mechanical boundary " + std::to_string(id) + "/";
-        mechanical_values[id] = checked(parse<dim>({bc.value[0], bc.value[1]}), section + "Value");
+        mechanical_values[id] = checked(parse<dim>({bc.value[0], bc.value[1]}),
+                                        section + "Value",
+                                        bc.type == Mechanical::displacement ?
+                                          std::vector<bool>{bc.components[0], bc.components[1]} :
+                                          std::vector<bool>());
         if (bc.type == Mechanical::obstacle)
           obstacle_gaps[id] = checked(parse<dim>({bc.gap}), section + "Gap");
         mechanical_load |= bc.type == Mechanical::traction &&

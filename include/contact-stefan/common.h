@@ -52,6 +52,21 @@ namespace ContactStefan
                                " entries are NaN or infinite)");
   }
 
+  // Collective: if `message` is not empty on some rank, every rank throws
+  // Exception(the message of the lowest such rank). A check that only some
+  // ranks can make (it needs their cells) thus stops all of them alike.
+  template <typename Exception>
+  void throw_collectively(const std::string &message, const MPI_Comm mpi_communicator)
+  {
+    const unsigned int none = Utilities::MPI::n_mpi_processes(mpi_communicator);
+    const unsigned int first =
+      Utilities::MPI::min(message.empty() ? none :
+                                            Utilities::MPI::this_mpi_process(mpi_communicator),
+                          mpi_communicator);
+    if (first != none)
+      throw Exception(Utilities::MPI::broadcast(mpi_communicator, message, first));
+  }
+
   // The code is two-dimensional (plane strain): the contact normals, the
   // rigid-body modes (2 translations, 1 rotation), the Voigt form of C, the
   // muparser variables "x,y,t" and the Gmsh reader's line/surface tags are

@@ -68,7 +68,7 @@ namespace ContactStefan
     // contact force off r alone would mix in the roller's reaction; instead this
     // returns the coefficient of `target`: the component of r along the part of
     // `target` orthogonal to the span of `others` (least squares, exact when r
-    // lies in the span). Returns 0 if `target` lies in the span of the others
+    // lies in the span). Returns NaN if `target` lies in the span of the others
     // (relative tolerance `tolerance`): then its multiplier is not determined.
     double constraint_multiplier(const std::vector<double>              &target,
                                  const std::vector<std::vector<double>> &others,

@@ -111,7 +111,8 @@ namespace ContactStefan
 
     // The parsed expression(s), wrapped so that every value is checked.
     std::unique_ptr<Function<dim>> checked(std::unique_ptr<Function<dim>> function,
-                                           const std::string             &parameter) const;
+                                           const std::string             &parameter,
+                                           const std::vector<bool>       &used = {}) const;
 
     const AllParameters                                   &prm;
     std::unique_ptr<NonFiniteRecord>                       record;
