@@ -24,39 +24,84 @@ namespace ContactStefan
       return s.str();
     }
 
-    // The header of a Gmsh file, checked before deal.II reads it (a file whose
-    // $MeshFormat does not match its body can make the reader loop): ASCII
-    // format 2.x or 4.x, and a $Nodes section whose first line has the form of
-    // that version (one count in 2.x, four numbers in 4.x).
-    void check_gmsh_header(const std::string &file)
+    // A Gmsh file, checked before deal.II reads it (its reader loops forever on a
+    // section without its end, or on a $MeshFormat that does not match the
+    // body): ASCII; every $Section closed by its $EndSection; and for the
+    // formats 2.x and 4.x a first $Nodes line of that version's form (2.x: the
+    // node count; 4.0: blocks and nodes; 4.1: blocks, nodes, min and max tag)
+    // whose node count the file can hold. Format 1 ($NOD) is passed through.
+    void check_gmsh_file(const std::string &file)
     {
-      std::ifstream in(file);
-      std::string   line, version, file_type;
-      const auto    fail = [&](const std::string &reason) {
+      const auto fail = [&](const std::string &reason) {
         throw InputError("Geometry/Mesh file",
                          "'" + file + "' is not a readable Gmsh mesh: " + reason);
       };
-      if (!std::getline(in, line) || line.rfind("$MeshFormat", 0) != 0)
-        fail("it does not start with $MeshFormat");
-      if (!(in >> version >> file_type))
-        fail("no version after $MeshFormat");
-      if (version.rfind("2.", 0) != 0 && version.rfind("4.", 0) != 0)
-        fail("format version " + version.substr(0, 20) + " (2.x or 4.x ASCII are read)");
+      std::ifstream     in(file, std::ios::binary);
+      const std::string text((std::istreambuf_iterator<char>(in)),
+                             std::istreambuf_iterator<char>());
+      if (text.find('\0') != std::string::npos)
+        fail("it is not a text file (binary Gmsh files are not read; save it as ASCII)");
+      std::istringstream lines(text);
+      std::string        line, open, version, first_nodes_line;
+      bool               first = true, in_nodes = false;
+      while (std::getline(lines, line))
+        {
+          if (!line.empty() && line.back() == '\r')
+            line.pop_back();
+          if (first && line.rfind("$NOD", 0) == 0)
+            return; // format 1: deal.II reads it, nothing here to check
+          if (first && line != "$MeshFormat")
+            fail("it does not start with $MeshFormat");
+          first = false;
+          if (in_nodes && first_nodes_line.empty())
+            first_nodes_line = line.empty() ? " " : line;
+          if (!open.empty() && open == "$MeshFormat" && version.empty())
+            version = line;
+          if (line.rfind("$End", 0) == 0)
+            {
+              if (line != "$End" + open.substr(1))
+                fail("'" + line.substr(0, 40) + "' without its section (" +
+                     (open.empty() ? "none is open" : open + " is open") + ")");
+              open.clear();
+              in_nodes = false;
+            }
+          else if (!line.empty() && line[0] == '$')
+            {
+              if (!open.empty())
+                fail("the section " + open + " has no $End" + open.substr(1));
+              open     = line.substr(0, 40);
+              in_nodes = open == "$Nodes";
+            }
+        }
+      if (!open.empty())
+        fail("the section " + open + " has no $End" + open.substr(1));
+
+      std::istringstream format(version);
+      std::string        number, file_type;
+      format >> number >> file_type;
       if (file_type != "0")
-        fail("a binary Gmsh file (save it as ASCII)");
-      while (std::getline(in, line) && line.rfind("$Nodes", 0) != 0)
-        ;
-      if (!in)
-        fail("no $Nodes section");
-      std::getline(in, line);
-      std::istringstream  numbers(line);
+        fail("not an ASCII file (file type '" + file_type.substr(0, 10) + "')");
+      std::istringstream  numbers(first_nodes_line);
       std::vector<double> values;
       for (double v; numbers >> v;)
         values.push_back(v);
-      const std::size_t expected = version[0] == '2' ? 1 : 4;
+      std::size_t expected = 0, count_index = 0;
+      if (number.rfind("2", 0) == 0)
+        expected = 1, count_index = 0;
+      else if (number == "4" || number.rfind("4.0", 0) == 0)
+        expected = 2, count_index = 1;
+      else if (number.rfind("4.1", 0) == 0)
+        expected = 4, count_index = 1;
+      else
+        fail("format version '" + number.substr(0, 20) + "' (2.x, 4.0 and 4.1 are read)");
       if (values.size() != expected)
         fail("the first line of $Nodes has " + std::to_string(values.size()) +
-             " numbers, but format " + version.substr(0, 20) + " has " + std::to_string(expected));
+             " numbers, but format " + number + " has " + std::to_string(expected));
+      // Each node takes at least a few bytes: a larger count is a corrupt header
+      // (and would make the reader allocate for it).
+      if (!(values[count_index] >= 0 && values[count_index] <= text.size()))
+        fail("$Nodes declares " + std::to_string(values[count_index]) + " nodes in a file of " +
+             std::to_string(text.size()) + " bytes");
     }
 
     // A Gmsh mesh must be a valid Q1 mesh: every cell's bilinear map has a
@@ -155,7 +200,7 @@ namespace ContactStefan
       {
         // Read into a serial coarse mesh first and check it there: p4est and the
         // hp constraints would crash on an inverted or self-overlapping cell.
-        check_gmsh_header(g.mesh_file);
+        check_gmsh_file(g.mesh_file);
         Triangulation<dim> coarse;
         GridIn<dim>        grid_in;
         grid_in.attach_triangulation(coarse);

@@ -60,7 +60,10 @@ namespace ContactStefan
         }
       catch (const std::exception &)
         {
-          throw InputError(path + entry, "cannot be read as a number: '" + prm.get(entry) + "'");
+          throw InputError(path + entry,
+                           "cannot be read as a number (or is below the smallest normal "
+                           "double): '" +
+                             prm.get(entry) + "'");
         }
       if (!std::isfinite(value))
         throw InputError(path + entry, "must be a finite number, got '" + prm.get(entry) + "'");
@@ -1028,20 +1031,30 @@ namespace ContactStefan
 
   void AllParameters::read(const std::string &filename)
   {
-    {
-      std::ifstream in(filename, std::ios::binary);
-      if (!in)
-        throw InputError("parameter file '" + filename + "' cannot be opened");
-      if (!std::filesystem::is_regular_file(filename))
-        throw InputError("parameter file '" + filename + "' is not a regular file");
-      // A binary file is not a parameter file (deal.II's message would quote
-      // the line up to its first NUL byte).
-      const std::string text((std::istreambuf_iterator<char>(in)),
-                             std::istreambuf_iterator<char>());
-      if (text.find('\0') != std::string::npos)
-        throw InputError("parameter file '" + filename +
-                         "' is not a text file (it contains NUL bytes)");
-    }
+    // The file is read once (it may be a pipe) and parsed from memory twice.
+    std::ifstream in(filename, std::ios::binary);
+    if (!in)
+      throw InputError("parameter file '" + filename + "' cannot be opened");
+    if (std::filesystem::is_directory(filename))
+      throw InputError("parameter file '" + filename + "' is not a regular file (a directory)");
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    // A binary file is not a parameter file (deal.II's message would quote the
+    // line up to its first NUL byte).
+    if (text.find('\0') != std::string::npos)
+      throw InputError("parameter file '" + filename +
+                       "' is not a text file (it contains NUL bytes)");
+    // .xml and .json files are read in those formats, everything else as .prm.
+    const auto parse = [&](ParameterHandler &prm, const bool skip_undefined) {
+      std::istringstream input(text);
+      const auto         dot       = filename.rfind('.');
+      const std::string  extension = dot == std::string::npos ? "" : filename.substr(dot);
+      if (extension == ".xml")
+        prm.parse_input_from_xml(input, skip_undefined);
+      else if (extension == ".json")
+        prm.parse_input_from_json(input, skip_undefined);
+      else
+        prm.parse_input(input, filename, "", skip_undefined);
+    };
     const auto        slash = filename.rfind('/');
     const std::string prm_directory =
       slash == std::string::npos ? "" : filename.substr(0, slash + 1);
@@ -1053,7 +1066,7 @@ namespace ContactStefan
       declare(prm, {}, {}, {});
       try
         {
-          prm.parse_input(filename, "", true);
+          parse(prm, true);
         }
       catch (const std::exception &e)
         {
@@ -1078,7 +1091,7 @@ namespace ContactStefan
     declare(prm, body_ids, thermal_ids, mechanical_ids);
     try
       {
-        prm.parse_input(filename, "", false);
+        parse(prm, false);
       }
     catch (const std::exception &e)
       {

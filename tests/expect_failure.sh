@@ -5,6 +5,9 @@
 # the statistics table has the header's number of columns, and no NaN or
 # infinity appears in stdout or in the table.
 binary=$1 scene=$2 code=$3 expected=$4
+if ! [[ "$code" =~ ^[0-9]+$ ]] || [ -z "$expected" ]; then
+  echo "the scene needs '# EXPECT-EXIT: code' and '# EXPECT: text' lines"; exit 1
+fi
 dir=$(mktemp -d) && cd "$dir" || exit 1
 trap 'rm -rf "$dir" "$TMPDIR"' EXIT
 TMPDIR=$(mktemp -d) && export TMPDIR
@@ -18,8 +21,9 @@ if ! grep -qF -- "$expected" stderr.txt; then
   echo "stderr does not contain '$expected':"; cat stderr.txt; exit 1
 fi
 table=$(find . -name statistics.txt | head -1)
-if [ -z "$table" ] || [ "$(wc -l < "$table")" -lt 2 ]; then
-  echo "no statistics rows before the failure"; exit 1
+# The header, step 0 and at least one step before the failure.
+if [ -z "$table" ] || [ "$(wc -l < "$table")" -lt 3 ]; then
+  echo "no statistics rows of steps before the failure"; exit 1
 fi
 if ! awk 'NR == 1 { n = NF } NF != n { exit 1 }' "$table"; then
   echo "incomplete statistics row:"; cat "$table"; exit 1

@@ -20,9 +20,13 @@ name=$(basename "$reference" .output)
 # Each test gets its own Open MPI session directory: parallel ctest runs must
 # not race for one under /tmp.
 TMPDIR=$(mktemp -d) && export TMPDIR
-trap 'rm -rf "$TMPDIR"' EXIT
 out=$name.out
-rm -rf "$name.dir" && mkdir -p "$name.dir" && cd "$name.dir" || exit 1
+# A work directory of its own: several tests share a reference (serial and
+# parallel, variants of one scene) and run at the same time under ctest -j.
+# It is kept when the test fails, removed when it passes.
+work=$(mktemp -d "$PWD/$name.XXXXXX") && cd "$work" || exit 1
+trap 'rm -rf "$TMPDIR"; [ "$passed" = 1 ] && rm -rf "$work"' EXIT
+passed=0
 cp "$scene" scene.prm
 requirements=()
 for argument in "$@"; do
@@ -94,9 +98,10 @@ done
 [ $failed -eq 0 ] || exit 1
 
 if [ "${UPDATE_REFERENCE:-0}" = 1 ]; then
-  cp "$out" "$reference"; echo "reference $reference written"; exit 0
+  cp "$out" "$reference"; echo "reference $reference written"; passed=1; exit 0
 fi
 # Relative 1e-6 and absolute 1e-9 (energy residuals are round-off, ~1e-14).
 numdiff -q -r 1e-6 -a 1e-9 -s ' \t\n=' "$reference" "$out" > /dev/null || {
   numdiff -r 1e-6 -a 1e-9 -s ' \t\n=' "$reference" "$out" | head -30; exit 1; }
 echo "matches $reference"
+passed=1
