@@ -330,13 +330,6 @@ namespace ContactStefan
     };
     Vector r(owned, relevant, mpi_communicator);
     r = residual;
-    // The fixed lines (not hanging-node ones) that name each DoF as an entry:
-    // a tie u_k = u_l names u_l.
-    std::unordered_map<types::global_dof_index, std::vector<types::global_dof_index>> named_by;
-    for (const auto &line : fixed_constraints.get_lines())
-      if (!hanging_node_constraints.is_constrained(line.index))
-        for (const auto &[j, a] : line.entries)
-          named_by[j].push_back(line.index);
     // The active contact conditions at each DoF they involve.
     std::unordered_map<types::global_dof_index, std::vector<const NormalCondition *>> active_at;
     for (const auto &c : normal_conditions)
@@ -366,6 +359,8 @@ namespace ContactStefan
             if (std::find(D.begin(), D.end(), dof) == D.end())
               D.push_back(dof);
           };
+          // Three rounds: node -> its constraints' DoFs -> their partners; all
+          // at one vertex, so nothing new can appear after that.
           for (unsigned int round = 0; round < 3; ++round)
             for (const auto dof : std::vector<types::global_dof_index>(D))
               {

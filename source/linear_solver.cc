@@ -77,16 +77,15 @@ namespace ContactStefan
     if (prm.linear_solver == LinearSolverType::direct)
       {
         direct->solve(x, b);
-        iterations = 1;
       }
     else
       {
         SolverControl    control(prm.cg_max_iterations, prm.cg_tolerance * b.l2_norm());
         SolverCG<Vector> cg(control);
         cg.solve(*matrix, x, b, amg);
-        iterations = control.last_step();
         if (verbosity >= 2)
-          pcout << "      CG (" << name << "): " << iterations << " iterations" << std::endl;
+          pcout << "      CG (" << name << "): " << control.last_step() << " iterations"
+                << std::endl;
       }
     check_finite(x, "the solution of the " + name + " system (overflow in the data?)");
   }

@@ -389,10 +389,9 @@ namespace ContactStefan
 
 
   template <int dim>
-  void MechanicalField<dim>::begin_time_step(const double t, const double tau)
+  void MechanicalField<dim>::begin_time_step(const double t, const double /*tau: quasi-static*/)
   {
     time             = t;
-    time_step        = tau;
     old_displacement = displacement;
     assemble_load();
     make_fixed_constraints();
@@ -616,6 +615,14 @@ namespace ContactStefan
     if (Utilities::MPI::n_mpi_processes(mpi_communicator) > 1)
       fixed_constraints.make_consistent_in_parallel(owned, relevant, mpi_communicator);
     fixed_constraints.close();
+
+    // The fixed lines (not hanging-node ones) that name each DoF as an entry (a
+    // tie u_k = u_l names u_l): the contact multipliers need them per vertex.
+    named_by.clear();
+    for (const auto &line : fixed_constraints.get_lines())
+      if (!hanging_node_constraints.is_constrained(line.index))
+        for (const auto &[j, a] : line.entries)
+          named_by[j].push_back(line.index);
   }
   // Every node with a normal condition, found from the cells this rank sees:
   // roller and obstacle nodes on boundaries of those types, interface nodes on

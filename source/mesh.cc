@@ -112,6 +112,11 @@ namespace ContactStefan
     // and the first bad cell.
     void check_mesh(const Triangulation<2> &mesh, const std::string &file)
     {
+      // Relative to the cell's squared diameter (Jacobian) and to the mesh's
+      // extent (coincidence): a geometric zero, far above the round-off of
+      // coordinates read from a file, far below any cell a mesh generator makes.
+      // Not a parameter: a user has nothing to tune here.
+      constexpr double geometric_zero = 1e-12;
       for (const auto &cell : mesh.active_cell_iterators())
         {
           // deal.II's vertex order: 0 (0,0), 1 (1,0), 2 (0,1), 3 (1,1).
@@ -128,7 +133,7 @@ namespace ContactStefan
                                cross(v[3] - v[2], v[3] - v[1])};
           const double size = cell->diameter() * cell->diameter();
           for (const double j : J)
-            if (!(j > 1e-12 * size))
+            if (!(j > geometric_zero * size))
               throw InputError("Geometry/Mesh file",
                                "'" + file + "': cell " + std::to_string(cell->index()) +
                                  " with vertices " + point_text(v[0]) + " " + point_text(v[1]) +
@@ -151,9 +156,9 @@ namespace ContactStefan
         extent = std::max({extent, std::abs(p[0]), std::abs(p[1])});
       for (unsigned int k = 0; k < used.size(); ++k)
         for (unsigned int m = k + 1;
-             m < used.size() && used[m].first[0] - used[k].first[0] <= 1e-12 * extent;
+             m < used.size() && used[m].first[0] - used[k].first[0] <= geometric_zero * extent;
              ++m)
-          if (used[k].first.distance(used[m].first) <= 1e-12 * extent)
+          if (used[k].first.distance(used[m].first) <= geometric_zero * extent)
             throw InputError("Geometry/Mesh file",
                              "'" + file + "': vertices " + std::to_string(used[k].second) +
                                " and " + std::to_string(used[m].second) + " coincide at " +

@@ -130,8 +130,11 @@ namespace ContactStefan
         c = c == '\n' || c == '\t' || c == '\r' ? ' ' : '?';
     message = std::regex_replace(message, std::regex("\\s+"), " ");
     message = std::regex_replace(message, std::regex("^ | $"), "");
-    if (message.size() > 300)
-      message = message.substr(0, 300) + " ...";
+    // One line on a terminal, not a page (the length of a message, not a
+    // physical number).
+    constexpr std::size_t max_length = 300;
+    if (message.size() > max_length)
+      message = message.substr(0, max_length) + " ...";
     return message;
   }
 

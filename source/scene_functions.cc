@@ -106,13 +106,8 @@ namespace ContactStefan
   template <int dim>
   void SceneFunctions<dim>::check_finite_values(const MPI_Comm mpi_communicator) const
   {
-    const unsigned int none = Utilities::MPI::n_mpi_processes(mpi_communicator);
-    const unsigned int first =
-      Utilities::MPI::min(record->found ? Utilities::MPI::this_mpi_process(mpi_communicator) : none,
-                          mpi_communicator);
-    if (first == none)
-      return;
-    throw InputError(Utilities::MPI::broadcast(mpi_communicator, record->message, first));
+    throw_collectively<InputError>(record->found ? record->message : std::string(),
+                                   mpi_communicator);
   }
 
 

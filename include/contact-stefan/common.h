@@ -46,9 +46,9 @@ namespace ContactStefan
     unsigned int bad = 0;
     for (const auto i : v.locally_owned_elements())
       bad += !std::isfinite(v[i]);
-    if (Utilities::MPI::sum(bad, v.get_mpi_communicator()) > 0)
-      throw std::runtime_error(what + " is not finite (" +
-                               std::to_string(Utilities::MPI::sum(bad, v.get_mpi_communicator())) +
+    bad = Utilities::MPI::sum(bad, v.get_mpi_communicator());
+    if (bad > 0)
+      throw std::runtime_error(what + " is not finite (" + std::to_string(bad) +
                                " entries are NaN or infinite)");
   }
 

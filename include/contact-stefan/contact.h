@@ -70,6 +70,8 @@ namespace ContactStefan
     // `target` orthogonal to the span of `others` (least squares, exact when r
     // lies in the span). Returns NaN if `target` lies in the span of the others
     // (relative tolerance `tolerance`): then its multiplier is not determined.
+    // The gradients are built from unit normals and unit vectors, so dependence
+    // is exact up to round-off (~1e-15); 1e-10 separates it from a real angle.
     double constraint_multiplier(const std::vector<double>              &target,
                                  const std::vector<std::vector<double>> &others,
                                  const std::vector<double>              &residual,

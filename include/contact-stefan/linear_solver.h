@@ -38,11 +38,6 @@ namespace ContactStefan
     // Forget the matrix (its owner is about to reinit or destroy it): a solve()
     // before the next initialize() is then an error, not a use of freed memory.
     void clear();
-    // Iterations of the last solve (1 for the direct solver).
-    unsigned int last_iterations() const
-    {
-      return iterations;
-    }
 
   private:
     const Parameters::Solver                       &prm;
@@ -53,7 +48,6 @@ namespace ContactStefan
     SolverControl                                   direct_control;
     std::unique_ptr<TrilinosWrappers::SolverDirect> direct;
     TrilinosWrappers::PreconditionAMG               amg;
-    unsigned int                                    iterations = 0;
   };
 } // namespace ContactStefan
 

@@ -49,10 +49,6 @@ namespace ContactStefan
       return conductivities[phase];
     }
     bool conductivity_depends_on_phase() const;
-    bool conductivity_is_isotropic() const
-    {
-      return conductivity_shape[0][1] == 0 && conductivity_shape[0][0] == conductivity_shape[1][1];
-    }
   };
 
   // Every body's material by body (material) id.

@@ -194,10 +194,13 @@ namespace ContactStefan
 
     // Hanging nodes alone; plus prescribed displacements, ties and rollers
     // (rebuilt each step); plus the active contact set (each iteration).
-    AffineConstraints<double>      hanging_node_constraints, fixed_constraints, constraints;
-    TrilinosWrappers::SparseMatrix system_matrix;
-    Vector                         system_rhs, load, stiffness_diagonal;
-    LinearSolver                   linear_solver;
+    AffineConstraints<double> hanging_node_constraints, fixed_constraints, constraints;
+    // For each DoF, the targets of the fixed (non-hanging) lines that name it as
+    // an entry; rebuilt with the fixed constraints.
+    std::unordered_map<types::global_dof_index, std::vector<types::global_dof_index>> named_by;
+    TrilinosWrappers::SparseMatrix                                                    system_matrix;
+    Vector       system_rhs, load, stiffness_diagonal;
+    LinearSolver linear_solver;
 
     // Primary state.
     Vector displacement, old_displacement;
@@ -235,7 +238,7 @@ namespace ContactStefan
     std::vector<std::pair<Point<dim>, Point<dim>>>       body_box;
 
     double complementarity_scale = 1; // divided by 10 per cycling remedy
-    double time = 0, time_step = 0;
+    double time                  = 0; // of the data: the start time or the last begin_time_step()
 
     // Output, alive until the next add_output().
     mutable Vector                                               output_pressure, output_gap;
