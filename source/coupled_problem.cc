@@ -1,10 +1,12 @@
 // Construction and the time loop of CoupledProblem.
 //
 // One time step of the semi-implicit scheme (doc/model.md §2) is a contact step
-// followed by an enthalpy step. A scene without mechanics has no mechanical
-// field and skips the contact step entirely; a scene without phase change still
-// runs the enthalpy step, which then is one linear solve (the active set is
-// empty and never changes).
+// followed by an enthalpy step; with 'Coupling/Scheme = fixed point' the pair is
+// repeated until u and Theta stop changing (doc/coupling.md). A scene without
+// mechanics has no mechanical field and skips the contact step entirely; a
+// scene without phase change still runs the enthalpy step, which then is one
+// linear solve (the active set is empty and never changes); a scene without
+// thermal expansion exchanges nothing between the fields.
 #include <deal.II/base/utilities.h>
 
 #include <contact-stefan/coupled_problem.h>
@@ -63,6 +65,14 @@ namespace ContactStefan
         mechanical->setup_dofs();
         mechanical->initialize(time);
       }
+    // The initial phases set the initial stiffness; the initial temperature the
+    // thermal stress of the first contact step (staggered: Theta^0).
+    if (prm.elasticity_depends_on_phase())
+      {
+        std::vector<std::vector<double>> weights;
+        thermal->cell_phase_weights(weights);
+        mechanical->set_phase_weights(weights);
+      }
     postprocessor->start(time, wall_clock.wall_time());
     pcout << "Mesh: " << triangulation.n_global_active_cells() << " cells on "
           << Utilities::MPI::n_mpi_processes(triangulation.get_communicator()) << " MPI rank(s)\n"
@@ -71,7 +81,8 @@ namespace ContactStefan
           << '\n'
           << (mechanical ? mechanical->describe() :
                            "Mechanics: off (no contact step, no displacement DoFs)")
-          << std::endl;
+          << '\n'
+          << describe_coupling() << std::endl;
 
     const double end = prm.time.end_time;
     // A step that would end within this fraction of a step of the end time is
@@ -93,10 +104,10 @@ namespace ContactStefan
           thermal->begin_time_step(time, time_step);
         if (mechanical)
           mechanical->begin_time_step(time, time_step);
-        // Contact step (doc/model.md §2, step 1), then the enthalpy step (step 2).
-        const ContactStepReport contact_report =
-          mechanical ? mechanical->solve() : ContactStepReport();
-        const EnthalpyStepReport thermal_report = thermal ? thermal->solve() : EnthalpyStepReport();
+        EnthalpyStepReport thermal_report;
+        ContactStepReport  contact_report;
+        CouplingReport     coupling_report;
+        coupled_step(thermal_report, contact_report, coupling_report);
 
         postprocessor->end_step(step_number,
                                 time,
@@ -104,8 +115,9 @@ namespace ContactStefan
                                 time >= end,
                                 thermal_report,
                                 contact_report,
+                                coupling_report,
                                 wall_clock.wall_time());
-        print_step_line(thermal_report, contact_report);
+        print_step_line(thermal_report, contact_report, coupling_report);
       }
 
     postprocessor->print_results(step_number, time);
@@ -115,11 +127,167 @@ namespace ContactStefan
 
 
 
+  template <int dim>
+  void CoupledProblem<dim>::exchange_temperature()
+  {
+    if (!prm.thermal_stress_active())
+      return;
+    typename MechanicalField<dim>::VertexValues theta;
+    thermal->cell_temperatures(theta);
+    mechanical->set_cell_temperatures(theta);
+  }
+
+
+
+  template <int dim>
+  void CoupledProblem<dim>::exchange_thermoelastic_work()
+  {
+    if (!prm.thermoelastic_heating_active())
+      return;
+    typename MechanicalField<dim>::VertexValues work;
+    mechanical->thermoelastic_work(work);
+    thermal->set_thermoelastic_work(work);
+  }
+
+
+
+  namespace
+  {
+    // max_i |a_i - b_i| over the owned entries, on all ranks.
+    double max_difference(const Vector &a, const Vector &b)
+    {
+      double local = 0;
+      for (const auto i : a.locally_owned_elements())
+        local = max_with_nan(local, std::abs(a[i] - b[i]));
+      return global_max_with_nan(local, a.get_mpi_communicator());
+    }
+    // max_i |a_i| over the owned entries, on all ranks (a may have ghosts).
+    double max_abs(const Vector &a)
+    {
+      double local = 0;
+      for (const auto i : a.locally_owned_elements())
+        local = max_with_nan(local, std::abs(a[i]));
+      return global_max_with_nan(local, a.get_mpi_communicator());
+    }
+  } // namespace
+
+
+
+  // The contact step (doc/model.md §2, step 1) with the temperature the thermal
+  // field holds, then the enthalpy step (step 2) with the new displacement.
+  // Staggered, the temperature is Theta^k; with fixed-point iterations the pair
+  // repeats, each field warm-started from its last iterate (its active set
+  // included), until an iteration changes u and Theta by at most the tolerance
+  // times their change over the step (plus round-off). The stiffness of a
+  // phase-dependent material is lagged at the phases of h^k in every pass.
+  template <int dim>
+  void CoupledProblem<dim>::coupled_step(EnthalpyStepReport &thermal_report,
+                                         ContactStepReport  &contact_report,
+                                         CouplingReport     &coupling_report)
+  {
+    if (!(thermal && mechanical))
+      {
+        if (mechanical)
+          contact_report = mechanical->solve();
+        if (thermal)
+          thermal_report = thermal->solve();
+        coupling_report.iterations = 1;
+        return;
+      }
+    if (prm.elasticity_depends_on_phase())
+      {
+        std::vector<std::vector<double>> weights;
+        thermal->cell_phase_weights(weights);
+        coupling_report.reassembled_cells = mechanical->set_phase_weights(weights);
+      }
+    const bool fixed_point =
+      prm.coupling.scheme == Parameters::Coupling::Scheme::fixed_point && prm.coupling_active();
+    const Vector u_start(mechanical->get_displacement()), theta_start(thermal->get_temperature());
+    Vector       u_last(u_start), theta_last(theta_start);
+    unsigned int contact_iterations = 0, active_set_iterations = 0;
+    for (unsigned int it = 1;; ++it)
+      {
+        exchange_temperature();
+        contact_report = mechanical->solve();
+        exchange_thermoelastic_work();
+        thermal_report = thermal->solve();
+        contact_iterations += contact_report.iterations;
+        active_set_iterations += thermal_report.active_set_iterations;
+        coupling_report.iterations = it;
+        if (!fixed_point)
+          break;
+
+        const Vector &u = mechanical->get_displacement(), &theta = thermal->get_temperature();
+        const double  eps            = round_off_factor * std::numeric_limits<double>::epsilon();
+        coupling_report.change_u     = max_difference(u, u_last);
+        coupling_report.change_theta = max_difference(theta, theta_last);
+        const bool converged =
+          coupling_report.change_u <=
+            prm.coupling.fixed_point_tolerance * max_difference(u, u_start) + eps * max_abs(u) &&
+          coupling_report.change_theta <=
+            prm.coupling.fixed_point_tolerance * max_difference(theta, theta_start) +
+              eps * max_abs(theta);
+        if (prm.output.verbosity >= 1)
+          pcout << "      coupling " << it << ": max change of u " << coupling_report.change_u
+                << ", of Theta " << coupling_report.change_theta << std::endl;
+        if (converged)
+          break;
+        if (it == prm.coupling.max_fixed_point_iterations)
+          throw std::runtime_error(
+            "the fixed-point coupling did not converge in 'Coupling/Max fixed-point "
+            "iterations' = " +
+            std::to_string(it) + " at t = " + number(time) + " (last changes: u " +
+            number(coupling_report.change_u) + ", Theta " + number(coupling_report.change_theta) +
+            "; the lag contracts by about gamma/rho c = " + number(thermal->coupling_strength()) +
+            " per iteration)");
+        u_last     = u;
+        theta_last = theta;
+      }
+    // The step's work: all passes together.
+    contact_report.iterations            = contact_iterations;
+    thermal_report.active_set_iterations = active_set_iterations;
+  }
+
+
+
+  template <int dim>
+  std::string CoupledProblem<dim>::describe_coupling() const
+  {
+    if (!(thermal && mechanical))
+      return "Coupling: off (one physics only)";
+    std::string text = "Coupling: ";
+    if (!prm.coupling_active())
+      text += "no thermal expansion in any body (or both directions off): nothing exchanged, "
+              "no coupling terms assembled";
+    else
+      {
+        text += std::string("thermal stress ") +
+                (prm.thermal_stress_active() ? "on" : "off (skipped)") +
+                ", thermoelastic heating " +
+                (prm.thermoelastic_heating_active() ?
+                   "on (gamma/rho c <= " + number(thermal->coupling_strength()) + ")" :
+                   std::string("off (skipped)")) +
+                "; " +
+                (prm.coupling.scheme == Parameters::Coupling::Scheme::fixed_point ?
+                   "fixed-point iterations to a tolerance of " +
+                     number(prm.coupling.fixed_point_tolerance) :
+                   std::string("staggered (one pass per step)"));
+      }
+    text += std::string("; stiffness ") +
+            (prm.elasticity_depends_on_phase() ?
+               "depends on the phase (re-assembled where the phases change)" :
+               "independent of the phase (assembled once)");
+    return text;
+  }
+
+
+
   // One line per step: step, t, tau, progress, the work of both steps, the wall
   // time so far and an estimate of the time left.
   template <int dim>
   void CoupledProblem<dim>::print_step_line(const EnthalpyStepReport &thermal_report,
-                                            const ContactStepReport  &contact_report) const
+                                            const ContactStepReport  &contact_report,
+                                            const CouplingReport     &coupling_report) const
   {
     const double done    = (time - prm.time.start_time) / (prm.time.end_time - prm.time.start_time);
     const double elapsed = wall_clock.wall_time();
@@ -137,6 +305,11 @@ namespace ContactStefan
                               "  contact %2u (%u active)",
                               contact_report.iterations,
                               contact_report.active_nodes);
+    if (thermal && mechanical && prm.coupling.scheme == Parameters::Coupling::Scheme::fixed_point)
+      length += std::snprintf(line + length,
+                              sizeof(line) - length,
+                              "  coupling %2u",
+                              coupling_report.iterations);
     if (thermal)
       length += std::snprintf(line + length,
                               sizeof(line) - length,

@@ -54,7 +54,8 @@ namespace ContactStefan
           local_matrix = cell_conductivity[c];
           local_matrix *= time_step;
           for (unsigned int i = 0; i < n; ++i)
-            local_rhs(i) = functions.heat_load_present() ? time_step * cell_load[c](i) : 0.;
+            local_rhs(i) = (functions.heat_load_present() ? time_step * cell_load[c](i) : 0.) -
+                           (heating ? cell_heating[c](i) : 0.);
           if (assemble_matrix)
             constraints.distribute_local_to_global(
               local_matrix, local_rhs, dofs, system_matrix, system_rhs);
@@ -153,10 +154,26 @@ namespace ContactStefan
     nodal_diagonal.compress(VectorOperation::insert);
     nodal_rhs.compress(VectorOperation::insert);
 
-    assemble_system(true);
+    // The matrix tau A + diag(m d) with these constraints: unchanged (same
+    // tau, conductivity, constraint pattern and diagonal; a scene without
+    // phase change, a front that stays put) it is neither re-assembled nor
+    // re-factorised.
+    const std::uint64_t signature = Fingerprint::mix(
+      Fingerprint::constraints(constraints, owned, false, mpi_communicator) +
+      Fingerprint::mix(Fingerprint::vector(nodal_diagonal) +
+                       Fingerprint::mix(Fingerprint::bits(time_step) + conductivity_version)));
+    const bool factorise = !(have_factorisation && signature == factorisation_signature);
+    assemble_system(factorise);
+    if (factorise)
+      {
+        TimerOutput::Scope t(timer, "enthalpy step: factorise");
+        linear_solver.initialize(system_matrix);
+        have_factorisation      = true;
+        factorisation_signature = signature;
+        ++n_factorisations;
+      }
     {
       TimerOutput::Scope t(timer, "enthalpy step: linear solve");
-      linear_solver.initialize(system_matrix);
       linear_solver.solve(temperature, system_rhs);
       constraints.distribute(temperature);
     }
@@ -171,7 +188,7 @@ namespace ContactStefan
           h_new[dof] = law(dof).enthalpy(theta);
         else if (const LinearPiece p = piece_of(dof); p.fixed)
           h_new[dof] =
-            old_enthalpy[dof] + time_step * (heat_load[dof] - A_theta[dof]) / lumped_mass[dof];
+            old_enthalpy[dof] + (step_heat(dof) - time_step * A_theta[dof]) / lumped_mass[dof];
         else
           h_new[dof] = p.offset + p.capacity * theta;
       }
@@ -215,7 +232,11 @@ namespace ContactStefan
         nodal_rhs.compress(VectorOperation::insert);
         assemble_system(m == 1);
         if (m == 1)
-          linear_solver.initialize(system_matrix);
+          {
+            linear_solver.initialize(system_matrix);
+            have_factorisation = false; // not a matrix solve_for_pieces() can reuse
+            ++n_factorisations;
+          }
         linear_solver.solve(temperature, system_rhs);
         constraints.distribute(temperature);
 
@@ -240,9 +261,9 @@ namespace ContactStefan
             {
               const double stored = lumped_mass[dof] * (enthalpy[dof] - old_enthalpy[dof]);
               residual =
-                std::max(residual, std::abs(stored + time_step * (A_theta[dof] - heat_load[dof])));
+                std::max(residual, std::abs(stored + time_step * A_theta[dof] - step_heat(dof)));
               scale = std::max(scale,
-                               std::abs(stored) +
+                               std::abs(stored) + std::abs(coupling_heat[dof]) +
                                  time_step * (std::abs(heat_load[dof]) + A_abs_theta[dof]));
             }
         residual = Utilities::MPI::max(residual, mpi_communicator);
@@ -282,7 +303,7 @@ namespace ContactStefan
         if (hanging_node_constraints.is_constrained(dof))
           continue;
         const double stored = lumped_mass[dof] * (enthalpy[dof] - old_enthalpy[dof]);
-        const double r      = stored + time_step * (A_theta[dof] - heat_load[dof]);
+        const double r      = stored + time_step * A_theta[dof] - step_heat(dof);
         if (!dirichlet_constraints.is_constrained(dof))
           {
             free_sum += std::abs(r);
@@ -305,7 +326,8 @@ namespace ContactStefan
           }
         else
           scale += std::abs(r);
-        scale += std::abs(stored) + time_step * (std::abs(heat_load[dof]) + A_abs_theta[dof]);
+        scale += std::abs(stored) + std::abs(coupling_heat[dof]) +
+                 time_step * (std::abs(heat_load[dof]) + A_abs_theta[dof]);
       }
     free_sum     = Utilities::MPI::sum(free_sum, mpi_communicator);
     scale        = Utilities::MPI::sum(scale, mpi_communicator);
@@ -465,6 +487,7 @@ namespace ContactStefan
   EnthalpyStepReport ThermalField<dim>::solve()
   {
     EnthalpyStepReport report;
+    n_factorisations = 0;
     if (prm.solver.enthalpy_solver == Parameters::Solver::EnthalpySolver::relaxation)
       report.relaxation_iterations = relaxation_fallback();
     else if (!active_set_iteration(report))
@@ -478,7 +501,9 @@ namespace ContactStefan
           local_plateau += EnthalpyLaw::is_plateau(static_cast<unsigned int>(phase_state[dof]));
         report.plateau_nodes = Utilities::MPI::sum(local_plateau, mpi_communicator);
       }
-    report.energy_residual = compute_energy_balance(report.inconsistent_nodes);
+    report.energy_residual    = compute_energy_balance(report.inconsistent_nodes);
+    report.factorisations     = n_factorisations;
+    report.thermoelastic_heat = thermoelastic_heat();
     return report;
   }
 

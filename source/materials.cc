@@ -8,6 +8,95 @@ namespace ContactStefan
 {
   using Elasticity = Parameters::BodyMaterial::Elasticity;
 
+  namespace
+  {
+    // The isotropic plane-strain tensor of Lame constants lambda, mu.
+    SymmetricTensor<4, 2> isotropic_tensor(const double lambda, const double mu)
+    {
+      SymmetricTensor<4, 2> C;
+      for (unsigned int i = 0; i < 2; ++i)
+        for (unsigned int j = i; j < 2; ++j)
+          for (unsigned int k = 0; k < 2; ++k)
+            for (unsigned int l = k; l < 2; ++l)
+              C[i][j][k][l] = (i == j && k == l ? lambda : 0.) +
+                              mu * ((i == k && j == l ? 1. : 0.) + (i == l && j == k ? 1. : 0.));
+      return C;
+    }
+
+    // Lame constants of phase p (isotropic or lame data).
+    std::pair<double, double> lame_constants(const Parameters::BodyMaterial &m,
+                                             const unsigned int              p)
+    {
+      if (m.elasticity == Elasticity::lame)
+        return {m.lame_lambda, m.lame_mu};
+      const double E = m.youngs_moduli.at(p), nu = m.poisson_ratios.at(p);
+      return {E * nu / ((1 + nu) * (1 - 2 * nu)), E / (2 * (1 + nu))};
+    }
+  } // namespace
+
+
+
+  ElasticModuli elastic_moduli(const Parameters::BodyMaterial &m, const unsigned int p)
+  {
+    ElasticModuli         moduli;
+    SymmetricTensor<2, 2> alpha; // in-plane expansion tensor
+    double                alpha_zz = 0;
+    if (!m.expansion_tensor.empty())
+      {
+        alpha[0][0] = m.expansion_tensor[0];
+        alpha[0][1] = m.expansion_tensor[1];
+        alpha[1][1] = m.expansion_tensor[3];
+        alpha_zz    = m.expansion_tensor[4];
+      }
+    else
+      {
+        alpha[0][0] = alpha[1][1] = alpha_zz = m.thermal_expansions.at(p);
+      }
+    if (m.elasticity == Elasticity::anisotropic)
+      {
+        moduli.C = elasticity_tensor(m);
+        // C_xxzz is unknown in 2D: sigma_zz carries no elastic or thermal part.
+        moduli.beta = moduli.C * alpha;
+      }
+    else
+      {
+        const auto [lambda, mu] = lame_constants(m, p);
+        moduli.C                = isotropic_tensor(lambda, mu);
+        moduli.lambda_zz        = lambda;
+        // beta = C_3D : alpha_3D restricted to the plane, and its zz entry.
+        const double trace = alpha[0][0] + alpha[1][1] + alpha_zz;
+        moduli.beta        = 2 * mu * alpha;
+        moduli.beta[0][0] += lambda * trace;
+        moduli.beta[1][1] += lambda * trace;
+        moduli.beta_zz = lambda * trace + 2 * mu * alpha_zz;
+      }
+    if (!m.stress_tensor.empty())
+      {
+        moduli.beta[0][0] = m.stress_tensor[0];
+        moduli.beta[0][1] = m.stress_tensor[1];
+        moduli.beta[1][1] = m.stress_tensor[3];
+        moduli.beta_zz    = m.stress_tensor[4];
+      }
+    return moduli;
+  }
+
+
+
+  double ElasticModuli::free_expansion_capacity() const
+  {
+    return beta * (invert(C) * beta);
+  }
+
+
+
+  bool ElasticModuli::operator==(const ElasticModuli &other) const
+  {
+    return C == other.C && beta == other.beta && lambda_zz == other.lambda_zz &&
+           beta_zz == other.beta_zz;
+  }
+
+
+
   SymmetricTensor<4, 2> elasticity_tensor(const Parameters::BodyMaterial &m)
   {
     SymmetricTensor<4, 2> C;
@@ -88,6 +177,35 @@ namespace ContactStefan
     conductivities              = m.conductivities.size() == 1 ?
                                     std::vector<double>(n_phases, m.conductivities[0]) :
                                     m.conductivities;
+    for (unsigned int p = 0; p < n_phases; ++p)
+      phase_moduli.push_back(elastic_moduli(m, m.elasticity_depends_on_phase() ? p : 0));
+  }
+
+
+
+  bool Material::elasticity_depends_on_phase() const
+  {
+    for (const auto &moduli : phase_moduli)
+      if (!(moduli == phase_moduli[0]))
+        return true;
+    return false;
+  }
+
+
+
+  ElasticModuli Material::moduli(const std::vector<double> &weights) const
+  {
+    if (!elasticity_depends_on_phase())
+      return phase_moduli[0];
+    ElasticModuli mixture;
+    for (unsigned int p = 0; p < phase_moduli.size(); ++p)
+      {
+        mixture.C += weights[p] * phase_moduli[p].C;
+        mixture.beta += weights[p] * phase_moduli[p].beta;
+        mixture.lambda_zz += weights[p] * phase_moduli[p].lambda_zz;
+        mixture.beta_zz += weights[p] * phase_moduli[p].beta_zz;
+      }
+    return mixture;
   }
 
 
@@ -121,6 +239,22 @@ namespace ContactStefan
           }
         bool finite_elasticity = std::isfinite(material->plane_strain_modulus) &&
                                  std::isfinite(material->out_of_plane_lambda);
+        bool finite_beta = true;
+        for (const auto &moduli : material->phase_moduli)
+          {
+            finite_beta &= std::isfinite(moduli.beta_zz) && std::isfinite(moduli.lambda_zz);
+            for (unsigned int i = 0; i < 2; ++i)
+              for (unsigned int j = 0; j < 2; ++j)
+                {
+                  finite_beta &= std::isfinite(moduli.beta[i][j]);
+                  for (unsigned int k = 0; k < 2; ++k)
+                    for (unsigned int l = 0; l < 2; ++l)
+                      finite_elasticity &= std::isfinite(moduli.C[i][j][k][l]);
+                }
+          }
+        if (!finite_beta)
+          throw InputError(path + "Thermal expansion",
+                           "the thermal stress tensor it gives is not finite (overflow)");
         for (unsigned int i = 0; i < 2; ++i)
           for (unsigned int j = 0; j < 2; ++j)
             for (unsigned int k = 0; k < 2; ++k)
@@ -149,6 +283,16 @@ namespace ContactStefan
                                  "conductivity times anisotropy is not finite (overflow)");
         materials.emplace(id, *material);
       }
+  }
+
+
+
+  bool Materials::elasticity_depends_on_phase() const
+  {
+    for (const auto &[id, m] : materials)
+      if (m.elasticity_depends_on_phase())
+        return true;
+    return false;
   }
 
 

@@ -16,9 +16,9 @@ namespace ContactStefan
     class StressPostprocessor : public DataPostprocessor<dim>
     {
     public:
-      StressPostprocessor(const Materials                            &materials,
+      StressPostprocessor(const MechanicalField<dim>                 &field,
                           const std::map<unsigned int, unsigned int> &slots)
-        : materials(materials)
+        : field(field)
         , slot_of_body(slots)
       {}
 
@@ -26,7 +26,6 @@ namespace ContactStefan
                                  std::vector<dealii::Vector<double>> &computed) const override
       {
         const auto         cell = inputs.template get_cell<dim>();
-        const Material    &m    = materials[cell->material_id()];
         const unsigned int c0   = slot_of_body.at(cell->material_id()) * dim;
         for (unsigned int q = 0; q < computed.size(); ++q)
           {
@@ -35,15 +34,30 @@ namespace ContactStefan
               for (unsigned int j = i; j < dim; ++j)
                 strain[i][j] = 0.5 * (inputs.solution_gradients[q][c0 + i][j] +
                                       inputs.solution_gradients[q][c0 + j][i]);
-            const SymmetricTensor<2, dim> sigma = m.elasticity * strain;
-            // Plane strain: sigma_zz = lambda tr(e) (0 for anisotropic data).
-            const double szz = m.out_of_plane_lambda * trace(strain);
+            // The output points are the cell's vertices (no subdivisions), where
+            // the thermal part of the stress is known.
+            unsigned int vertex = 0;
+            for (unsigned int v = 1; v < 4; ++v)
+              if (cell->vertex(v).distance(inputs.evaluation_points[q]) <
+                  cell->vertex(vertex).distance(inputs.evaluation_points[q]))
+                vertex = v;
+            AssertThrow(cell->vertex(vertex).distance(inputs.evaluation_points[q]) <=
+                          1e-10 * cell->diameter(),
+                        ExcMessage("stress output expects the cell vertices as output points"));
+            // Plane strain: sigma_zz = lambda tr(e) - beta_zz (Theta - Theta_0)
+            // (no elastic part for anisotropic data).
+            const auto [sigma, szz] = field.stress(
+              typename DoFHandler<dim>::active_cell_iterator(
+                &cell->get_triangulation(), cell->level(), cell->index(), &field.get_dof_handler()),
+              vertex,
+              strain);
             const double sxx = sigma[0][0], syy = sigma[1][1], sxy = sigma[0][1];
             computed[q](0) = inputs.solution_values[q][c0];
             computed[q](1) = inputs.solution_values[q][c0 + 1];
             computed[q](2) = sxx;
             computed[q](3) = syy;
             computed[q](4) = sxy;
+            computed[q](6) = szz;
             computed[q](5) =
               std::sqrt(0.5 * ((sxx - syy) * (sxx - syy) + (syy - szz) * (syy - szz) +
                                (szz - sxx) * (szz - sxx)) +
@@ -52,23 +66,29 @@ namespace ContactStefan
       }
       std::vector<std::string> get_names() const override
       {
-        return {"displacement", "displacement", "stress_xx", "stress_yy", "stress_xy", "von_mises"};
+        return {"displacement",
+                "displacement",
+                "stress_xx",
+                "stress_yy",
+                "stress_xy",
+                "von_mises",
+                "stress_zz"};
       }
       std::vector<DataComponentInterpretation::DataComponentInterpretation>
       get_data_component_interpretation() const override
       {
         std::vector<DataComponentInterpretation::DataComponentInterpretation> i(
-          6, DataComponentInterpretation::component_is_scalar);
+          7, DataComponentInterpretation::component_is_scalar);
         i[0] = i[1] = DataComponentInterpretation::component_is_part_of_vector;
         return i;
       }
       UpdateFlags get_needed_update_flags() const override
       {
-        return update_values | update_gradients;
+        return update_values | update_gradients | update_quadrature_points;
       }
 
     private:
-      const Materials                            &materials;
+      const MechanicalField<dim>                 &field;
       const std::map<unsigned int, unsigned int> &slot_of_body;
     };
 
@@ -106,7 +126,7 @@ namespace ContactStefan
     const unsigned int n_slots = prm.body_ids.size();
     output_postprocessors.clear();
     output_postprocessors.push_back(
-      std::make_unique<StressPostprocessor<dim>>(materials, slot_of_body));
+      std::make_unique<StressPostprocessor<dim>>(*this, slot_of_body));
     output_postprocessors.push_back(std::make_unique<SlotSum<dim>>("contact_pressure", n_slots));
     output_postprocessors.push_back(std::make_unique<SlotSum<dim>>("contact_gap", n_slots));
     output_pressure.reinit(owned, relevant, mpi_communicator);

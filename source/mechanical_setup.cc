@@ -101,6 +101,8 @@ namespace ContactStefan
     , pcout(pcout)
     , dof_handler(triangulation)
     , linear_solver(prm.solver, prm.output.verbosity, pcout, "elasticity")
+    , coupled(prm.coupling_active())
+    , thermal_stress(prm.thermal_stress_active())
     , time(prm.time.start_time)
   {
     assert_two_dimensional<dim>();
@@ -156,7 +158,18 @@ namespace ContactStefan
                       &interface_active_ghosted,
                       &stiffness_diagonal})
       v->reinit(owned, relevant, mpi_communicator);
+    solved_rhs.reinit(owned, mpi_communicator);
     cell_load.assign(triangulation.n_active_cells(), dealii::Vector<double>());
+    cell_thermal_load.assign(triangulation.n_active_cells(), dealii::Vector<double>());
+    cell_theta_excess.assign(triangulation.n_active_cells(), {{0., 0., 0., 0.}});
+    // Until the thermal field says otherwise, each cell is in phase 0.
+    cell_moduli.assign(triangulation.n_active_cells(), ElasticModuli());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        cell_moduli[cell->active_cell_index()] =
+          materials[cell->material_id()].phase_moduli.front();
+    ++stiffness_version;
+    have_matrix = have_factorisation = have_solution = false;
 
     make_body_frames();
     assemble_cell_stiffness();
@@ -418,33 +431,87 @@ namespace ContactStefan
 
 
 
-  // The elasticity matrices K_K of all owned cells (assembled once per mesh; the
-  // material is linear) and the diagonal of K, which scales the complementarity
-  // constant per node.
+  // The elasticity matrices K_K of all owned cells (assembled once per mesh, and
+  // again for a cell whose phase mixture changed), the thermal operators B_K
+  // when the scene is coupled, Theta_0 at the vertices, and the diagonal of K,
+  // which scales the complementarity constant per node.
   template <int dim>
   void MechanicalField<dim>::assemble_cell_stiffness()
   {
-    const hp::QCollection<dim> quadrature(QGauss<dim>(2));
-    hp::FEValues<dim>          hp_fe_values(fe, quadrature, update_gradients | update_JxW_values);
+    const hp::QCollection<dim> gauss(QGauss<dim>(2));
+    const hp::QCollection<dim> vertex_rule(QTrapezoid<dim>{});
+    hp::FEValues<dim>          gauss_values(fe, gauss, update_gradients | update_JxW_values);
+    hp::FEValues<dim>          vertex_values(
+      fe, vertex_rule, update_gradients | update_JxW_values | update_quadrature_points);
     cell_stiffness.assign(triangulation.n_active_cells(), LocalMatrix());
+    cell_thermal_operator.assign(coupled ? triangulation.n_active_cells() : 0, LocalMatrix());
+    cell_reference.assign(coupled ? triangulation.n_active_cells() : 0, {{0., 0., 0., 0.}});
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          assemble_cell_operators(cell, gauss_values, vertex_values);
+          if (coupled)
+            for (unsigned int v = 0; v < 4; ++v)
+              cell_reference[cell->active_cell_index()][v] =
+                functions.reference_temperature().value(cell->vertex(v));
+        }
+    functions.check_finite_values(mpi_communicator);
+    update_stiffness_diagonal();
+  }
+
+
+
+  template <int dim>
+  void MechanicalField<dim>::assemble_cell_operators(
+    const typename DoFHandler<dim>::active_cell_iterator &cell,
+    hp::FEValues<dim>                                    &gauss_values,
+    hp::FEValues<dim>                                    &vertex_values)
+  {
+    const unsigned int               c = cell->active_cell_index();
+    const FEValuesExtractors::Vector u(slot_of_body.at(cell->material_id()) * dim);
+    const unsigned int               n      = cell->get_fe().n_dofs_per_cell();
+    const ElasticModuli             &moduli = cell_moduli[c];
+    gauss_values.reinit(cell);
+    const FEValues<dim> &fe_values = gauss_values.get_present_fe_values();
+    LocalMatrix         &K         = cell_stiffness[c];
+    K.reinit(n, n);
+    for (unsigned int q = 0; q < fe_values.n_quadrature_points; ++q)
+      for (unsigned int i = 0; i < n; ++i)
+        {
+          const SymmetricTensor<2, dim> sigma_i = moduli.C * fe_values[u].symmetric_gradient(i, q);
+          for (unsigned int j = 0; j < n; ++j)
+            K(i, j) += sigma_i * fe_values[u].symmetric_gradient(j, q) * fe_values.JxW(q);
+        }
+    if (!coupled)
+      return;
+    // B_K(i, v) = w_v beta_K : e(phi_i)(x_v), the trapezoidal rule: the same
+    // vertex weights as the thermal field's lumped mass, so that the heating
+    // operator is the transpose of the thermal-stress operator (times Theta_0)
+    // and a uniform strain heats every node in proportion to its mass.
+    vertex_values.reinit(cell);
+    const FEValues<dim> &fv = vertex_values.get_present_fe_values();
+    LocalMatrix         &B  = cell_thermal_operator[c];
+    B.reinit(n, 4);
+    for (unsigned int v = 0; v < 4; ++v)
+      {
+        Assert(fv.quadrature_point(v).distance(cell->vertex(v)) <= 1e-12 * cell->diameter(),
+               ExcInternalError());
+        for (unsigned int i = 0; i < n; ++i)
+          B(i, v) = moduli.beta * fv[u].symmetric_gradient(i, v) * fv.JxW(v);
+      }
+  }
+
+
+
+  template <int dim>
+  void MechanicalField<dim>::update_stiffness_diagonal()
+  {
     Vector diagonal(owned, mpi_communicator);
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
-          hp_fe_values.reinit(cell);
-          const FEValues<dim>             &fe_values = hp_fe_values.get_present_fe_values();
-          const FEValuesExtractors::Vector u(slot_of_body.at(cell->material_id()) * dim);
-          const unsigned int               n = cell->get_fe().n_dofs_per_cell();
-          LocalMatrix                     &K = cell_stiffness[cell->active_cell_index()];
-          K.reinit(n, n);
-          const SymmetricTensor<4, dim> &C = materials[cell->material_id()].elasticity;
-          for (unsigned int q = 0; q < fe_values.n_quadrature_points; ++q)
-            for (unsigned int i = 0; i < n; ++i)
-              {
-                const SymmetricTensor<2, dim> sigma_i = C * fe_values[u].symmetric_gradient(i, q);
-                for (unsigned int j = 0; j < n; ++j)
-                  K(i, j) += sigma_i * fe_values[u].symmetric_gradient(j, q) * fe_values.JxW(q);
-              }
+          const LocalMatrix                   &K = cell_stiffness[cell->active_cell_index()];
+          const unsigned int                   n = K.m();
           std::vector<types::global_dof_index> dofs(n);
           cell->get_dof_indices(dofs);
           dealii::Vector<double> d(n);

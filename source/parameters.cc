@@ -5,6 +5,7 @@
 #include <contact-stefan/neumann_solution.h>
 #include <contact-stefan/parameters.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -294,8 +295,16 @@ namespace ContactStefan
                         "How the elasticity tensor (plane strain) is given: 'isotropic' by "
                         "Youngs modulus and Poisson ratio, 'lame' by Lame lambda and mu, "
                         "'anisotropic' by the Elasticity tensor in Voigt form.");
-      prm.declare_entry("Youngs modulus", "1", Patterns::Double(), "E (Pa), > 0.");
-      prm.declare_entry("Poisson ratio", "0.3", Patterns::Double(), "nu, in (-1, 0.5).");
+      prm.declare_entry("Youngs modulus",
+                        "1",
+                        Patterns::Anything(),
+                        "E (Pa), > 0: one value, or one per phase (cold to hot) for a body "
+                        "whose melt is softer; a cell mixes its phases' values by the phase "
+                        "fractions of the previous time step.");
+      prm.declare_entry("Poisson ratio",
+                        "0.3",
+                        Patterns::Anything(),
+                        "nu, in (-1, 0.5): one value, or one per phase.");
       prm.declare_entry("Lame lambda", "1", Patterns::Double(), "lambda (Pa), > -2 mu / 3.");
       prm.declare_entry("Lame mu", "1", Patterns::Double(), "mu (Pa), > 0.");
       prm.declare_entry("Elasticity tensor",
@@ -309,8 +318,24 @@ namespace ContactStefan
                         "f_x; f_y (N/m^3), functions of x, y, t separated by ';'.");
       prm.declare_entry("Thermal expansion",
                         "0",
-                        Patterns::Double(),
-                        "Linear expansion coefficient alpha (1/K), >= 0.");
+                        Patterns::Anything(),
+                        "Isotropic linear expansion coefficient alpha (1/K): one value, or one "
+                        "per phase. The thermal stress tensor is beta = (3 lambda + 2 mu) alpha I "
+                        "(plane strain; Elasticity = isotropic or lame). Negative values "
+                        "(materials that shrink on heating) are allowed.");
+      prm.declare_entry("Thermal expansion tensor",
+                        "",
+                        Patterns::Anything(),
+                        "Empty, or alpha_xx, alpha_xy, alpha_yx, alpha_yy, alpha_zz (1/K), "
+                        "symmetric: an anisotropic expansion, beta = C : alpha (with alpha_zz "
+                        "through lambda for isotropic C; ignored for an anisotropic C, whose "
+                        "C_xxzz the 2D data does not give). Excludes Thermal expansion != 0.");
+      prm.declare_entry("Thermal stress tensor",
+                        "",
+                        Patterns::Anything(),
+                        "Empty, or beta_xx, beta_xy, beta_yx, beta_yy, beta_zz (Pa/K), "
+                        "symmetric: the thermal stress tensor itself (beta_zz only enters "
+                        "sigma_zz). Excludes the other two thermal expansion entries.");
 
       prm.enter_subsection("Phase change");
       prm.declare_entry("Transition temperatures",
@@ -352,29 +377,42 @@ namespace ContactStefan
       elasticity          = e == "isotropic" ? Elasticity::isotropic :
                             e == "lame"      ? Elasticity::lame :
                                                Elasticity::anisotropic;
-      youngs_modulus      = get_finite(prm, path + "/", "Youngs modulus");
-      poisson_ratio       = get_finite(prm, path + "/", "Poisson ratio");
+      youngs_moduli       = parse_doubles(prm.get("Youngs modulus"), path + "/Youngs modulus");
+      poisson_ratios      = parse_doubles(prm.get("Poisson ratio"), path + "/Poisson ratio");
       lame_lambda         = get_finite(prm, path + "/", "Lame lambda");
       lame_mu             = get_finite(prm, path + "/", "Lame mu");
-      thermal_expansion   = get_finite(prm, path + "/", "Thermal expansion");
-      voigt = parse_doubles(prm.get("Elasticity tensor"), path + "/Elasticity tensor");
+      thermal_expansions = parse_doubles(prm.get("Thermal expansion"), path + "/Thermal expansion");
+      for (const auto &[entry, list] : {std::make_pair("Youngs modulus", &youngs_moduli),
+                                        std::make_pair("Poisson ratio", &poisson_ratios),
+                                        std::make_pair("Thermal expansion", &thermal_expansions)})
+        require(!list->empty(), path + "/" + entry, "needs a value");
+      youngs_modulus    = youngs_moduli[0];
+      poisson_ratio     = poisson_ratios[0];
+      thermal_expansion = thermal_expansions[0];
+      voigt             = parse_doubles(prm.get("Elasticity tensor"), path + "/Elasticity tensor");
       if (elasticity == Elasticity::isotropic)
         {
-          require(youngs_modulus > 0,
-                  path + "/Youngs modulus",
-                  "must be > 0, got " + str(youngs_modulus));
-          require(poisson_ratio > -1 && poisson_ratio < 0.5,
-                  path + "/Poisson ratio",
-                  "must lie in (-1, 0.5), got " + str(poisson_ratio));
+          for (const double E : youngs_moduli)
+            require(E > 0, path + "/Youngs modulus", "must be > 0, got " + str(E));
+          for (const double nu : poisson_ratios)
+            require(nu > -1 && nu < 0.5,
+                    path + "/Poisson ratio",
+                    "must lie in (-1, 0.5), got " + str(nu));
         }
-      else if (elasticity == Elasticity::lame)
+      else
+        for (const auto &[entry, list] : {std::make_pair("Youngs modulus", &youngs_moduli),
+                                          std::make_pair("Poisson ratio", &poisson_ratios)})
+          require(list->size() == 1,
+                  path + "/" + entry,
+                  "one value per phase needs Elasticity = isotropic");
+      if (elasticity == Elasticity::lame)
         {
           require(lame_mu > 0, path + "/Lame mu", "must be > 0, got " + str(lame_mu));
           require(lame_lambda > -2 * lame_mu / 3,
                   path + "/Lame lambda",
                   "must exceed -2 mu / 3, got " + str(lame_lambda));
         }
-      else
+      else if (elasticity == Elasticity::anisotropic)
         {
           require(voigt.size() == 6,
                   path + "/Elasticity tensor",
@@ -388,7 +426,36 @@ namespace ContactStefan
                   path + "/Elasticity tensor",
                   "must be positive definite");
         }
-      require(thermal_expansion >= 0, path + "/Thermal expansion", "must be >= 0");
+      for (const auto &[entry, list] :
+           {std::make_pair("Thermal expansion tensor", &expansion_tensor),
+            std::make_pair("Thermal stress tensor", &stress_tensor)})
+        {
+          const std::string text = prm.get(entry);
+          *list = text.empty() ? std::vector<double>() : parse_doubles(text, path + "/" + entry);
+          if (list->empty())
+            continue;
+          require(list->size() == 5,
+                  path + "/" + entry,
+                  "needs five values xx, xy, yx, yy, zz, got " + std::to_string(list->size()));
+          const double size = std::max({std::abs((*list)[0]),
+                                        std::abs((*list)[1]),
+                                        std::abs((*list)[2]),
+                                        std::abs((*list)[3])});
+          require(std::abs((*list)[1] - (*list)[2]) <= 1e-12 * size,
+                  path + "/" + entry,
+                  "must be symmetric: xy = " + str((*list)[1]) + " but yx = " + str((*list)[2]));
+        }
+      const bool scalar_alpha = std::any_of(thermal_expansions.begin(),
+                                            thermal_expansions.end(),
+                                            [](const double a) { return a != 0; });
+      require(int(scalar_alpha) + int(!expansion_tensor.empty()) + int(!stress_tensor.empty()) <= 1,
+              path + "/Thermal stress tensor",
+              "give the thermal data once: Thermal expansion, Thermal expansion tensor or "
+              "Thermal stress tensor");
+      require(!scalar_alpha || elasticity != Elasticity::anisotropic,
+              path + "/Thermal expansion",
+              "an anisotropic elasticity tensor needs Thermal expansion tensor or Thermal "
+              "stress tensor (its C_xxzz is not known in 2D)");
       const auto f = Utilities::split_string_list(prm.get("Body force"), ';');
       require(f.size() == 2, path + "/Body force", "needs two functions separated by ';'");
       for (unsigned int d = 0; d < 2; ++d)
@@ -427,6 +494,34 @@ namespace ContactStefan
       require(conductivities.size() == 1 || conductivities.size() == n + 1,
               path + "/Conductivities",
               "needs one value per phase (" + std::to_string(n + 1) + ") or a single value");
+      for (const auto &[entry, list] : {std::make_pair("Youngs modulus", &youngs_moduli),
+                                        std::make_pair("Poisson ratio", &poisson_ratios),
+                                        std::make_pair("Thermal expansion", &thermal_expansions)})
+        {
+          if (list->size() == 1)
+            list->assign(n + 1, list->front());
+          require(list->size() == n + 1,
+                  path + "/" + entry,
+                  "needs one value per phase (" + std::to_string(n + 1) + ") or a single value");
+        }
+    }
+
+    bool BodyMaterial::elasticity_depends_on_phase() const
+    {
+      for (const auto *list : {&youngs_moduli, &poisson_ratios, &thermal_expansions})
+        for (const double v : *list)
+          if (v != list->front())
+            return true;
+      return false;
+    }
+
+    bool BodyMaterial::has_thermal_stress() const
+    {
+      for (const auto *list : {&thermal_expansions, &expansion_tensor, &stress_tensor})
+        for (const double v : *list)
+          if (v != 0)
+            return true;
+      return false;
     }
 
     void ThermalBoundary::declare(ParameterHandler &prm)
@@ -579,6 +674,84 @@ namespace ContactStefan
 
 
 
+    void Coupling::declare(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Coupling");
+      prm.declare_entry("Thermal stress",
+                        "true",
+                        Patterns::Bool(),
+                        "The thermal stress beta (Theta - Theta_0) loads the contact step "
+                        "(needs both physics and some body with thermal expansion).");
+      prm.declare_entry("Thermoelastic heating",
+                        "true",
+                        Patterns::Bool(),
+                        "The heating Theta_0 beta : e(du/dt) enters the enthalpy step, "
+                        "with the absolute Theta_0 (see Temperature scale).");
+      prm.declare_entry("Reference temperature",
+                        "0",
+                        Patterns::Anything(),
+                        "Theta_0(x, y): the stress-free temperature, in the scene's "
+                        "temperature unit (a function of x and y; t is its start value).");
+      prm.declare_entry("Temperature scale",
+                        "unspecified",
+                        Patterns::Selection("unspecified|kelvin|celsius|dimensionless"),
+                        "What the scene's temperatures are. The heating coefficient needs the "
+                        "absolute Theta_0: kelvin and dimensionless use Theta_0 as it is, "
+                        "celsius uses Theta_0 + 273.15. A scene with thermoelastic heating "
+                        "must say which ('unspecified' is refused there), and the absolute "
+                        "Theta_0 must be > 0 everywhere; in kelvin no temperature may be "
+                        "negative.");
+      prm.declare_entry("Scheme",
+                        "staggered",
+                        Patterns::Selection("staggered|fixed point"),
+                        "'staggered': the semi-implicit step of Nedoma & Dvorak (contact "
+                        "step with Theta^k, then the enthalpy step with u^(k+1)). 'fixed "
+                        "point': repeat both within the step until u and Theta stop changing "
+                        "(the fully implicit coupled step).");
+      prm.declare_entry("Fixed-point tolerance",
+                        "1e-10",
+                        Patterns::Double(0),
+                        "Fixed point: stop when the max-norm change of u and of Theta in one "
+                        "iteration is at most this times their change over the time step "
+                        "(plus round-off).");
+      prm.declare_entry("Max fixed-point iterations",
+                        "50",
+                        Patterns::Integer(1),
+                        "Fixed point: a step that needs more stops the run with an error.");
+      prm.declare_entry("Minimum stiffness ratio",
+                        "1e-6",
+                        Patterns::Double(0),
+                        "Each phase's Youngs modulus must be at least this fraction of the "
+                        "largest one of its body, in (0, 1]: a nearly liquid body stays an "
+                        "elastic body held by its own supports, and the elastic problem stays "
+                        "nonsingular.");
+      prm.leave_subsection();
+    }
+
+    void Coupling::parse(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Coupling");
+      thermal_stress        = prm.get_bool("Thermal stress");
+      thermoelastic_heating = prm.get_bool("Thermoelastic heating");
+      reference_temperature = prm.get("Reference temperature");
+      const std::string t   = prm.get("Temperature scale");
+      temperature_scale     = t == "kelvin"        ? TemperatureScale::kelvin :
+                              t == "celsius"       ? TemperatureScale::celsius :
+                              t == "dimensionless" ? TemperatureScale::dimensionless :
+                                                     TemperatureScale::unspecified;
+      scheme = prm.get("Scheme") == "fixed point" ? Scheme::fixed_point : Scheme::staggered;
+      fixed_point_tolerance      = get_finite(prm, "Coupling/", "Fixed-point tolerance");
+      max_fixed_point_iterations = prm.get_integer("Max fixed-point iterations");
+      min_stiffness_ratio        = get_finite(prm, "Coupling/", "Minimum stiffness ratio");
+      prm.leave_subsection();
+      check_function(reference_temperature, "Coupling/Reference temperature", false);
+      require(min_stiffness_ratio > 0 && min_stiffness_ratio <= 1,
+              "Coupling/Minimum stiffness ratio",
+              "must lie in (0, 1], got " + str(min_stiffness_ratio));
+    }
+
+
+
     void Physics::declare(ParameterHandler &prm)
     {
       prm.enter_subsection("Physics");
@@ -673,27 +846,50 @@ namespace ContactStefan
                         Patterns::Double(),
                         "T_S, at or below the lowest transition temperature.");
       prm.declare_entry("Origin", "0", Patterns::Double(), "x coordinate of the hot wall.");
+      prm.declare_entry("Stress",
+                        "",
+                        Patterns::Anything(),
+                        "Empty, or the exact stress sigma_xx; sigma_yy; sigma_xy; sigma_zz "
+                        "(Pa, functions of x, y, t; thermal part included): the run reports "
+                        "the stress error at every step (any Type).");
+      prm.declare_entry("Contact pressure",
+                        "",
+                        Patterns::Anything(),
+                        "Empty, or the exact contact pressure on every obstacle and "
+                        "interface node (Pa, function of x, y, t; 0 where open): the run "
+                        "reports the pressure error at every step (any Type).");
       prm.leave_subsection();
     }
 
     void ExactSolution::parse(ParameterHandler &prm)
     {
       prm.enter_subsection("Exact solution");
-      type_name          = prm.get("Type");
-      type               = type_name == "neumann"     ? Type::neumann :
-                           type_name == "function"    ? Type::function :
-                           type_name == "equilibrium" ? Type::equilibrium :
-                           type_name == "hertz"       ? Type::hertz :
-                           type_name == "patch"       ? Type::patch :
-                                                        Type::none;
-      function           = prm.get("Function");
-      body               = prm.get_integer("Body");
-      hot_temperature    = get_finite(prm, "Exact solution/", "Hot temperature");
-      cold_temperature   = get_finite(prm, "Exact solution/", "Cold temperature");
-      origin             = get_finite(prm, "Exact solution/", "Origin");
-      cylinder_radius    = get_finite(prm, "Exact solution/", "Cylinder radius");
-      patch_displacement = get_finite(prm, "Exact solution/", "Patch displacement");
+      type_name               = prm.get("Type");
+      type                    = type_name == "neumann"     ? Type::neumann :
+                                type_name == "function"    ? Type::function :
+                                type_name == "equilibrium" ? Type::equilibrium :
+                                type_name == "hertz"       ? Type::hertz :
+                                type_name == "patch"       ? Type::patch :
+                                                             Type::none;
+      function                = prm.get("Function");
+      body                    = prm.get_integer("Body");
+      hot_temperature         = get_finite(prm, "Exact solution/", "Hot temperature");
+      cold_temperature        = get_finite(prm, "Exact solution/", "Cold temperature");
+      origin                  = get_finite(prm, "Exact solution/", "Origin");
+      cylinder_radius         = get_finite(prm, "Exact solution/", "Cylinder radius");
+      patch_displacement      = get_finite(prm, "Exact solution/", "Patch displacement");
+      const std::string sigma = prm.get("Stress");
+      stress =
+        sigma.empty() ? std::vector<std::string>() : Utilities::split_string_list(sigma, ';');
+      contact_pressure = prm.get("Contact pressure");
       prm.leave_subsection();
+      require(stress.empty() || stress.size() == 4,
+              "Exact solution/Stress",
+              "needs four functions sigma_xx; sigma_yy; sigma_xy; sigma_zz");
+      for (const auto &f : stress)
+        check_function(f, "Exact solution/Stress", false);
+      if (!contact_pressure.empty())
+        check_function(contact_pressure, "Exact solution/Contact pressure", false);
     }
 
 
@@ -951,6 +1147,7 @@ namespace ContactStefan
   {
     Parameters::Physics::declare(prm);
     Parameters::Contact::declare(prm);
+    Parameters::Coupling::declare(prm);
     Parameters::Geometry::declare(prm);
 
     prm.enter_subsection("Bodies");
@@ -1137,6 +1334,7 @@ namespace ContactStefan
     prm.leave_subsection();
     physics.parse(prm);
     contact.parse(prm);
+    coupling.parse(prm);
 
     initial_condition.parse(prm);
     check_function(initial_condition.function, "Initial conditions/Function", exact);
@@ -1216,14 +1414,34 @@ namespace ContactStefan
                   "Materials/Body " + std::to_string(id) + "/Elasticity tensor",
                   "the '" + exact_solution.type_name + "' solution needs C16 = C26 = 0");
       }
-    // Thermal stress beta (Theta - Theta_0) enters the contact step with the
-    // coupling, which is not implemented yet: refuse data that would need it.
-    if (physics.thermal && physics.mechanics)
-      for (const auto &[id, m] : materials)
-        require(m.thermal_expansion == 0,
-                "Materials/Body " + std::to_string(id) + "/Thermal expansion",
-                "thermal stress (coupling of temperature and mechanics) is not implemented yet; "
-                "set it to 0 or switch one of Physics/Thermal, Physics/Mechanics off");
+    require((exact_solution.stress.empty() && exact_solution.contact_pressure.empty()) ||
+              physics.mechanics,
+            "Exact solution/Stress",
+            "an exact stress or contact pressure needs Physics/Mechanics = true");
+    // The coupling: what it needs of the temperature unit and of the phases.
+    if (thermoelastic_heating_active())
+      require(coupling.temperature_scale != Parameters::Coupling::TemperatureScale::unspecified,
+              "Coupling/Temperature scale",
+              "thermoelastic heating needs the absolute reference temperature: set kelvin, "
+              "celsius (Theta_0 + 273.15) or dimensionless");
+    for (const auto &[id, m] : materials)
+      {
+        const std::string path = "Materials/Body " + std::to_string(id) + "/";
+        if (m.elasticity_depends_on_phase())
+          require(physics.thermal && physics.mechanics,
+                  path + "Youngs modulus",
+                  "values per phase need both Physics/Thermal and Physics/Mechanics "
+                  "(the phases come from the temperature)");
+        const double E_max = *std::max_element(m.youngs_moduli.begin(), m.youngs_moduli.end());
+        for (unsigned int p = 0; p < m.youngs_moduli.size(); ++p)
+          require(m.youngs_moduli[p] >= coupling.min_stiffness_ratio * E_max,
+                  path + "Youngs modulus",
+                  "phase " + std::to_string(p) + " has " + str(m.youngs_moduli[p] / E_max) +
+                    " of the largest modulus, below 'Coupling/Minimum stiffness ratio' = " +
+                    str(coupling.min_stiffness_ratio) +
+                    " (a near-liquid phase must keep some stiffness: the elastic problem "
+                    "would be singular to round-off)");
+      }
     if (exact_solution.type == Exact::function)
       check_function(exact_solution.function, "Exact solution/Function", false);
     if (exact_solution.type == Exact::neumann)
@@ -1270,5 +1488,37 @@ namespace ContactStefan
                              std::string("no Neumann solution: ") + e.what());
           }
       }
+  }
+
+
+
+  bool AllParameters::thermal_stress_active() const
+  {
+    if (!(physics.thermal && physics.mechanics && coupling.thermal_stress))
+      return false;
+    for (const auto &[id, m] : materials)
+      if (m.has_thermal_stress())
+        return true;
+    return false;
+  }
+
+  bool AllParameters::thermoelastic_heating_active() const
+  {
+    if (!(physics.thermal && physics.mechanics && coupling.thermoelastic_heating))
+      return false;
+    for (const auto &[id, m] : materials)
+      if (m.has_thermal_stress())
+        return true;
+    return false;
+  }
+
+  bool AllParameters::elasticity_depends_on_phase() const
+  {
+    if (!(physics.thermal && physics.mechanics))
+      return false;
+    for (const auto &[id, m] : materials)
+      if (m.elasticity_depends_on_phase())
+        return true;
+    return false;
   }
 } // namespace ContactStefan

@@ -78,7 +78,10 @@ namespace ContactStefan
         initial_total_enthalpy = thermal->total_enthalpy();
         accumulate_errors(time, 0);
       }
-    write_statistics_row(0, time, EnthalpyStepReport(), ContactStepReport(), wall_time);
+    if (mechanical)
+      accumulate_mechanical_results(time, ContactStepReport());
+    write_statistics_row(
+      0, time, EnthalpyStepReport(), ContactStepReport(), CouplingReport(), wall_time);
     if (prm.output.vtu_interval > 0)
       output_vtu(0, time);
   }
@@ -92,10 +95,17 @@ namespace ContactStefan
                                     const bool                last_step,
                                     const EnthalpyStepReport &report,
                                     const ContactStepReport  &contact_report,
+                                    const CouplingReport     &coupling_report,
                                     const double              wall_time)
   {
+    total_coupling_iterations += coupling_report.iterations;
+    max_coupling_iterations = std::max(max_coupling_iterations, coupling_report.iterations);
+    reassembled_cells += coupling_report.reassembled_cells;
     if (mechanical)
       {
+        contact_factorisations += contact_report.factorisations;
+        reused_contact_steps += contact_report.reused;
+        accumulate_mechanical_results(time, contact_report);
         total_contact_iterations += contact_report.iterations;
         max_contact_iterations = std::max(max_contact_iterations, contact_report.iterations);
         if (step == 1)
@@ -111,9 +121,11 @@ namespace ContactStefan
         steps_with_fallback += (report.relaxation_iterations > 0);
         max_energy_residual = max_with_nan(max_energy_residual, report.energy_residual);
         inconsistent_enthalpy_nodes += report.inconsistent_nodes;
+        enthalpy_factorisations += report.factorisations;
+        total_thermoelastic_heat += report.thermoelastic_heat;
         accumulate_errors(time, time_step);
       }
-    write_statistics_row(step, time, report, contact_report, wall_time);
+    write_statistics_row(step, time, report, contact_report, coupling_report, wall_time);
     if (prm.output.vtu_interval > 0 && (step % prm.output.vtu_interval == 0 || last_step))
       output_vtu(step, time);
   }
@@ -167,16 +179,21 @@ namespace ContactStefan
                                                 const double              time,
                                                 const EnthalpyStepReport &report,
                                                 const ContactStepReport  &contact_report,
+                                                const CouplingReport     &coupling_report,
                                                 const double              wall_time) const
   {
-    const double area = thermal ? thermal->melt_area() : 0.;
+    const double area    = thermal ? thermal->melt_area() : 0.;
+    const bool   coupled = thermal && mechanical;
     // Every number of the row is the same on every rank: check them all
     // before any is written, so that no row with a NaN reaches the file.
-    std::vector<std::pair<std::string, double>> values{{"time", time},
-                                                       {"liquid_area", area},
-                                                       {"energy_residual", report.energy_residual},
-                                                       {"max_pressure",
-                                                        contact_report.max_pressure}};
+    std::vector<std::pair<std::string, double>> values{
+      {"time", time},
+      {"liquid_area", area},
+      {"energy_residual", report.energy_residual},
+      {"max_pressure", contact_report.max_pressure},
+      {"thermoelastic_heat", report.thermoelastic_heat},
+      {"elastic_energy", elastic_energy},
+      {"contact_work", total_contact_work}};
     for (const auto &[group, force] : contact_report.forces)
       values.emplace_back("force of " + group, force);
     for (const auto &[name, value] : values)
@@ -199,6 +216,8 @@ namespace ContactStefan
         if (thermal)
           out << " dofs pdas_iterations state_changes damped_steps fallback_iterations "
                  "plateau_nodes liquid_area energy_residual";
+        if (coupled)
+          out << " coupling_iterations thermoelastic_heat restiffened_cells";
         if (mechanical)
           {
             out << " displacement_dofs contact_iterations active_nodes";
@@ -207,7 +226,7 @@ namespace ContactStefan
                 std::replace(group.begin(), group.end(), ' ', '_');
                 out << " force_" << group;
               }
-            out << " max_pressure";
+            out << " max_pressure elastic_energy contact_work";
           }
         out << " wall_time\n";
       }
@@ -223,6 +242,12 @@ namespace ContactStefan
         add("%u", report.plateau_nodes);
         add("%.10e", area);
         add("%.2e", report.energy_residual);
+        if (coupled)
+          {
+            add("%u", coupling_report.iterations);
+            add("%.10e", report.thermoelastic_heat);
+            add("%u", coupling_report.reassembled_cells);
+          }
       }
     if (mechanical)
       {
@@ -232,6 +257,8 @@ namespace ContactStefan
         for (const auto &group : mechanical->get_contact_groups())
           add("%.10e", contact_report.forces.count(group) ? contact_report.forces.at(group) : 0.);
         add("%.10e", contact_report.max_pressure);
+        add("%.10e", elastic_energy);
+        add("%.10e", total_contact_work);
       }
     add("%.3f", wall_time);
     out << std::endl;
@@ -323,6 +350,9 @@ namespace ContactStefan
       print_thermal_results(n_steps, time);
     if (mechanical)
       print_mechanical_results(n_steps);
+    if (thermal && mechanical)
+      print_coupling_results(n_steps);
+    print_timer_calls();
     for (const auto &[name, value] : results)
       if (!std::isfinite(value))
         throw std::runtime_error("the result '" + name + "' is not finite (" +
@@ -343,6 +373,7 @@ namespace ContactStefan
                n_steps > 0 ? double(total_active_set_iterations) / n_steps : 0.);
     add_result("steps with relaxation fallback", steps_with_fallback);
     add_result("max energy-balance residual", max_energy_residual);
+    add_result("enthalpy matrix factorisations", enthalpy_factorisations);
     add_result("nodes with h outside H(Theta)", inconsistent_enthalpy_nodes);
     const double h = mesh_width();
     if (functions.exact_temperature())
@@ -416,6 +447,127 @@ namespace ContactStefan
 
 
 
+  // After each step (and at the start) with mechanics: the energy terms, the
+  // errors against an exact stress and contact pressure, and the opening of each
+  // contact group (the time its force reaches zero, from the last two loaded
+  // steps: exact while the force falls linearly, as in BENCHMARKS.md T4).
+  template <int dim>
+  void Postprocessor<dim>::accumulate_mechanical_results(const double             time,
+                                                         const ContactStepReport &contact_report)
+  {
+    TimerOutput::Scope t(timer, "statistics: mechanical");
+    elastic_energy = mechanical->elastic_energy();
+    total_contact_work += mechanical->contact_work();
+    for (const auto &[group, force] : contact_report.forces)
+      {
+        auto &history = loaded_force_history[group];
+        if (force > 0)
+          {
+            history.emplace_back(time, force);
+            if (history.size() > 2)
+              history.erase(history.begin());
+            opening_time.erase(group);
+          }
+        else if (history.size() == 2 && opening_time.count(group) == 0)
+          {
+            const auto [t0, f0] = history[0];
+            const auto [t1, f1] = history[1];
+            opening_time[group] = f0 > f1 ? t1 + f1 * (t1 - t0) / (f0 - f1) : t1;
+          }
+      }
+
+    if (Function<dim> *exact = functions.exact_stress())
+      {
+        exact->set_time(time);
+        double error2 = 0, norm2 = 0, thermal2 = 0;
+        mechanical->for_each_vertex_stress([&](const Point<dim>              &x,
+                                               const double                   w,
+                                               const SymmetricTensor<2, dim> &sigma,
+                                               const double                   szz,
+                                               const SymmetricTensor<2, dim> &thermal_part) {
+          const double e[4] = {sigma[0][0] - exact->value(x, 0),
+                               sigma[1][1] - exact->value(x, 1),
+                               sigma[0][1] - exact->value(x, 2),
+                               szz - exact->value(x, 3)};
+          error2 += w * (e[0] * e[0] + e[1] * e[1] + 2 * e[2] * e[2] + e[3] * e[3]);
+          norm2 += w * (std::pow(exact->value(x, 0), 2) + std::pow(exact->value(x, 1), 2) +
+                        2 * std::pow(exact->value(x, 2), 2) + std::pow(exact->value(x, 3), 2));
+          thermal2 += w * (thermal_part * thermal_part);
+        });
+        functions.check_finite_values(mpi_communicator);
+        error2             = Utilities::MPI::sum(error2, mpi_communicator);
+        norm2              = Utilities::MPI::sum(norm2, mpi_communicator);
+        thermal2           = Utilities::MPI::sum(thermal2, mpi_communicator);
+        const double scale = std::sqrt(norm2) + std::sqrt(thermal2);
+        max_stress_error   = max_with_nan(max_stress_error, std::sqrt(error2));
+        if (scale > 0)
+          max_relative_stress_error =
+            max_with_nan(max_relative_stress_error, std::sqrt(error2) / scale);
+      }
+    if (Function<dim> *exact = functions.exact_contact_pressure();
+        exact && time > prm.time.start_time)
+      {
+        exact->set_time(time);
+        double error = 0, size = 0;
+        for (const auto &c : mechanical->get_normal_conditions())
+          if (c.kind != NormalCondition::Kind::roller &&
+              mechanical->get_dof_handler().locally_owned_dofs().is_element(c.dofs_k[0]))
+            {
+              const double p = exact->value(c.position);
+              error          = max_with_nan(error, std::abs(mechanical->contact_pressure(c) - p));
+              size           = std::max(size, std::abs(p));
+            }
+        functions.check_finite_values(mpi_communicator);
+        max_pressure_error =
+          max_with_nan(max_pressure_error, global_max_with_nan(error, mpi_communicator));
+        max_exact_pressure =
+          std::max(max_exact_pressure, Utilities::MPI::max(size, mpi_communicator));
+      }
+  }
+
+
+
+  template <int dim>
+  void Postprocessor<dim>::print_coupling_results(const unsigned int n_steps) const
+  {
+    add_result("max coupling iterations", max_coupling_iterations);
+    add_result("mean coupling iterations",
+               n_steps > 0 ? double(total_coupling_iterations) / n_steps : 0.);
+    add_result("total thermoelastic heat", total_thermoelastic_heat);
+    add_result("cells re-stiffened for a phase change", reassembled_cells);
+  }
+
+
+
+  // How often each solver section ran: a part that a scene does not need must
+  // show zero calls (the tests check it).
+  template <int dim>
+  void Postprocessor<dim>::print_timer_calls() const
+  {
+    const auto                calls = timer.get_summary_data(TimerOutput::OutputData::n_calls);
+    std::vector<const char *> sections;
+    if (thermal)
+      sections.insert(sections.end(), {"enthalpy step: factorise", "enthalpy step: linear solve"});
+    if (mechanical)
+      sections.insert(sections.end(),
+                      {"contact step: assemble",
+                       "contact step: factorise",
+                       "contact step: linear solve"});
+    if (thermal && mechanical)
+      sections.insert(sections.end(),
+                      {"coupling: thermal stress load",
+                       "coupling: thermoelastic work",
+                       "coupling: thermoelastic heating",
+                       "coupling: phase-dependent stiffness"});
+    for (const char *section : sections)
+      {
+        const auto it = calls.find(section);
+        add_result(std::string("calls ") + section, it == calls.end() ? 0. : it->second);
+      }
+  }
+
+
+
   // Contact results; with an exact solution (Hertz, patch test) its errors.
   template <int dim>
   void Postprocessor<dim>::print_mechanical_results(const unsigned int n_steps) const
@@ -431,6 +583,40 @@ namespace ContactStefan
       add_result("contact force " + group, force);
     add_result("max contact pressure", last_contact_report.max_pressure);
     add_result("min contact pressure at active nodes", last_contact_report.min_active_pressure);
+    add_result("contact matrix factorisations", contact_factorisations);
+    add_result("contact steps reused (stationary data)", reused_contact_steps);
+    add_result("elastic energy", elastic_energy);
+    add_result("total contact work", total_contact_work);
+    for (const auto &[group, t] : opening_time)
+      add_result("opening time " + group, t);
+    if (functions.exact_stress())
+      {
+        add_result("max stress L2 error", max_stress_error);
+        add_result("max relative stress L2 error", max_relative_stress_error);
+      }
+    if (functions.exact_contact_pressure())
+      {
+        add_result("max contact pressure error", max_pressure_error);
+        add_result("max relative contact pressure error",
+                   max_exact_pressure > 0 ? max_pressure_error / max_exact_pressure : 0.);
+      }
+    if (!prm.exact_solution.contact_pressure.empty() || !opening_time.empty())
+      for (const auto &group : mechanical->get_contact_groups())
+        {
+          // Mean gap over the group's nodes at the end (0 where closed).
+          double       sum = 0;
+          unsigned int n   = 0;
+          for (const auto &c : mechanical->get_normal_conditions())
+            if (c.group == group &&
+                mechanical->get_dof_handler().locally_owned_dofs().is_element(c.dofs_k[0]))
+              {
+                sum += mechanical->contact_gap(c);
+                ++n;
+              }
+          sum = Utilities::MPI::sum(sum, mpi_communicator);
+          n   = Utilities::MPI::sum(n, mpi_communicator);
+          add_result("mean gap " + group, n > 0 ? sum / n : 0.);
+        }
 
     if (prm.exact_solution.type == ExactType::hertz)
       print_hertz_results();

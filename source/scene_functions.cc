@@ -172,6 +172,14 @@ namespace ContactStefan
                            (!is_zero_expression(bc.value[0]) || !is_zero_expression(bc.value[1]));
       }
     interface = checked(parse<dim>({prm.contact.interface_gap}), "Contact/Interface gap");
+    reference =
+      checked(parse<dim>({prm.coupling.reference_temperature}), "Coupling/Reference temperature");
+    reference->set_time(prm.time.start_time);
+    if (!prm.exact_solution.stress.empty())
+      stress = checked(parse<dim>(prm.exact_solution.stress), "Exact solution/Stress");
+    if (!prm.exact_solution.contact_pressure.empty())
+      pressure = checked(parse<dim>({prm.exact_solution.contact_pressure}),
+                         "Exact solution/Contact pressure");
   }
 
 

@@ -34,6 +34,7 @@ namespace ContactStefan
     , fe(1)
     , dof_handler(triangulation)
     , linear_solver(prm.solver, prm.output.verbosity, pcout, "enthalpy")
+    , heating(prm.thermoelastic_heating_active())
     , time(prm.time.start_time)
   {
     assert_two_dimensional<dim>();
@@ -75,8 +76,10 @@ namespace ContactStefan
                       &heat_load,
                       &phase_state,
                       &nodal_diagonal,
-                      &nodal_rhs})
+                      &nodal_rhs,
+                      &coupling_heat})
       v->reinit(owned, mpi_communicator);
+    have_factorisation = false;
     for (Vector *v : {&temperature_ghosted, &enthalpy_ghosted, &phase_state_ghosted})
       v->reinit(owned, relevant, mpi_communicator);
 
@@ -127,6 +130,161 @@ namespace ContactStefan
     setup_nodal_enthalpy_laws();
     support_points.clear();
     DoFTools::map_dofs_to_support_points(MappingQ1<dim>(), dof_handler, support_points);
+    setup_coupling();
+  }
+
+
+
+  // The absolute reference temperature at the vertices of each cell (the
+  // heating coefficient) and the coupling strength gamma / rho c of each body
+  // and phase; both refused where they make no sense, before any work.
+  template <int dim>
+  void ThermalField<dim>::setup_coupling()
+  {
+    cell_heating.assign(heating ? triangulation.n_active_cells() : 0, dealii::Vector<double>());
+    cell_absolute_reference.assign(heating ? triangulation.n_active_cells() : 0,
+                                   {{0., 0., 0., 0.}});
+    max_coupling_strength = 0;
+    if (!heating)
+      return;
+    const double offset = prm.coupling.absolute_offset();
+    std::string  bad_reference, bad_strength;
+    double       strength = 0;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const unsigned int c = cell->active_cell_index();
+          cell_heating[c].reinit(fe.n_dofs_per_cell());
+          double theta_max = 0;
+          for (unsigned int v = 0; v < 4; ++v)
+            {
+              const double theta0 = functions.reference_temperature().value(cell->vertex(v));
+              cell_absolute_reference[c][v] = theta0 + offset;
+              theta_max                     = std::max(theta_max, theta0 + offset);
+              if (!(theta0 + offset > 0) && bad_reference.empty())
+                bad_reference = "the absolute reference temperature Theta_0 + " + number(offset) +
+                                " = " + number(theta0 + offset) + " at (" +
+                                number(cell->vertex(v)[0]) + ", " + number(cell->vertex(v)[1]) +
+                                ") is not > 0 (see Coupling/Temperature scale)";
+            }
+          const Material &m = materials[cell->material_id()];
+          for (unsigned int p = 0; p < m.phase_moduli.size(); ++p)
+            {
+              const double gamma = theta_max * m.phase_moduli[p].free_expansion_capacity();
+              const double ratio = gamma / m.enthalpy_law.heat_capacity(p);
+              strength           = std::max(strength, ratio);
+              if (!(ratio < 1) && bad_strength.empty())
+                bad_strength =
+                  "parameter 'Materials/Body " + std::to_string(cell->material_id()) +
+                  "/Thermal expansion': in phase " + std::to_string(p) +
+                  " the heating term adds gamma = Theta_0 beta:C^-1:beta = " + number(gamma) +
+                  " to rho c = " + number(m.enthalpy_law.heat_capacity(p)) +
+                  " (gamma/rho c >= 1): the staggered and the fixed-point coupled "
+                  "steps both diverge (doc/coupling.md)";
+            }
+        }
+    functions.check_finite_values(mpi_communicator);
+    throw_collectively<InputError>(bad_reference.empty() ? "" :
+                                                           "parameter 'Coupling/Reference "
+                                                           "temperature': " +
+                                                             bad_reference,
+                                   mpi_communicator);
+    throw_collectively<InputError>(bad_strength, mpi_communicator);
+    max_coupling_strength = Utilities::MPI::max(strength, mpi_communicator);
+  }
+
+
+
+  template <int dim>
+  void ThermalField<dim>::cell_temperatures(VertexValues &theta) const
+  {
+    theta.assign(triangulation.n_active_cells(), {{0., 0., 0., 0.}});
+    std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          cell->get_dof_indices(dofs);
+          for (unsigned int v = 0; v < 4; ++v)
+            theta[cell->active_cell_index()][v] = temperature_ghosted[dofs[v]];
+        }
+  }
+
+
+
+  template <int dim>
+  void ThermalField<dim>::set_thermoelastic_work(const VertexValues &work)
+  {
+    if (!heating)
+      return;
+    TimerOutput::Scope                   t(timer, "coupling: thermoelastic heating");
+    std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+    coupling_heat = 0;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const unsigned int c = cell->active_cell_index();
+          for (unsigned int v = 0; v < 4; ++v)
+            cell_heating[c](v) = cell_absolute_reference[c][v] * work[c][v];
+          cell->get_dof_indices(dofs);
+          hanging_node_constraints.distribute_local_to_global(cell_heating[c], dofs, coupling_heat);
+        }
+    coupling_heat.compress(VectorOperation::add);
+  }
+
+
+
+  template <int dim>
+  double ThermalField<dim>::thermoelastic_heat() const
+  {
+    if (!heating)
+      return 0;
+    double sum = 0;
+    for (const auto dof : owned)
+      sum += coupling_heat[dof];
+    return Utilities::MPI::sum(sum, mpi_communicator);
+  }
+
+
+
+  template <int dim>
+  void ThermalField<dim>::phase_weights(const typename DoFHandler<dim>::active_cell_iterator &cell,
+                                        const Vector                                         &h,
+                                        std::vector<double> &weights) const
+  {
+    // Average over the cell's nodes of the share w_p of each phase p of this
+    // body's material at the node (a node shared with another body has a mixed
+    // law: its fraction through each of this body's transition temperatures).
+    const EnthalpyLaw                   &body_law = laws[law_of_body.at(cell->material_id())];
+    const unsigned int                   n        = fe.n_dofs_per_cell();
+    std::vector<types::global_dof_index> dofs(n);
+    cell->get_dof_indices(dofs);
+    weights.assign(body_law.n_transitions() + 1, 0.);
+    for (unsigned int i = 0; i < n; ++i)
+      {
+        const EnthalpyLaw &nodal = law(dofs[i]);
+        double             below = 1; // share not yet through transition j
+        for (unsigned int j = 0; j < body_law.n_transitions(); ++j)
+          {
+            const double through =
+              nodal.fraction_through_temperature(body_law.transition_temperature(j), h[dofs[i]]);
+            weights[j] += (below - through) / n;
+            below = through;
+          }
+        weights.back() += below / n;
+      }
+  }
+
+
+
+  template <int dim>
+  void ThermalField<dim>::cell_phase_weights(std::vector<std::vector<double>> &weights) const
+  {
+    weights.assign(triangulation.n_active_cells(), std::vector<double>());
+    Vector h_old(owned, relevant, mpi_communicator);
+    h_old = old_enthalpy;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        phase_weights(cell, h_old, weights[cell->active_cell_index()]);
   }
 
 
@@ -247,6 +405,23 @@ namespace ContactStefan
     functions.check_finite_values(mpi_communicator);
     set_nodal_state_from_enthalpy();
     assemble_cell_conductivities();
+    // A scene in kelvin has no negative temperature: one that has is most likely
+    // in degrees Celsius, and its heating coefficient would be wrong by 273 K.
+    if (heating && prm.coupling.temperature_scale == Parameters::Coupling::TemperatureScale::kelvin)
+      {
+        std::string message;
+        for (const auto dof : owned)
+          if (temperature[dof] < 0)
+            {
+              const auto &x = support_points.at(dof);
+              message       = "parameter 'Initial conditions/Function': the temperature " +
+                        number(temperature[dof]) + " at (" + number(x[0]) + ", " + number(x[1]) +
+                        ") is negative, but 'Coupling/Temperature scale' = kelvin (is the "
+                        "scene in celsius?)";
+              break;
+            }
+        throw_collectively<InputError>(message, mpi_communicator);
+      }
   }
 
 
@@ -275,6 +450,9 @@ namespace ContactStefan
     time               = t;
     time_step          = tau;
     old_enthalpy       = enthalpy;
+    coupling_heat      = 0; // until the contact step's work arrives
+    for (auto &g : cell_heating)
+      g = 0;
     if (materials.conductivity_depends_on_phase())
       assemble_cell_conductivities();
     assemble_heat_load();
@@ -320,11 +498,11 @@ namespace ContactStefan
   template <int dim>
   void ThermalField<dim>::assemble_cell_conductivities()
   {
-    TimerOutput::Scope                   t(timer, "assemble conductivity");
-    const unsigned int                   n = fe.n_dofs_per_cell();
-    std::vector<types::global_dof_index> dofs(n);
-    const bool                           mixed = materials.conductivity_depends_on_phase();
-    Vector                               h_old;
+    TimerOutput::Scope t(timer, "assemble conductivity");
+    ++conductivity_version;
+    const bool          mixed = materials.conductivity_depends_on_phase();
+    std::vector<double> weights;
+    Vector              h_old;
     if (mixed)
       {
         h_old.reinit(owned, relevant, mpi_communicator);
@@ -337,26 +515,10 @@ namespace ContactStefan
           double          k        = material.conductivity(0);
           if (mixed)
             {
-              // Average over the cell's nodes of sum_p w_p k_p, with w_p the share
-              // of phase p of this body's material at the node.
-              const EnthalpyLaw &body_law = laws[law_of_body.at(cell->material_id())];
-              cell->get_dof_indices(dofs);
+              phase_weights(cell, h_old, weights);
               k = 0;
-              for (unsigned int i = 0; i < n; ++i)
-                {
-                  const EnthalpyLaw &nodal = law(dofs[i]);
-                  const double       h     = h_old[dofs[i]];
-                  double             below = 1; // share still below transition j
-                  for (unsigned int j = 0; j < body_law.n_transitions(); ++j)
-                    {
-                      const double through =
-                        nodal.fraction_through_temperature(body_law.transition_temperature(j), h);
-                      k += (below - through) * material.conductivity(j);
-                      below = through;
-                    }
-                  k += below * material.conductivity(body_law.n_transitions());
-                }
-              k /= n;
+              for (unsigned int p = 0; p < weights.size(); ++p)
+                k += weights[p] * material.conductivity(p);
             }
           LocalMatrix &A = cell_conductivity[cell->active_cell_index()];
           A              = cell_shape_conductivity[cell->active_cell_index()];

@@ -2,13 +2,19 @@
 #ifndef contact_stefan_common_h
 #define contact_stefan_common_h
 
+#include <deal.II/base/index_set.h>
 #include <deal.II/base/mpi.h>
 
+#include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/trilinos_vector.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <iomanip>
 #include <limits>
+#include <sstream>
 #include <string>
 
 namespace ContactStefan
@@ -21,6 +27,15 @@ namespace ContactStefan
   // Tolerances at the level of floating-point round-off (not parameters): a
   // quantity computed from terms of size s is exact to round_off_factor * eps * s.
   constexpr double round_off_factor = 64;
+
+  // A number for a message: 6 significant digits in any magnitude
+  // (std::to_string prints 1e-9 as 0.000000).
+  inline std::string number(const double x)
+  {
+    std::ostringstream s;
+    s << std::setprecision(6) << x;
+    return s.str();
+  }
 
   // The larger of a and b, NaN if either is NaN. (std::max(0., NaN) is 0: a NaN
   // error would read as no error.)
@@ -66,6 +81,55 @@ namespace ContactStefan
     if (first != none)
       throw Exception(Utilities::MPI::broadcast(mpi_communicator, message, first));
   }
+
+  // Order-independent 64-bit fingerprints of what a matrix or a solve depends
+  // on, so that a field can tell "nothing changed" without keeping copies.
+  namespace Fingerprint
+  {
+    inline std::uint64_t mix(std::uint64_t key)
+    {
+      key ^= key >> 33;
+      key *= 0xff51afd7ed558ccdULL;
+      key ^= key >> 33;
+      key *= 0xc4ceb9fe1a85ec53ULL;
+      key ^= key >> 33;
+      return key;
+    }
+    inline std::uint64_t bits(const double value)
+    {
+      std::uint64_t b;
+      std::memcpy(&b, &value, sizeof b);
+      return b;
+    }
+    // The owned constraint lines: pattern and coefficients, with the
+    // inhomogeneities if asked. Collective; the same on every rank.
+    inline std::uint64_t constraints(const AffineConstraints<double> &constraints,
+                                     const IndexSet                  &owned,
+                                     const bool                       with_inhomogeneities,
+                                     const MPI_Comm                   mpi_communicator)
+    {
+      std::uint64_t local = 0;
+      for (const auto &line : constraints.get_lines())
+        if (owned.is_element(line.index))
+          {
+            std::uint64_t h = mix(line.index + 1);
+            for (const auto &[column, value] : line.entries)
+              h = mix(h ^ mix(column + 7)) + mix(bits(value));
+            if (with_inhomogeneities)
+              h = mix(h + bits(line.inhomogeneity));
+            local += h;
+          }
+      return Utilities::MPI::sum(local, mpi_communicator);
+    }
+    // The owned entries of a vector, bit for bit. Collective.
+    inline std::uint64_t vector(const Vector &v)
+    {
+      std::uint64_t local = 0;
+      for (const auto i : v.locally_owned_elements())
+        local += mix(mix(i + 3) + bits(v[i]));
+      return Utilities::MPI::sum(local, v.get_mpi_communicator());
+    }
+  } // namespace Fingerprint
 
   // The code is two-dimensional (plane strain): the contact normals, the
   // rigid-body modes (2 translations, 1 rotation), the Voigt form of C, the

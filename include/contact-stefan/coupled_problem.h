@@ -37,8 +37,19 @@ namespace ContactStefan
     void run();
 
   private:
-    void print_step_line(const EnthalpyStepReport &thermal_report,
-                         const ContactStepReport  &contact_report) const;
+    // One time step of both fields: staggered (contact step with Theta^k, then
+    // the enthalpy step with u^(k+1)) or with fixed-point iterations.
+    void coupled_step(EnthalpyStepReport &thermal_report,
+                      ContactStepReport  &contact_report,
+                      CouplingReport     &coupling_report);
+    // The data each field hands the other (doc/coupling.md).
+    void exchange_temperature();
+    void exchange_thermoelastic_work();
+    // A one-line summary of what the scene couples and what it skips.
+    std::string describe_coupling() const;
+    void        print_step_line(const EnthalpyStepReport &thermal_report,
+                                const ContactStepReport  &contact_report,
+                                const CouplingReport     &coupling_report) const;
 
     const AllParameters &prm;
     ConditionalOStream   pcout;

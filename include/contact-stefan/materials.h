@@ -30,6 +30,24 @@ namespace ContactStefan
   // The volumetric enthalpy law H(Theta) (density times the per-mass data).
   EnthalpyLaw enthalpy_law(const Parameters::BodyMaterial &m);
 
+  // The elastic and thermal-stress moduli of one phase, or of a cell's mixture of
+  // phases: sigma = C : e - beta (Theta - Theta_0) in the plane, and
+  // sigma_zz = lambda_zz tr(e) - beta_zz (Theta - Theta_0) (plane strain).
+  struct ElasticModuli
+  {
+    SymmetricTensor<4, 2> C;
+    SymmetricTensor<2, 2> beta;
+    double                lambda_zz = 0, beta_zz = 0;
+
+    // Theta_0 beta : C^{-1} : beta per unit Theta_0: the heat capacity that the
+    // heating term adds to a body free to expand (BENCHMARKS.md T3's gamma).
+    double free_expansion_capacity() const;
+    bool   operator==(const ElasticModuli &other) const;
+  };
+
+  // The moduli of phase p of a body (p < number of phases).
+  ElasticModuli elastic_moduli(const Parameters::BodyMaterial &m, const unsigned int phase);
+
   // One body's material, derived once.
   struct Material
   {
@@ -44,11 +62,17 @@ namespace ContactStefan
     Tensor<2, 2>        conductivity_shape; // K: kappa of phase p is k_p K
     std::vector<double> conductivities;     // k_p, one per phase
 
+    // One entry per phase (cold to hot), all equal when nothing depends on the phase.
+    std::vector<ElasticModuli> phase_moduli;
+
     double conductivity(const unsigned int phase) const
     {
       return conductivities[phase];
     }
     bool conductivity_depends_on_phase() const;
+    bool elasticity_depends_on_phase() const;
+    // sum_p w_p (C_p, beta_p, ...): the moduli of a mixture with phase weights w.
+    ElasticModuli moduli(const std::vector<double> &weights) const;
   };
 
   // Every body's material by body (material) id.
@@ -61,6 +85,7 @@ namespace ContactStefan
       return materials.at(body);
     }
     bool conductivity_depends_on_phase() const;
+    bool elasticity_depends_on_phase() const;
     bool phase_change_present() const;
 
   private:

@@ -50,6 +50,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <set>
@@ -63,9 +64,11 @@ namespace ContactStefan
   struct ContactStepReport
   {
     unsigned int iterations          = 0;
-    unsigned int active_nodes        = 0; // obstacle and interface nodes in contact
-    unsigned int changes             = 0; // summed over the iterations
-    unsigned int c_reductions        = 0; // cycling remedies applied
+    unsigned int active_nodes        = 0;     // obstacle and interface nodes in contact
+    unsigned int changes             = 0;     // summed over the iterations
+    unsigned int c_reductions        = 0;     // cycling remedies applied
+    unsigned int factorisations      = 0;     // matrices factorised (reused otherwise)
+    bool         reused              = false; // stationary data: the last solution stands
     double       max_pressure        = 0;
     double       min_active_pressure = 0; // over the nodes in contact (0 if none)
     // Total compressive normal force per obstacle boundary / interface.
@@ -116,6 +119,41 @@ namespace ContactStefan
     // Adds displacement, stresses, von Mises stress, contact pressure and gap.
     void add_output(DataOut<dim> &data_out) const;
 
+    // --- coupling (doc/coupling.md) -------------------------------------------------
+    // The exchange with the thermal field goes through per-cell vertex arrays
+    // indexed by active cell index (entries of locally owned cells only), so
+    // that neither field knows the other's DoFs. Vertex v of a cell is its v-th
+    // vertex, the v-th point of the trapezoidal rule and the v-th FE_Q(1) DoF.
+    using VertexValues = std::vector<std::array<double, 4>>;
+    // Phase weights of each cell (one per phase of its body), lagged: the
+    // stiffness and beta of cells whose mixture changed are re-assembled.
+    // Returns the number of cells re-assembled (over all ranks).
+    unsigned int set_phase_weights(const std::vector<std::vector<double>> &weights);
+    // Theta at the vertices: the thermal stress load of the next solve().
+    void set_cell_temperatures(const VertexValues &theta);
+    // The thermoelastic work per vertex, sum_i B_K(i, v) (u - u_old)_i with
+    // B_K(i, v) = w_v beta_K : e(phi_i)(x_v): times the absolute Theta_0(x_v) it
+    // is the heat that the step's strain increment takes out of node v.
+    void thermoelastic_work(VertexValues &work) const;
+    // Stored elastic energy 1/2 int sigma : C^{-1} : sigma (thermal part
+    // included), by the trapezoidal rule; collective.
+    double elastic_energy() const;
+    // Work of the contact forces on the bodies over the last step; collective.
+    double contact_work() const;
+    // sigma and sigma_zz at vertex v of an owned cell for the strain e there.
+    std::pair<SymmetricTensor<2, dim>, double>
+    stress(const typename DoFHandler<dim>::active_cell_iterator &cell,
+           const unsigned int                                    vertex,
+           const SymmetricTensor<2, dim>                        &strain) const;
+    // Visit every vertex of every owned cell with its trapezoidal weight, the
+    // computed stress there, sigma_zz and the thermal part -beta (Theta - Theta_0).
+    void
+    for_each_vertex_stress(const std::function<void(const Point<dim> &,
+                                                    double,
+                                                    const SymmetricTensor<2, dim> &,
+                                                    double,
+                                                    const SymmetricTensor<2, dim> &)> &visit) const;
+
     // --- queries ----------------------------------------------------------------
     const DoFHandler<dim> &get_dof_handler() const
     {
@@ -155,6 +193,11 @@ namespace ContactStefan
 
     // mechanical_setup.cc
     void assemble_cell_stiffness();
+    // K_K and (with coupling) B_K of one owned cell with its cell_moduli.
+    void assemble_cell_operators(const typename DoFHandler<dim>::active_cell_iterator &cell,
+                                 hp::FEValues<dim>                                    &gauss_values,
+                                 hp::FEValues<dim> &vertex_values);
+    void update_stiffness_diagonal();
     void find_normal_conditions();
     void make_body_frames();
     void make_sparsity_pattern();
@@ -162,11 +205,15 @@ namespace ContactStefan
     void make_fixed_constraints();
 
     // contact_step.cc
-    void          update_condition_gaps();
-    void          build_contact_constraints(unsigned int &n_skipped);
-    void          check_rigid_body_modes() const;
-    void          assemble_system();
-    void          solve_linear_system();
+    void update_condition_gaps();
+    void build_contact_constraints(unsigned int &n_skipped);
+    void check_rigid_body_modes() const;
+    void assemble_system(const bool with_matrix);
+    void solve_linear_system(const bool factorise);
+    // Hash of the constraint lines: their pattern and coefficients (what the
+    // matrix depends on), with inhomogeneities if asked; the same on every rank.
+    std::uint64_t constraints_hash(const bool with_inhomogeneities) const;
+    std::uint64_t gaps_hash() const;
     double        normal_displacement_jump(const NormalCondition &c) const;
     Vector       &active_flags(const NormalCondition &c);
     const Vector &active_flags_ghosted(const NormalCondition &c) const;
@@ -211,9 +258,25 @@ namespace ContactStefan
     Vector obstacle_active, obstacle_active_ghosted, interface_active, interface_active_ghosted;
     Vector pressure, gap;
 
-    // Per-cell operators by active cell index.
-    std::vector<LocalMatrix>            cell_stiffness;
-    std::vector<dealii::Vector<double>> cell_load;
+    // Per-cell operators by active cell index: the moduli of the cell's phase
+    // mixture, K_K, the mechanical load F_K; with coupling the thermal operator
+    // B_K (n x 4), Theta_0 and Theta - Theta_0 at the vertices and the thermal
+    // load B_K (Theta - Theta_0).
+    std::vector<ElasticModuli>          cell_moduli;
+    std::vector<LocalMatrix>            cell_stiffness, cell_thermal_operator;
+    std::vector<dealii::Vector<double>> cell_load, cell_thermal_load;
+    VertexValues                        cell_reference, cell_theta_excess;
+    const bool                          coupled, thermal_stress;
+
+    // Work skipped when its inputs did not change: the matrix (stiffness
+    // version, constraint pattern) last assembled and factorised, and the data
+    // of the last converged solve (rhs, inhomogeneities, gaps).
+    unsigned int      stiffness_version = 0;
+    bool              have_matrix = false, have_factorisation = false, have_solution = false;
+    std::uint64_t     matrix_signature = 0, factorisation_signature = 0;
+    std::uint64_t     solved_signature = 0;
+    Vector            solved_rhs;
+    ContactStepReport last_report;
 
     std::vector<NormalCondition> normal_conditions;
     std::vector<std::string>     contact_groups;

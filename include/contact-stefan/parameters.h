@@ -77,9 +77,19 @@ namespace ContactStefan
         lame,
         anisotropic
       } elasticity;
+      // youngs_modulus, poisson_ratio and thermal_expansion are the values of
+      // phase 0; the per-phase lists have one entry per phase (n + 1) after parse().
       double              youngs_modulus, poisson_ratio, lame_lambda, lame_mu;
+      std::vector<double> youngs_moduli, poisson_ratios;
       std::vector<double> voigt; // C11, C12, C16, C22, C26, C66
       double              thermal_expansion;
+      std::vector<double> thermal_expansions;
+      // Anisotropic thermal data, each empty or with its entries: the expansion
+      // tensor alpha_xx, alpha_xy, alpha_yx, alpha_yy, alpha_zz (1/K) and the
+      // thermal stress tensor beta_xx, beta_xy, beta_yx, beta_yy, beta_zz (Pa/K).
+      std::vector<double> expansion_tensor, stress_tensor;
+      bool                elasticity_depends_on_phase() const;
+      bool                has_thermal_stress() const; // some beta != 0
       std::string         body_force[2];
       // The physics derived from these numbers (elasticity tensor, enthalpy law,
       // conductivity per phase) is in materials.h.
@@ -144,6 +154,40 @@ namespace ContactStefan
       void        parse(ParameterHandler &prm);
     };
 
+    // The two-way thermo-mechanical coupling (doc/coupling.md).
+    struct Coupling
+    {
+      bool thermal_stress;        // beta (Theta - Theta_0) loads the contact step
+      bool thermoelastic_heating; // Theta_0 beta : e(u') heats the enthalpy step
+      // Theta_0(x, y): the stress-free temperature, in the scene's temperature unit.
+      std::string reference_temperature;
+      // How a scene temperature becomes absolute (the heating coefficient needs it).
+      enum class TemperatureScale
+      {
+        unspecified,
+        kelvin,
+        celsius,
+        dimensionless
+      } temperature_scale;
+      enum class Scheme
+      {
+        staggered,
+        fixed_point
+      } scheme;
+      double       fixed_point_tolerance;
+      unsigned int max_fixed_point_iterations;
+      double       min_stiffness_ratio;
+
+      // Added to a scene temperature to give an absolute one.
+      double absolute_offset() const
+      {
+        return temperature_scale == TemperatureScale::celsius ? 273.15 : 0.;
+      }
+
+      static void declare(ParameterHandler &prm);
+      void        parse(ParameterHandler &prm);
+    };
+
     struct Physics
     {
       bool thermal, mechanics;
@@ -190,6 +234,11 @@ namespace ContactStefan
       // "hertz": a rigid cylinder of this radius; "patch": stacked blocks pushed
       // down by delta (the C2 patch test).
       double cylinder_radius, patch_displacement;
+      // Independent of Type: an exact stress (sigma_xx, sigma_yy, sigma_xy,
+      // sigma_zz, functions of x, y, t) and an exact contact pressure on the
+      // obstacles and interfaces (a function of x, y, t); empty if none.
+      std::vector<std::string> stress;
+      std::string              contact_pressure;
 
       static void declare(ParameterHandler &prm);
       void        parse(ParameterHandler &prm);
@@ -268,6 +317,7 @@ namespace ContactStefan
     std::map<unsigned int, Parameters::ThermalBoundary>    thermal_boundaries;
     std::map<unsigned int, Parameters::MechanicalBoundary> mechanical_boundaries;
     Parameters::Contact                                    contact;
+    Parameters::Coupling                                   coupling;
     Parameters::Physics                                    physics;
     Parameters::InitialCondition                           initial_condition;
     Parameters::ExactSolution                              exact_solution;
@@ -286,6 +336,17 @@ namespace ContactStefan
     void read(const std::string &filename);
     // The checks across subsections (part of read()).
     void check_consistency() const;
+
+    // Both physics on, some body with a thermal stress tensor beta != 0, and the
+    // direction switched on: the coupling terms that a run assembles.
+    bool thermal_stress_active() const;
+    bool thermoelastic_heating_active() const;
+    bool coupling_active() const
+    {
+      return thermal_stress_active() || thermoelastic_heating_active();
+    }
+    // Some body's elasticity changes with its phase (both physics on).
+    bool elasticity_depends_on_phase() const;
 
     // The handler with every parameter at its default, for --print-parameters.
     static void declare_defaults(ParameterHandler &prm);

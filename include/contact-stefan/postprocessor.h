@@ -17,12 +17,21 @@
 #include <contact-stefan/scene_functions.h>
 #include <contact-stefan/thermal_field.h>
 
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
 
 namespace ContactStefan
 {
+  // What the coupling did in one time step.
+  struct CouplingReport
+  {
+    unsigned int iterations        = 0;          // passes of contact + enthalpy step (1: staggered)
+    unsigned int reassembled_cells = 0;          // stiffness re-assembled for a new phase mixture
+    double       change_u = 0, change_theta = 0; // last fixed-point changes, max norm
+  };
+
   template <int dim>
   class Postprocessor
   {
@@ -48,22 +57,29 @@ namespace ContactStefan
                   const bool                last_step,
                   const EnthalpyStepReport &thermal_report,
                   const ContactStepReport  &contact_report,
+                  const CouplingReport     &coupling_report,
                   const double              wall_time);
     // The RESULT lines.
     void print_results(const unsigned int n_steps, const double time) const;
 
   private:
-    void   accumulate_errors(const double time, const double tau);
-    void   write_statistics_row(const unsigned int        step,
-                                const double              time,
-                                const EnthalpyStepReport &report,
-                                const ContactStepReport  &contact_report,
-                                const double              wall_time) const;
-    void   output_vtu(const unsigned int step, const double time);
-    void   print_thermal_results(const unsigned int n_steps, const double time) const;
-    void   print_mechanical_results(const unsigned int n_steps) const;
-    void   print_hertz_results() const;
-    void   print_patch_results() const;
+    void accumulate_errors(const double time, const double tau);
+    void write_statistics_row(const unsigned int        step,
+                              const double              time,
+                              const EnthalpyStepReport &report,
+                              const ContactStepReport  &contact_report,
+                              const CouplingReport     &coupling_report,
+                              const double              wall_time) const;
+    // Exact stress and contact pressure (any scene with mechanics), the
+    // energy terms of the step and the opening of each contact group.
+    void accumulate_mechanical_results(const double time, const ContactStepReport &contact_report);
+    void print_coupling_results(const unsigned int n_steps) const;
+    void print_timer_calls() const;
+    void output_vtu(const unsigned int step, const double time);
+    void print_thermal_results(const unsigned int n_steps, const double time) const;
+    void print_mechanical_results(const unsigned int n_steps) const;
+    void print_hertz_results() const;
+    void print_patch_results() const;
     double mesh_width() const;
     void   add_result(const std::string &name, const double value) const;
 
@@ -89,6 +105,20 @@ namespace ContactStefan
     unsigned int      total_contact_iterations = 0, max_contact_iterations = 0;
     unsigned int      first_contact_iterations = 0, max_contact_iterations_warm = 0;
     ContactStepReport last_contact_report;
+    // Coupling and energy bookkeeping.
+    unsigned int total_coupling_iterations = 0, max_coupling_iterations = 0;
+    unsigned int reassembled_cells = 0, contact_factorisations = 0, enthalpy_factorisations = 0;
+    unsigned int reused_contact_steps     = 0;
+    double       total_thermoelastic_heat = 0, total_contact_work = 0, elastic_energy = 0;
+    // Exact stress: the largest L2 error over the steps, absolute and relative to
+    // the exact stress plus the thermal stress; exact contact pressure: the
+    // largest nodal error and the largest exact pressure.
+    double max_stress_error = 0, max_relative_stress_error = 0;
+    double max_pressure_error = 0, max_exact_pressure = 0;
+    // Per contact group: the last two (t, force) with force > 0 and, once the
+    // force has dropped to zero after them, the interpolated opening time.
+    std::map<std::string, std::vector<std::pair<double, double>>> loaded_force_history;
+    std::map<std::string, double>                                 opening_time;
 
     // The RESULT lines of a run, collected and checked before any is printed:
     // researchers publish these numbers, so a non-finite one stops the run with

@@ -81,6 +81,23 @@ namespace ContactStefan
     {
       return *interface;
     }
+    // --- coupling and mechanical exact solutions ----------------------------------
+    // Theta_0(x, y) in the scene's temperature unit (evaluated at the start time).
+    Function<dim> &reference_temperature()
+    {
+      return *reference;
+    }
+    // Exact sigma_xx, sigma_yy, sigma_xy, sigma_zz, or null.
+    Function<dim> *exact_stress()
+    {
+      return stress.get();
+    }
+    // Exact contact pressure, or null.
+    Function<dim> *exact_contact_pressure()
+    {
+      return pressure.get();
+    }
+
     // Some body force or some traction is not identically zero.
     bool mechanical_load_present() const
     {
@@ -118,6 +135,7 @@ namespace ContactStefan
     std::unique_ptr<NonFiniteRecord>                       record;
     std::unique_ptr<NeumannSolution>                       neumann_solution;
     std::unique_ptr<Function<dim>>                         exact, initial, interface;
+    std::unique_ptr<Function<dim>>                         reference, stress, pressure;
     std::map<unsigned int, std::unique_ptr<Function<dim>>> heat_sources, thermal_boundaries;
     std::map<unsigned int, std::unique_ptr<Function<dim>>> body_forces, mechanical_values,
       obstacle_gaps;

@@ -46,6 +46,7 @@
 #include <contact-stefan/parameters.h>
 #include <contact-stefan/scene_functions.h>
 
+#include <array>
 #include <functional>
 #include <map>
 #include <vector>
@@ -62,6 +63,8 @@ namespace ContactStefan
     unsigned int state_changes         = 0; // summed over the iterations
     double       energy_residual       = 0; // relative, see compute_energy_balance()
     unsigned int inconsistent_nodes    = 0; // free nodes with h not in H(Theta) at the end
+    unsigned int factorisations        = 0; // matrices factorised (reused otherwise)
+    double       thermoelastic_heat    = 0; // sum_i G_i, J per unit thickness
   };
 
   template <int dim>
@@ -85,6 +88,28 @@ namespace ContactStefan
     // Adds temperature, enthalpy, phase index and liquid fraction. The vectors
     // stay alive in this object until the next call.
     void add_output(DataOut<dim> &data_out) const;
+
+    // --- coupling (doc/coupling.md) -------------------------------------------------
+    // Per-cell vertex arrays indexed by active cell index (owned cells only);
+    // vertex v of a cell is its v-th FE_Q(1) DoF.
+    using VertexValues = std::vector<std::array<double, 4>>;
+    // Theta at the vertices of each owned cell (the current temperature).
+    void cell_temperatures(VertexValues &theta) const;
+    // The phase weights of each owned cell (one per phase of its body): the
+    // phase fractions of its nodes at the previous time level, averaged.
+    void cell_phase_weights(std::vector<std::vector<double>> &weights) const;
+    // The thermoelastic work at the vertices (MechanicalField::thermoelastic_work):
+    // times the absolute Theta_0 it is the heat G the step's strain increment
+    // takes out of each node, m_i (h_i - h_i^old) + tau (A Theta)_i + G_i = tau F_i.
+    void set_thermoelastic_work(const VertexValues &work);
+    // sum_i G_i of the step (J per unit thickness; > 0: heat taken out).
+    double thermoelastic_heat() const;
+    // The largest gamma / rho c over the bodies and phases, gamma = Theta_0^abs
+    // beta : C^{-1} : beta: the contraction factor of the coupled step's lag.
+    double coupling_strength() const
+    {
+      return max_coupling_strength;
+    }
 
     // --- queries ----------------------------------------------------------------
     const DoFHandler<dim> &get_dof_handler() const
@@ -136,6 +161,16 @@ namespace ContactStefan
     void assemble_heat_load();
     void make_dirichlet_constraints();
     void set_nodal_state_from_enthalpy();
+    void setup_coupling();
+    // Phase weights of one owned cell of the given enthalpy (ghosted).
+    void phase_weights(const typename DoFHandler<dim>::active_cell_iterator &cell,
+                       const Vector                                         &h,
+                       std::vector<double>                                  &weights) const;
+    // The heat a node receives in the step: tau F_i - G_i.
+    double step_heat(const types::global_dof_index dof) const
+    {
+      return time_step * heat_load[dof] - coupling_heat[dof];
+    }
 
     // enthalpy_step.cc
     void assemble_system(const bool assemble_matrix);
@@ -176,6 +211,20 @@ namespace ContactStefan
     // coefficients of one iteration's system m_i d_i Theta_i + tau (A Theta)_i =
     // m_i g_i + tau F_i.
     Vector lumped_mass, heat_load, nodal_diagonal, nodal_rhs;
+    // The thermoelastic heat G of the step (condensed) and its cell parts G_K,
+    // the absolute Theta_0 at the vertices, and whether the scene has the term.
+    Vector                              coupling_heat;
+    std::vector<dealii::Vector<double>> cell_heating;
+    VertexValues                        cell_absolute_reference;
+    const bool                          heating;
+    double                              max_coupling_strength = 0;
+
+    // The matrix last factorised: its fingerprint (tau, conductivity version,
+    // constraint pattern, nodal diagonal), so that an unchanged one is reused.
+    unsigned int  conductivity_version    = 0;
+    bool          have_factorisation      = false;
+    std::uint64_t factorisation_signature = 0;
+    unsigned int  n_factorisations        = 0; // in the current solve()
 
     // The enthalpy law of each locally relevant node: body laws first, then the
     // mass-weighted sums for nodes shared by bodies with different laws.

@@ -1,0 +1,215 @@
+// MechanicalField: its side of the thermo-mechanical coupling (doc/coupling.md).
+//
+// The thermal field hands over the temperature at the vertices of each cell and
+// the phase weights of each cell; this field hands back the thermoelastic work
+// at the vertices. Both travel as per-cell arrays indexed by the active cell
+// index of the shared triangulation, so neither field touches the other's DoFs.
+//
+// The thermal-stress load and the heating term use one operator per cell,
+//     B_K(i, v) = w_v beta_K : e(phi_i)(x_v),
+// the trapezoidal (vertex) rule with the weights w_v of the lumped mass:
+//     thermal load    f_i = sum_v B_K(i, v) (Theta_v - Theta_0,v),
+//     heating of v    G_v = Theta_0,v^abs sum_i B_K(i, v) (u - u_old)_i.
+// With a constant Theta_0 the heating operator is Theta_0 B^T: the discrete
+// counterpart of the energy identity between the two coupling terms, and a
+// uniform strain rate heats every node in proportion to its lumped mass (which
+// makes BENCHMARKS.md T2 and T3 exact on any mesh).
+#include <deal.II/base/quadrature_lib.h>
+
+#include <deal.II/fe/fe_values.h>
+
+#include <deal.II/hp/fe_values.h>
+#include <deal.II/hp/q_collection.h>
+
+#include <contact-stefan/mechanical_field.h>
+
+namespace ContactStefan
+{
+  template <int dim>
+  unsigned int
+  MechanicalField<dim>::set_phase_weights(const std::vector<std::vector<double>> &weights)
+  {
+    TimerOutput::Scope         t(timer, "coupling: phase-dependent stiffness");
+    const hp::QCollection<dim> gauss(QGauss<dim>(2));
+    const hp::QCollection<dim> vertex_rule(QTrapezoid<dim>{});
+    hp::FEValues<dim>          gauss_values(fe, gauss, update_gradients | update_JxW_values);
+    hp::FEValues<dim>          vertex_values(
+      fe, vertex_rule, update_gradients | update_JxW_values | update_quadrature_points);
+    unsigned int changed = 0;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const unsigned int  c      = cell->active_cell_index();
+          const ElasticModuli moduli = materials[cell->material_id()].moduli(weights[c]);
+          // Exact comparison: a cell whose nodes stayed off the plateaus has
+          // bitwise the same weights (0 or 1) and is left alone.
+          if (moduli == cell_moduli[c])
+            continue;
+          cell_moduli[c] = moduli;
+          assemble_cell_operators(cell, gauss_values, vertex_values);
+          ++changed;
+        }
+    changed = Utilities::MPI::sum(changed, mpi_communicator);
+    if (changed > 0)
+      {
+        ++stiffness_version;
+        update_stiffness_diagonal();
+      }
+    return changed;
+  }
+
+
+
+  template <int dim>
+  void MechanicalField<dim>::set_cell_temperatures(const VertexValues &theta)
+  {
+    if (!thermal_stress)
+      return;
+    TimerOutput::Scope t(timer, "coupling: thermal stress load");
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const unsigned int      c = cell->active_cell_index();
+          dealii::Vector<double> &f = cell_thermal_load[c];
+          const LocalMatrix      &B = cell_thermal_operator[c];
+          f.reinit(B.m());
+          for (unsigned int v = 0; v < 4; ++v)
+            {
+              cell_theta_excess[c][v] = theta[c][v] - cell_reference[c][v];
+              for (unsigned int i = 0; i < B.m(); ++i)
+                f(i) += B(i, v) * cell_theta_excess[c][v];
+            }
+        }
+  }
+
+
+
+  template <int dim>
+  void MechanicalField<dim>::thermoelastic_work(VertexValues &work) const
+  {
+    TimerOutput::Scope t(timer, "coupling: thermoelastic work");
+    work.assign(triangulation.n_active_cells(), {{0., 0., 0., 0.}});
+    Vector u_old(owned, relevant, mpi_communicator);
+    u_old = old_displacement;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const unsigned int                   c = cell->active_cell_index();
+          const LocalMatrix                   &B = cell_thermal_operator[c];
+          std::vector<types::global_dof_index> dofs(B.m());
+          cell->get_dof_indices(dofs);
+          for (unsigned int i = 0; i < B.m(); ++i)
+            {
+              const double du = displacement_ghosted[dofs[i]] - u_old[dofs[i]];
+              for (unsigned int v = 0; v < 4; ++v)
+                work[c][v] += B(i, v) * du;
+            }
+        }
+  }
+
+
+
+  template <int dim>
+  std::pair<SymmetricTensor<2, dim>, double>
+  MechanicalField<dim>::stress(const typename DoFHandler<dim>::active_cell_iterator &cell,
+                               const unsigned int                                    vertex,
+                               const SymmetricTensor<2, dim>                        &strain) const
+  {
+    const unsigned int      c      = cell->active_cell_index();
+    const ElasticModuli    &moduli = cell_moduli[c];
+    const double            excess = thermal_stress ? cell_theta_excess[c][vertex] : 0.;
+    SymmetricTensor<2, dim> sigma  = moduli.C * strain - excess * moduli.beta;
+    return {sigma, moduli.lambda_zz * trace(strain) - moduli.beta_zz * excess};
+  }
+
+
+
+  template <int dim>
+  void MechanicalField<dim>::for_each_vertex_stress(
+    const std::function<void(const Point<dim> &,
+                             double,
+                             const SymmetricTensor<2, dim> &,
+                             double,
+                             const SymmetricTensor<2, dim> &)> &visit) const
+  {
+    const hp::QCollection<dim>               vertex_rule(QTrapezoid<dim>{});
+    hp::FEValues<dim>                        hp_values(fe,
+                                vertex_rule,
+                                update_gradients | update_JxW_values | update_quadrature_points);
+    std::vector<std::vector<Tensor<1, dim>>> gradients;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          hp_values.reinit(cell);
+          const FEValues<dim>                 &fv = hp_values.get_present_fe_values();
+          const FEValuesExtractors::Vector     u(slot_of_body.at(cell->material_id()) * dim);
+          std::vector<SymmetricTensor<2, dim>> strains(fv.n_quadrature_points);
+          fv[u].get_function_symmetric_gradients(displacement_ghosted, strains);
+          for (unsigned int v = 0; v < fv.n_quadrature_points; ++v)
+            {
+              const auto [sigma, szz] = stress(cell, v, strains[v]);
+              visit(fv.quadrature_point(v),
+                    fv.JxW(v),
+                    sigma,
+                    szz,
+                    stress(cell, v, SymmetricTensor<2, dim>()).first);
+            }
+        }
+  }
+
+
+
+  template <int dim>
+  double MechanicalField<dim>::elastic_energy() const
+  {
+    TimerOutput::Scope         t(timer, "statistics: elastic energy");
+    double                     energy = 0;
+    const hp::QCollection<dim> vertex_rule(QTrapezoid<dim>{});
+    hp::FEValues<dim>          hp_values(fe, vertex_rule, update_gradients | update_JxW_values);
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          hp_values.reinit(cell);
+          const FEValues<dim>                 &fv = hp_values.get_present_fe_values();
+          const FEValuesExtractors::Vector     u(slot_of_body.at(cell->material_id()) * dim);
+          std::vector<SymmetricTensor<2, dim>> strains(fv.n_quadrature_points);
+          fv[u].get_function_symmetric_gradients(displacement_ghosted, strains);
+          const SymmetricTensor<4, dim> compliance =
+            invert(cell_moduli[cell->active_cell_index()].C);
+          for (unsigned int v = 0; v < fv.n_quadrature_points; ++v)
+            {
+              const SymmetricTensor<2, dim> sigma = stress(cell, v, strains[v]).first;
+              energy += 0.5 * sigma * (compliance * sigma) * fv.JxW(v);
+            }
+        }
+    return Utilities::MPI::sum(energy, mpi_communicator);
+  }
+
+
+
+  // The work of the contact forces on the bodies over the last step: each
+  // condition pushes its sides apart with lambda n, so the work is
+  // -sum_p lambda_p (jump_p(u) - jump_p(u_old)) over the obstacle and interface
+  // nodes (collective). A closing contact does negative work on the bodies.
+  template <int dim>
+  double MechanicalField<dim>::contact_work() const
+  {
+    Vector u_old(owned, relevant, mpi_communicator);
+    u_old      = old_displacement;
+    double sum = 0;
+    for (const auto &c : normal_conditions)
+      if (c.kind != NormalCondition::Kind::roller && owned.is_element(c.dofs_k[0]))
+        {
+          double old_jump = 0;
+          for (unsigned int d = 0; d < dim; ++d)
+            old_jump +=
+              c.normal[d] * (u_old[c.dofs_k[d]] - (c.has_partner ? u_old[c.dofs_l[d]] : 0.));
+          sum -= contact_pressure(c) * c.weight * (normal_displacement_jump(c) - old_jump);
+        }
+    return Utilities::MPI::sum(sum, mpi_communicator);
+  }
+
+
+
+  template class MechanicalField<2>;
+} // namespace ContactStefan
