@@ -65,14 +65,16 @@ namespace ContactStefan
         mechanical->setup_dofs();
         mechanical->initialize(time);
       }
-    // The initial phases set the initial stiffness; the initial temperature the
-    // thermal stress of the first contact step (staggered: Theta^0).
+    // The initial phases set the initial stiffness, the initial temperature the
+    // thermal part of the initial stress.
     if (prm.elasticity_depends_on_phase())
       {
         std::vector<std::vector<double>> weights;
         thermal->cell_phase_weights(weights);
         mechanical->set_phase_weights(weights);
       }
+    if (thermal && mechanical)
+      exchange_temperature();
     postprocessor->start(time, wall_clock.wall_time());
     pcout << "Mesh: " << triangulation.n_global_active_cells() << " cells on "
           << Utilities::MPI::n_mpi_processes(triangulation.get_communicator()) << " MPI rank(s)\n"

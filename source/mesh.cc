@@ -2,13 +2,16 @@
 
 #include <deal.II/grid/grid_generator.h>
 #include <deal.II/grid/grid_in.h>
+#include <deal.II/grid/grid_tools.h>
 
 #include <contact-stefan/common.h>
 #include <contact-stefan/mesh.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 #include <vector>
@@ -170,8 +173,92 @@ namespace ContactStefan
 
 
 
-  // The mesh: a rectangle (optionally in horizontal layers, one body each) or a
-  // Gmsh file. Body and boundary ids in the mesh are checked against the
+  namespace
+  {
+    // BENCHMARKS.md T4's geometry: a quarter disk of radius b (body 0) made of a
+    // square core [0, b/2]^2 with n x n cells and two blocks of n x n cells
+    // between the core's outer edges and the arc, interpolated linearly along
+    // straight lines to arc points at equal angles; around it a quarter ring
+    // b < r < c (body 1) of 2n x m cells on the same angles. Every node on a
+    // circle lies exactly on it, and the two bodies share the nodes of r = b.
+    void make_disk_in_ring(Triangulation<2> &coarse,
+                           const double      b,
+                           const double      c,
+                           const unsigned    n,
+                           const unsigned    m)
+    {
+      std::vector<Point<2>>                                   vertices;
+      std::map<std::pair<long long, long long>, unsigned int> index_of;
+      const double                                            snap   = 1e-12 * c;
+      const auto                                              vertex = [&](const Point<2> &p) {
+        const std::pair<long long, long long> key{std::llround(p[0] / snap),
+                                                  std::llround(p[1] / snap)};
+        const auto [it, added] = index_of.emplace(key, vertices.size());
+        if (added)
+          vertices.push_back(p);
+        return it->second;
+      };
+      const double s = 0.5 * b, quarter = numbers::PI / 4;
+      const auto   arc = [&](const double r, const double angle) {
+        return Point<2>(r * std::cos(angle), r * std::sin(angle));
+      };
+      std::vector<CellData<2>> cells;
+      const auto add = [&](const std::array<Point<2>, 4> &p, const types::material_id body) {
+        CellData<2> cell;
+        for (unsigned int v = 0; v < 4; ++v)
+          cell.vertices[v] = vertex(p[v]);
+        cell.material_id = body;
+        cells.push_back(cell);
+      };
+      // Core.
+      const auto core = [&](const unsigned i, const unsigned j) {
+        return Point<2>(i * s / n, j * s / n);
+      };
+      for (unsigned int j = 0; j < n; ++j)
+        for (unsigned int i = 0; i < n; ++i)
+          add({{core(i, j), core(i + 1, j), core(i, j + 1), core(i + 1, j + 1)}}, 0);
+      // The block right of the core (k outward, j counter-clockwise) and the one
+      // above it (i along x, k outward).
+      const auto right = [&](const unsigned k, const unsigned j) {
+        const double t = double(k) / n;
+        return Point<2>((1 - t) * core(n, j) + t * arc(b, j * quarter / n));
+      };
+      const auto top = [&](const unsigned i, const unsigned k) {
+        const double t = double(k) / n;
+        return Point<2>((1 - t) * core(i, n) + t * arc(b, 2 * quarter - i * quarter / n));
+      };
+      for (unsigned int k = 0; k < n; ++k)
+        for (unsigned int j = 0; j < n; ++j)
+          {
+            add({{right(k, j), right(k + 1, j), right(k, j + 1), right(k + 1, j + 1)}}, 0);
+            add({{top(j, k), top(j + 1, k), top(j, k + 1), top(j + 1, k + 1)}}, 0);
+          }
+      // Ring (l outward, a counter-clockwise).
+      const auto ring = [&](const unsigned l, const unsigned a) {
+        return arc(b + l * (c - b) / m, a * quarter / n);
+      };
+      for (unsigned int l = 0; l < m; ++l)
+        for (unsigned int a = 0; a < 2 * n; ++a)
+          add({{ring(l, a), ring(l + 1, a), ring(l, a + 1), ring(l + 1, a + 1)}}, 1);
+
+      GridTools::consistently_order_cells(cells);
+      coarse.create_triangulation(vertices, cells, SubCellData());
+      for (const auto &cell : coarse.active_cell_iterators())
+        for (const auto &face : cell->face_iterators())
+          if (face->at_boundary())
+            {
+              const Point<2> x = face->center();
+              face->set_boundary_id(std::abs(x[0]) < 1e-10 * c ? 0 :
+                                    std::abs(x[1]) < 1e-10 * c ? 1 :
+                                                                 2);
+            }
+    }
+  } // namespace
+
+
+
+  // The mesh: a rectangle (optionally in horizontal layers, one body each), the
+  // disk in a ring, or a Gmsh file. Body and boundary ids in the mesh are checked against the
   // parameter file here, before any time step runs.
   template <int dim>
   void make_mesh(const AllParameters &prm, parallel::distributed::Triangulation<dim> &triangulation)
@@ -200,6 +287,22 @@ namespace ContactStefan
               }
             cell->set_material_id(layer);
           }
+      }
+    else if (g.mesh_type == Parameters::Geometry::MeshType::disk_in_ring)
+      {
+        const double n = g.subdivisions[0], m = g.subdivisions[1];
+        const double cells =
+          (3 * n * n + 2 * n * m) * std::pow(4., prm.refinement.initial_global_refinements);
+        if (cells > prm.refinement.max_cells)
+          throw InputError("Geometry/Subdivisions",
+                           "the mesh would have " + std::to_string(cells) +
+                             " cells, more than 'Mesh refinement/Max cells' = " +
+                             std::to_string(prm.refinement.max_cells));
+        Triangulation<dim> coarse;
+        make_disk_in_ring(
+          coarse, g.inner_radius, g.outer_radius, g.subdivisions[0], g.subdivisions[1]);
+        check_mesh(coarse, "the disk-in-ring mesh");
+        triangulation.copy_triangulation(coarse);
       }
     else
       {

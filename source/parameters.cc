@@ -187,10 +187,16 @@ namespace ContactStefan
       prm.enter_subsection("Geometry");
       prm.declare_entry("Mesh",
                         "rectangle",
-                        Patterns::Selection("rectangle|gmsh"),
+                        Patterns::Selection("rectangle|gmsh|disk in ring"),
                         "Where the mesh comes from. 'rectangle': the box below, boundary "
                         "ids 0 (x = x0), 1 (x = x1), 2 (y = y0), 3 (y = y1). 'gmsh': the "
-                        "Mesh file; physical surfaces are body ids, physical lines boundary ids.");
+                        "Mesh file; physical surfaces are body ids, physical lines boundary "
+                        "ids. 'disk in ring': a quarter disk r < Inner radius (body 0) in a "
+                        "quarter ring up to Outer radius (body 1), boundary ids 0 (x = 0), "
+                        "1 (y = 0), 2 (outer arc); Subdivisions n, m give 2n cells along the "
+                        "arcs and m across the ring; the nodes lie on the circles.");
+      prm.declare_entry("Inner radius", "1", Patterns::Anything(), "Disk in ring: b (m), > 0.");
+      prm.declare_entry("Outer radius", "2", Patterns::Anything(), "Disk in ring: c (m), > b.");
       prm.declare_entry("Lower left corner",
                         "0, 0",
                         Patterns::Anything(),
@@ -222,7 +228,13 @@ namespace ContactStefan
     void Geometry::parse(ParameterHandler &prm, const std::string &prm_directory)
     {
       prm.enter_subsection("Geometry");
-      mesh_type     = prm.get("Mesh") == "gmsh" ? MeshType::gmsh : MeshType::rectangle;
+      mesh_type    = prm.get("Mesh") == "gmsh"         ? MeshType::gmsh :
+                     prm.get("Mesh") == "disk in ring" ? MeshType::disk_in_ring :
+                                                         MeshType::rectangle;
+      inner_radius = get_finite(prm, "Geometry/", "Inner radius");
+      outer_radius = get_finite(prm, "Geometry/", "Outer radius");
+      require(inner_radius > 0, "Geometry/Inner radius", "must be > 0");
+      require(outer_radius > inner_radius, "Geometry/Outer radius", "must exceed Inner radius");
       const auto ll = parse_doubles(prm.get("Lower left corner"), "Geometry/Lower left corner");
       const auto ur = parse_doubles(prm.get("Upper right corner"), "Geometry/Upper right corner");
       require(ll.size() == 2, "Geometry/Lower left corner", "needs two numbers");
@@ -852,6 +864,12 @@ namespace ContactStefan
                         "Empty, or the exact stress sigma_xx; sigma_yy; sigma_xy; sigma_zz "
                         "(Pa, functions of x, y, t; thermal part included): the run reports "
                         "the stress error at every step (any Type).");
+      prm.declare_entry("Liquid fraction",
+                        "",
+                        Patterns::Anything(),
+                        "Empty, or the exact liquid fraction (fraction through the last "
+                        "transition) at every node, a function of x, y, t: the run reports "
+                        "its largest nodal error over the steps (any Type).");
       prm.declare_entry("Contact pressure",
                         "",
                         Patterns::Anything(),
@@ -882,6 +900,7 @@ namespace ContactStefan
       stress =
         sigma.empty() ? std::vector<std::string>() : Utilities::split_string_list(sigma, ';');
       contact_pressure = prm.get("Contact pressure");
+      liquid_fraction  = prm.get("Liquid fraction");
       prm.leave_subsection();
       require(stress.empty() || stress.size() == 4,
               "Exact solution/Stress",
@@ -890,6 +909,8 @@ namespace ContactStefan
         check_function(f, "Exact solution/Stress", false);
       if (!contact_pressure.empty())
         check_function(contact_pressure, "Exact solution/Contact pressure", false);
+      if (!liquid_fraction.empty())
+        check_function(liquid_fraction, "Exact solution/Liquid fraction", false);
     }
 
 
@@ -1418,6 +1439,9 @@ namespace ContactStefan
               physics.mechanics,
             "Exact solution/Stress",
             "an exact stress or contact pressure needs Physics/Mechanics = true");
+    require(exact_solution.liquid_fraction.empty() || physics.thermal,
+            "Exact solution/Liquid fraction",
+            "an exact liquid fraction needs Physics/Thermal = true");
     // The coupling: what it needs of the temperature unit and of the phases.
     if (thermoelastic_heating_active())
       require(coupling.temperature_scale != Parameters::Coupling::TemperatureScale::unspecified,

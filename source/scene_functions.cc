@@ -177,6 +177,9 @@ namespace ContactStefan
     reference->set_time(prm.time.start_time);
     if (!prm.exact_solution.stress.empty())
       stress = checked(parse<dim>(prm.exact_solution.stress), "Exact solution/Stress");
+    if (!prm.exact_solution.liquid_fraction.empty())
+      liquid =
+        checked(parse<dim>({prm.exact_solution.liquid_fraction}), "Exact solution/Liquid fraction");
     if (!prm.exact_solution.contact_pressure.empty())
       pressure = checked(parse<dim>({prm.exact_solution.contact_pressure}),
                          "Exact solution/Contact pressure");

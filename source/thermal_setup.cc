@@ -240,7 +240,7 @@ namespace ContactStefan
       return 0;
     double sum = 0;
     for (const auto dof : owned)
-      sum += coupling_heat[dof];
+      sum -= coupling_heat[dof];
     return Utilities::MPI::sum(sum, mpi_communicator);
   }
 

@@ -44,12 +44,18 @@ namespace ContactStefan
       // 2 (bottom), 3 (top), optionally cut into horizontal layers that are bodies
       // 0, 1, ... from the bottom. "gmsh": a .msh file whose physical surfaces give
       // the body (material) ids and physical lines the boundary ids.
+      // "disk in ring": a quarter disk r < Inner radius (body 0) fitted into a
+      // quarter ring Inner radius < r < Outer radius (body 1), boundary ids 0
+      // (x = 0), 1 (y = 0), 2 (the outer arc); Subdivisions n, m: 2n cells along
+      // the arcs, m across the ring (BENCHMARKS.md T4).
       enum class MeshType
       {
         rectangle,
-        gmsh
+        gmsh,
+        disk_in_ring
       } mesh_type;
       Point<2>                  lower_left, upper_right;
+      double                    inner_radius, outer_radius;
       std::vector<unsigned int> subdivisions;
       std::vector<double>       layer_interfaces;
       std::string               mesh_file;
@@ -239,6 +245,8 @@ namespace ContactStefan
       // obstacles and interfaces (a function of x, y, t); empty if none.
       std::vector<std::string> stress;
       std::string              contact_pressure;
+      // Also independent of Type: the exact liquid fraction (x, y, t); empty if none.
+      std::string liquid_fraction;
 
       static void declare(ParameterHandler &prm);
       void        parse(ParameterHandler &prm);

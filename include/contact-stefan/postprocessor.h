@@ -96,15 +96,17 @@ namespace ContactStefan
     std::vector<std::pair<double, std::string>> pvd_records;
 
     // Accumulated over the run.
-    double            initial_total_enthalpy = 0;
-    double            last_l2_error = 0, last_l2_norm = 0, last_max_error = 0;
-    double            space_time_error_squared = 0, space_time_norm_squared = 0;
-    double            max_energy_residual         = 0;
-    unsigned int      total_active_set_iterations = 0, steps_with_fallback = 0;
-    unsigned int      inconsistent_enthalpy_nodes = 0;
-    unsigned int      total_contact_iterations = 0, max_contact_iterations = 0;
-    unsigned int      first_contact_iterations = 0, max_contact_iterations_warm = 0;
-    ContactStepReport last_contact_report;
+    double              initial_total_enthalpy = 0;
+    double              last_l2_error = 0, last_l2_norm = 0, last_max_error = 0;
+    double              space_time_error_squared = 0, space_time_norm_squared = 0;
+    double              max_max_error = 0, max_exact_temperature = 0, max_liquid_fraction_error = 0;
+    std::vector<double> mean_errors; // mean signed temperature error after each step
+    double              max_energy_residual         = 0;
+    unsigned int        total_active_set_iterations = 0, steps_with_fallback = 0;
+    unsigned int        inconsistent_enthalpy_nodes = 0;
+    unsigned int        total_contact_iterations = 0, max_contact_iterations = 0;
+    unsigned int        first_contact_iterations = 0, max_contact_iterations_warm = 0;
+    ContactStepReport   last_contact_report;
     // Coupling and energy bookkeeping.
     unsigned int total_coupling_iterations = 0, max_coupling_iterations = 0;
     unsigned int reassembled_cells = 0, contact_factorisations = 0, enthalpy_factorisations = 0;

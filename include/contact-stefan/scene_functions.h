@@ -92,6 +92,11 @@ namespace ContactStefan
     {
       return stress.get();
     }
+    // Exact liquid fraction, or null.
+    Function<dim> *exact_liquid_fraction()
+    {
+      return liquid.get();
+    }
     // Exact contact pressure, or null.
     Function<dim> *exact_contact_pressure()
     {
@@ -135,7 +140,7 @@ namespace ContactStefan
     std::unique_ptr<NonFiniteRecord>                       record;
     std::unique_ptr<NeumannSolution>                       neumann_solution;
     std::unique_ptr<Function<dim>>                         exact, initial, interface;
-    std::unique_ptr<Function<dim>>                         reference, stress, pressure;
+    std::unique_ptr<Function<dim>>                         reference, stress, pressure, liquid;
     std::map<unsigned int, std::unique_ptr<Function<dim>>> heat_sources, thermal_boundaries;
     std::map<unsigned int, std::unique_ptr<Function<dim>>> body_forces, mechanical_values,
       obstacle_gaps;

@@ -64,7 +64,7 @@ namespace ContactStefan
     double       energy_residual       = 0; // relative, see compute_energy_balance()
     unsigned int inconsistent_nodes    = 0; // free nodes with h not in H(Theta) at the end
     unsigned int factorisations        = 0; // matrices factorised (reused otherwise)
-    double       thermoelastic_heat    = 0; // sum_i G_i, J per unit thickness
+    double       thermoelastic_heat    = 0; // -sum_i G_i, J per unit thickness
   };
 
   template <int dim>
@@ -102,7 +102,8 @@ namespace ContactStefan
     // times the absolute Theta_0 it is the heat G the step's strain increment
     // takes out of each node, m_i (h_i - h_i^old) + tau (A Theta)_i + G_i = tau F_i.
     void set_thermoelastic_work(const VertexValues &work);
-    // sum_i G_i of the step (J per unit thickness; > 0: heat taken out).
+    // -sum_i G_i: the heat the step's strain increment released (J per unit
+    // thickness; > 0 under compression, < 0 where the body expands).
     double thermoelastic_heat() const;
     // The largest gamma / rho c over the bodies and phases, gamma = Theta_0^abs
     // beta : C^{-1} : beta: the contraction factor of the coupled step's lag.
