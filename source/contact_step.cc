@@ -115,6 +115,8 @@ namespace ContactStefan
     // constraint lines of locally relevant DoFs (deal.II: before close()).
     if (Utilities::MPI::n_mpi_processes(mpi_communicator) > 1)
       constraints.make_consistent_in_parallel(owned, relevant, mpi_communicator);
+    if (std::getenv("CS_DEBUG"))
+      constraints.print(std::cerr);
     constraints.close();
   }
 

@@ -627,7 +627,7 @@ namespace ContactStefan
     add_result("max contact pressure", last_contact_report.max_pressure);
     add_result("min contact pressure at active nodes", last_contact_report.min_active_pressure);
     add_result("contact matrix factorisations", contact_factorisations);
-    add_result("contact steps reused (stationary data)", reused_contact_steps);
+    add_result("contact solves skipped (unchanged data)", reused_contact_steps);
     add_result("elastic energy", elastic_energy);
     add_result("total contact work", total_contact_work);
     for (const auto &[group, t] : opening_time)

@@ -538,8 +538,14 @@ namespace ContactStefan
     if (!functions.heat_load_present())
       return;
 
+    // The volumetric source by the vertex rule, the quadrature of the lumped
+    // mass: F_i = sum_K Q(x_i) m_K,i, the paper's discrete product (Q, z)_h.
+    // A uniform source then heats every node alike on any mesh (a Gauss rule
+    // would not: on a non-parallelogram cell int phi_i differs from m_K,i, and
+    // an insulated body under a uniform source would not stay uniform). Fluxes
+    // keep the Gauss rule on the faces.
     const unsigned int                   n = fe.n_dofs_per_cell();
-    const QGauss<dim>                    quadrature(fe.degree + 1);
+    const QTrapezoid<dim>                quadrature;
     const QGauss<dim - 1>                face_quadrature(fe.degree + 1);
     FEValues<dim>                        fe_values(fe,
                             quadrature,
