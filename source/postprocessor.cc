@@ -501,8 +501,11 @@ namespace ContactStefan
     total_contact_work += mechanical->contact_work();
     for (const auto &[group, force] : contact_report.forces)
       {
-        auto &history = loaded_force_history[group];
-        if (force > 0)
+        // Zero up to round-off of the largest force the group carried.
+        auto &history        = loaded_force_history[group];
+        largest_force[group] = std::max(largest_force[group], std::abs(force));
+        if (force >
+            round_off_factor * std::numeric_limits<double>::epsilon() * largest_force[group])
           {
             history.emplace_back(time, force);
             if (history.size() > 2)

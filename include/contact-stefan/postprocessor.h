@@ -120,7 +120,7 @@ namespace ContactStefan
     // Per contact group: the last two (t, force) with force > 0 and, once the
     // force has dropped to zero after them, the interpolated opening time.
     std::map<std::string, std::vector<std::pair<double, double>>> loaded_force_history;
-    std::map<std::string, double>                                 opening_time;
+    std::map<std::string, double>                                 opening_time, largest_force;
 
     // The RESULT lines of a run, collected and checked before any is printed:
     // researchers publish these numbers, so a non-finite one stops the run with
