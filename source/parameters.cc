@@ -461,7 +461,8 @@ namespace ContactStefan
                                             thermal_expansions.end(),
                                             [](const double a) { return a != 0; });
       require(int(scalar_alpha) + int(!expansion_tensor.empty()) + int(!stress_tensor.empty()) <= 1,
-              path + "/Thermal stress tensor",
+              path +
+                (stress_tensor.empty() ? "/Thermal expansion tensor" : "/Thermal stress tensor"),
               "give the thermal data once: Thermal expansion, Thermal expansion tensor or "
               "Thermal stress tensor");
       require(!scalar_alpha || elasticity != Elasticity::anisotropic,
@@ -902,9 +903,10 @@ namespace ContactStefan
       contact_pressure = prm.get("Contact pressure");
       liquid_fraction  = prm.get("Liquid fraction");
       prm.leave_subsection();
-      require(stress.empty() || stress.size() == 4,
-              "Exact solution/Stress",
-              "needs four functions sigma_xx; sigma_yy; sigma_xy; sigma_zz");
+      require(
+        stress.empty() || stress.size() == 4,
+        "Exact solution/Stress",
+        "needs four functions (sigma_xx, sigma_yy, sigma_xy, sigma_zz) separated by semicolons");
       for (const auto &f : stress)
         check_function(f, "Exact solution/Stress", false);
       if (!contact_pressure.empty())
