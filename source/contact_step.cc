@@ -518,8 +518,8 @@ namespace ContactStefan
         check_rigid_body_modes();
         // The matrix depends on the stiffness and the constraint pattern only:
         // with both unchanged it is neither re-assembled nor re-factorised.
-        const std::uint64_t signature = Fingerprint::mix(
-          constraints_hash(false) + Fingerprint::mix(stiffness_version + 0x9e3779b97f4a7c15ULL));
+        const std::uint64_t signature =
+          Fingerprint::combine(constraints_hash(false), stiffness_version);
         const bool same_matrix = have_matrix && signature == matrix_signature;
         assemble_system(!same_matrix);
         rhs_from_vector_assembly = same_matrix;
@@ -530,8 +530,7 @@ namespace ContactStefan
         // its solution again; nothing is solved.
         if (it == 1 && have_solution && same_matrix)
           {
-            const std::uint64_t data =
-              Fingerprint::mix(constraints_hash(true)) + Fingerprint::mix(gaps_hash());
+            const std::uint64_t data = Fingerprint::combine(constraints_hash(true), gaps_hash());
             // Bit for bit on the free rows (the data of constrained rows are the
             // inhomogeneities, compared through the fingerprint).
             unsigned int local_changed = 0;
@@ -655,7 +654,7 @@ namespace ContactStefan
     if (!rhs_from_vector_assembly)
       assemble_system(false);
     solved_rhs       = system_rhs;
-    solved_signature = Fingerprint::mix(constraints_hash(true)) + Fingerprint::mix(gaps_hash());
+    solved_signature = Fingerprint::combine(constraints_hash(true), gaps_hash());
     have_solution    = true;
     last_report      = report;
     return report;

@@ -75,7 +75,13 @@ namespace ContactStefan
       }
     if (thermal && mechanical)
       exchange_temperature();
-    postprocessor->start(time, wall_clock.wall_time());
+    // The initial displacement is the equilibrium with the data at t0 and the
+    // initial temperature (not zero): the first step's strain increment, which
+    // heats through the coupling, is then the step's own, not the jump from an
+    // unloaded state to the initial loads and thermal expansion.
+    const ContactStepReport initial_contact =
+      mechanical ? mechanical->solve() : ContactStepReport();
+    postprocessor->start(time, initial_contact, wall_clock.wall_time());
     pcout << "Mesh: " << triangulation.n_global_active_cells() << " cells on "
           << Utilities::MPI::n_mpi_processes(triangulation.get_communicator()) << " MPI rank(s)\n"
           << (thermal ? thermal->describe() :

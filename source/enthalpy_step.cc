@@ -158,10 +158,10 @@ namespace ContactStefan
     // tau, conductivity, constraint pattern and diagonal; a scene without
     // phase change, a front that stays put) it is neither re-assembled nor
     // re-factorised.
-    const std::uint64_t signature = Fingerprint::mix(
-      Fingerprint::constraints(constraints, owned, false, mpi_communicator) +
-      Fingerprint::mix(Fingerprint::vector(nodal_diagonal) +
-                       Fingerprint::mix(Fingerprint::bits(time_step) + conductivity_version)));
+    const std::uint64_t signature = Fingerprint::combine(
+      Fingerprint::combine(Fingerprint::constraints(constraints, owned, false, mpi_communicator),
+                           Fingerprint::vector(nodal_diagonal)),
+      Fingerprint::combine(Fingerprint::bits(time_step), conductivity_version));
     const bool factorise = !(have_factorisation && signature == factorisation_signature);
     assemble_system(factorise);
     if (factorise)

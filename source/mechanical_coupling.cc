@@ -54,6 +54,7 @@ namespace ContactStefan
       {
         ++stiffness_version;
         update_stiffness_diagonal();
+        update_condition_stiffness();
       }
     return changed;
   }

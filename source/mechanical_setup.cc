@@ -163,11 +163,16 @@ namespace ContactStefan
     cell_thermal_load.assign(triangulation.n_active_cells(), dealii::Vector<double>());
     cell_theta_excess.assign(triangulation.n_active_cells(), {{0., 0., 0., 0.}});
     // Until the thermal field says otherwise, each cell is in phase 0.
+    // No thermal load until the thermal field hands over its temperatures (after
+    // a mesh change: before after_transfer(), doc/architecture.md).
     cell_moduli.assign(triangulation.n_active_cells(), ElasticModuli());
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
-        cell_moduli[cell->active_cell_index()] =
-          materials[cell->material_id()].phase_moduli.front();
+        {
+          cell_moduli[cell->active_cell_index()] =
+            materials[cell->material_id()].phase_moduli.front();
+          cell_thermal_load[cell->active_cell_index()].reinit(cell->get_fe().n_dofs_per_cell());
+        }
     ++stiffness_version;
     have_matrix = have_factorisation = have_solution = false;
 
@@ -307,6 +312,7 @@ namespace ContactStefan
           dropped += owned.is_element(c.dofs_k[0]);
       }
     normal_conditions.swap(kept);
+    update_condition_stiffness();
     n_dropped_conditions = Utilities::MPI::sum(dropped, mpi_communicator);
     for (Vector *v :
          {&obstacle_active, &interface_active, &obstacle_active_ghosted, &interface_active_ghosted})
@@ -499,6 +505,19 @@ namespace ContactStefan
         for (unsigned int i = 0; i < n; ++i)
           B(i, v) = moduli.beta * fv[u].symmetric_gradient(i, v) * fv.JxW(v);
       }
+  }
+
+
+
+  // The normal diagonal of K at each normal condition: the per-node scale of
+  // the complementarity constant (doc/contact.md). Again after a phase change
+  // re-assembled cells, so that a soft melt does not get a solid's c.
+  template <int dim>
+  void MechanicalField<dim>::update_condition_stiffness()
+  {
+    for (auto &c : normal_conditions)
+      c.stiffness = c.normal[0] * c.normal[0] * stiffness_diagonal[c.dofs_k[0]] +
+                    c.normal[1] * c.normal[1] * stiffness_diagonal[c.dofs_k[1]];
   }
 
 
@@ -820,9 +839,7 @@ namespace ContactStefan
         const auto       n = e.normals.normal();
         c.normal           = {{n[0], n[1]}};
         c.weight           = e.normals.weight();
-        c.corner    = e.normals.max_deviation() > prm.contact.corner_angle * numbers::PI / 180;
-        c.stiffness = n[0] * n[0] * stiffness_diagonal[c.dofs_k[0]] +
-                      n[1] * n[1] * stiffness_diagonal[c.dofs_k[1]];
+        c.corner = e.normals.max_deviation() > prm.contact.corner_angle * numbers::PI / 180;
         normal_conditions.push_back(c);
         if (c.kind != Kind::roller)
           groups.insert(c.group);

@@ -1444,6 +1444,13 @@ namespace ContactStefan
     require(exact_solution.liquid_fraction.empty() || physics.thermal,
             "Exact solution/Liquid fraction",
             "an exact liquid fraction needs Physics/Thermal = true");
+    // The disk-in-ring nodes lie on the circles only as generated: refined cells
+    // would put theirs on the chords (no manifold is attached).
+    if (geometry.mesh_type == Parameters::Geometry::MeshType::disk_in_ring)
+      require(refinement.initial_global_refinements == 0 && refinement.prerefinement_steps == 0,
+              "Mesh refinement/Initial global refinements",
+              "'disk in ring' is refined by Geometry/Subdivisions (refined cells would "
+              "leave the circles); set the refinements to 0");
     // The coupling: what it needs of the temperature unit and of the phases.
     if (thermoelastic_heating_active())
       require(coupling.temperature_scale != Parameters::Coupling::TemperatureScale::unspecified,

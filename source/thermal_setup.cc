@@ -173,7 +173,8 @@ namespace ContactStefan
               const double gamma = theta_max * m.phase_moduli[p].free_expansion_capacity();
               const double ratio = gamma / m.enthalpy_law.heat_capacity(p);
               strength           = std::max(strength, ratio);
-              if (!(ratio < 1) && bad_strength.empty())
+              // Without the thermal stress nothing feeds back: no instability.
+              if (prm.thermal_stress_active() && !(ratio < 1) && bad_strength.empty())
                 bad_strength =
                   "parameter 'Materials/Body " + std::to_string(cell->material_id()) +
                   "/Thermal expansion': in phase " + std::to_string(p) +

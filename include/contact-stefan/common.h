@@ -101,6 +101,13 @@ namespace ContactStefan
       std::memcpy(&b, &value, sizeof b);
       return b;
     }
+    // Two fingerprints (or a fingerprint and a number) into one. Each part is
+    // mixed on its own first, so that changes of two parts cannot cancel (a
+    // time step one ulp shorter and a version one higher would in a plain sum).
+    inline std::uint64_t combine(const std::uint64_t a, const std::uint64_t b)
+    {
+      return mix(mix(a) ^ (mix(b) + 0x9e3779b97f4a7c15ULL + (a << 6) + (a >> 2)));
+    }
     // The owned constraint lines: pattern and coefficients, with the
     // inhomogeneities if asked. Collective; the same on every rank.
     inline std::uint64_t constraints(const AffineConstraints<double> &constraints,

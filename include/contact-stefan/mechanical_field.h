@@ -198,6 +198,7 @@ namespace ContactStefan
                                  hp::FEValues<dim>                                    &gauss_values,
                                  hp::FEValues<dim> &vertex_values);
     void update_stiffness_diagonal();
+    void update_condition_stiffness();
     void find_normal_conditions();
     void make_body_frames();
     void make_sparsity_pattern();

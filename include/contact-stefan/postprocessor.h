@@ -48,8 +48,9 @@ namespace ContactStefan
     // The fields to report on (either may be null: that physics is off).
     void attach(const ThermalField<dim> *thermal, const MechanicalField<dim> *mechanical);
 
-    // At the start time: the initial state's errors, statistics row 0, VTU 0.
-    void start(const double time, const double wall_time);
+    // At the start time: the initial state's errors, statistics row 0 (with the
+    // contact step that made the initial equilibrium), VTU 0.
+    void start(const double time, const ContactStepReport &initial_contact, const double wall_time);
     // After a time step.
     void end_step(const unsigned int        step,
                   const double              time,
