@@ -257,13 +257,72 @@ namespace ContactStefan
                                                                  2);
             }
     }
+
+    // The rectangle [x0, x1] x [y0, y1] cut by a straight interface from
+    // (xt, y1) down to y0, dipping at `dip` degrees towards +x. Each row of
+    // nodes is spaced uniformly on both sides of the interface, so the interface
+    // is a mesh line; the nx columns are split in proportion to the bodies' mean
+    // widths. Body 0 lies left of/below the interface, body 1 right of/above it.
+    void make_dipping_interface(Triangulation<2> &coarse,
+                                const Point<2>   &lower_left,
+                                const Point<2>   &upper_right,
+                                const double      xt,
+                                const double      dip,
+                                const unsigned    nx,
+                                const unsigned    ny)
+    {
+      const double       x0 = lower_left[0], x1 = upper_right[0];
+      const double       y0 = lower_left[1], y1 = upper_right[1];
+      const double       run       = 1 / std::tan(dip * numbers::PI / 180);
+      const auto         fault_x   = [&](const double y) { return xt + (y1 - y) * run; };
+      const double       mean_left = 0.5 * (fault_x(y1) + fault_x(y0)) - x0;
+      const long         share     = std::lround(nx * mean_left / (x1 - x0));
+      const unsigned int n_left =
+        static_cast<unsigned int>(std::min<long>(nx - 1, std::max<long>(1, share)));
+      std::vector<Point<2>> vertices;
+      for (unsigned int j = 0; j <= ny; ++j)
+        {
+          const double y  = (j == ny ? y1 : y0 + j * (y1 - y0) / ny);
+          const double xf = fault_x(y);
+          for (unsigned int i = 0; i <= nx; ++i)
+            {
+              const double x = i <= n_left ? x0 + i * (xf - x0) / n_left :
+                                             xf + (i - n_left) * (x1 - xf) / (nx - n_left);
+              vertices.emplace_back(i == nx ? x1 : x, y);
+            }
+        }
+      std::vector<CellData<2>> cells;
+      for (unsigned int j = 0; j < ny; ++j)
+        for (unsigned int i = 0; i < nx; ++i)
+          {
+            CellData<2> cell;
+            cell.vertices[0] = j * (nx + 1) + i;
+            cell.vertices[1] = j * (nx + 1) + i + 1;
+            cell.vertices[2] = (j + 1) * (nx + 1) + i;
+            cell.vertices[3] = (j + 1) * (nx + 1) + i + 1;
+            cell.material_id = i < n_left ? 0 : 1;
+            cells.push_back(cell);
+          }
+      coarse.create_triangulation(vertices, cells, SubCellData());
+      const double tolerance = 1e-10 * std::max(x1 - x0, y1 - y0);
+      for (const auto &cell : coarse.active_cell_iterators())
+        for (const auto &face : cell->face_iterators())
+          if (face->at_boundary())
+            {
+              const Point<2> c = face->center();
+              face->set_boundary_id(std::abs(c[0] - x0) < tolerance ? 0 :
+                                    std::abs(c[0] - x1) < tolerance ? 1 :
+                                    std::abs(c[1] - y0) < tolerance ? 2 :
+                                                                      3);
+            }
+    }
   } // namespace
 
 
 
   // The mesh: a rectangle (optionally in horizontal layers, one body each), the
-  // disk in a ring, or a Gmsh file. Body and boundary ids in the mesh are checked against the
-  // parameter file here, before any time step runs.
+  // disk in a ring, a rectangle cut by a dipping interface, or a Gmsh file. Body and boundary ids
+  // in the mesh are checked against the parameter file here, before any time step runs.
   template <int dim>
   void make_mesh(const AllParameters &prm, parallel::distributed::Triangulation<dim> &triangulation)
   {
@@ -291,6 +350,26 @@ namespace ContactStefan
               }
             cell->set_material_id(layer);
           }
+      }
+    else if (g.mesh_type == Parameters::Geometry::MeshType::dipping_interface)
+      {
+        const double cells = double(g.subdivisions[0]) * g.subdivisions[1] *
+                             std::pow(4., prm.refinement.initial_global_refinements);
+        if (cells > prm.refinement.max_cells)
+          throw InputError("Geometry/Subdivisions",
+                           "the mesh would have " + std::to_string(cells) +
+                             " cells, more than 'Mesh refinement/Max cells' = " +
+                             std::to_string(prm.refinement.max_cells));
+        Triangulation<dim> coarse;
+        make_dipping_interface(coarse,
+                               g.lower_left,
+                               g.upper_right,
+                               g.interface_top_x,
+                               g.interface_dip,
+                               g.subdivisions[0],
+                               g.subdivisions[1]);
+        check_mesh(coarse, "the dipping-interface mesh");
+        triangulation.copy_triangulation(coarse);
       }
     else if (g.mesh_type == Parameters::Geometry::MeshType::disk_in_ring)
       {

@@ -187,16 +187,30 @@ namespace ContactStefan
       prm.enter_subsection("Geometry");
       prm.declare_entry("Mesh",
                         "rectangle",
-                        Patterns::Selection("rectangle|gmsh|disk in ring"),
+                        Patterns::Selection("rectangle|gmsh|disk in ring|dipping interface"),
                         "Where the mesh comes from. 'rectangle': the box below, boundary "
                         "ids 0 (x = x0), 1 (x = x1), 2 (y = y0), 3 (y = y1). 'gmsh': the "
                         "Mesh file; physical surfaces are body ids, physical lines boundary "
                         "ids. 'disk in ring': a quarter disk r < Inner radius (body 0) in a "
                         "quarter ring up to Outer radius (body 1), boundary ids 0 (x = 0), "
                         "1 (y = 0), 2 (outer arc); Subdivisions n, m give 2n cells along the "
-                        "arcs and m across the ring; the nodes lie on the circles.");
+                        "arcs and m across the ring; the nodes lie on the circles. "
+                        "'dipping interface': the rectangle cut by a straight interface "
+                        "from (Interface top x, y1) down to y0 at Interface dip below the "
+                        "horizontal, dipping towards +x; body 0 below it, body 1 above; "
+                        "boundary ids as for the rectangle; every row of cells keeps its "
+                        "nodes on the interface.");
       prm.declare_entry("Inner radius", "1", Patterns::Anything(), "Disk in ring: b (m), > 0.");
       prm.declare_entry("Outer radius", "2", Patterns::Anything(), "Disk in ring: c (m), > b.");
+      prm.declare_entry("Interface top x",
+                        "0.5",
+                        Patterns::Anything(),
+                        "Dipping interface: x where it meets the top y1 (m), inside (x0, x1).");
+      prm.declare_entry("Interface dip",
+                        "45",
+                        Patterns::Anything(),
+                        "Dipping interface: angle below the horizontal (degrees) in (0, 90]; "
+                        "it must reach y0 before x1.");
       prm.declare_entry("Lower left corner",
                         "0, 0",
                         Patterns::Anything(),
@@ -228,11 +242,15 @@ namespace ContactStefan
     void Geometry::parse(ParameterHandler &prm, const std::string &prm_directory)
     {
       prm.enter_subsection("Geometry");
-      mesh_type    = prm.get("Mesh") == "gmsh"         ? MeshType::gmsh :
-                     prm.get("Mesh") == "disk in ring" ? MeshType::disk_in_ring :
-                                                         MeshType::rectangle;
-      inner_radius = get_finite(prm, "Geometry/", "Inner radius");
-      outer_radius = get_finite(prm, "Geometry/", "Outer radius");
+      const std::string mesh = prm.get("Mesh");
+      mesh_type              = mesh == "gmsh"              ? MeshType::gmsh :
+                               mesh == "disk in ring"      ? MeshType::disk_in_ring :
+                               mesh == "dipping interface" ? MeshType::dipping_interface :
+                                                             MeshType::rectangle;
+      interface_top_x        = get_finite(prm, "Geometry/", "Interface top x");
+      interface_dip          = get_finite(prm, "Geometry/", "Interface dip");
+      inner_radius           = get_finite(prm, "Geometry/", "Inner radius");
+      outer_radius           = get_finite(prm, "Geometry/", "Outer radius");
       require(inner_radius > 0, "Geometry/Inner radius", "must be > 0");
       require(outer_radius > inner_radius, "Geometry/Outer radius", "must exceed Inner radius");
       const auto ll = parse_doubles(prm.get("Lower left corner"), "Geometry/Lower left corner");
@@ -253,6 +271,22 @@ namespace ContactStefan
           subdivisions.push_back(static_cast<unsigned int>(v));
         }
       require(subdivisions.size() == 2, "Geometry/Subdivisions", "needs two integers");
+      if (mesh_type == MeshType::dipping_interface)
+        {
+          require(interface_top_x > ll[0] && interface_top_x < ur[0],
+                  "Geometry/Interface top x",
+                  "must lie strictly inside (x0, x1)");
+          require(interface_dip > 0 && interface_dip <= 90,
+                  "Geometry/Interface dip",
+                  "must lie in (0, 90] degrees, got " + str(interface_dip));
+          const double bottom_x =
+            interface_top_x + (ur[1] - ll[1]) / std::tan(interface_dip * numbers::PI / 180);
+          require(bottom_x < ur[0],
+                  "Geometry/Interface dip",
+                  "the interface reaches y0 at x = " + str(bottom_x) +
+                    ", beyond x1 = " + str(ur[0]) + ": dip more steeply or move it left");
+          require(subdivisions[0] >= 2, "Geometry/Subdivisions", "needs nx >= 2 (both bodies)");
+        }
       layer_interfaces = prm.get("Layer interfaces").empty() ?
                            std::vector<double>() :
                            parse_doubles(prm.get("Layer interfaces"), "Geometry/Layer interfaces");

@@ -48,14 +48,22 @@ namespace ContactStefan
       // quarter ring Inner radius < r < Outer radius (body 1), boundary ids 0
       // (x = 0), 1 (y = 0), 2 (the outer arc); Subdivisions n, m: 2n cells along
       // the arcs, m across the ring (BENCHMARKS.md T4).
+      // "dipping interface": the rectangle cut by a straight interface from
+      // (Interface top x, y1) down to y0 at Interface dip degrees below the
+      // horizontal (dipping towards +x): body 0 below/left of it, body 1 above/right
+      // (a subduction zone: the subducting plate and the overriding plate); boundary
+      // ids as for the rectangle; Subdivisions nx, ny with the columns split
+      // between the bodies in proportion to their mean widths.
       enum class MeshType
       {
         rectangle,
         gmsh,
-        disk_in_ring
+        disk_in_ring,
+        dipping_interface
       } mesh_type;
       Point<2>                  lower_left, upper_right;
       double                    inner_radius, outer_radius;
+      double                    interface_top_x, interface_dip;
       std::vector<unsigned int> subdivisions;
       std::vector<double>       layer_interfaces;
       std::string               mesh_file;
