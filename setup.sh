@@ -1,6 +1,6 @@
 #!/bin/bash
 # contact-stefan set-up on Debian (bookworm): install what is missing, build, then
-#   ./setup.sh run    run the default scene (prm/default.prm) in build/
+#   ./setup.sh run    run the default scene (prm/subduction.prm) in build/
 #   ./setup.sh test   run the whole ctest suite
 # Needs root or sudo only when packages are missing.
 set -euo pipefail
@@ -25,7 +25,7 @@ cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
 cmake --build build -j2
 cd build
 if [ "$mode" = run ]; then
-  ./contact-stefan ../prm/default.prm
+  ./contact-stefan ../prm/subduction.prm
 else
   ctest -j2 --output-on-failure
 fi

@@ -109,6 +109,7 @@ namespace ContactStefan
     if (mechanical)
       {
         contact_factorisations += contact_report.factorisations;
+        max_active_nodes = std::max(max_active_nodes, contact_report.active_nodes);
         reused_contact_steps += contact_report.reused;
         accumulate_mechanical_results(time, contact_report);
         total_contact_iterations += contact_report.iterations;
@@ -406,6 +407,7 @@ namespace ContactStefan
     add_result("steps with relaxation fallback", steps_with_fallback);
     add_result("max energy-balance residual", max_energy_residual);
     add_result("enthalpy matrix factorisations", enthalpy_factorisations);
+    add_result("melt area", thermal->melt_area());
     if (functions.exact_liquid_fraction())
       add_result("max liquid fraction error", max_liquid_fraction_error);
     add_result("nodes with h outside H(Theta)", inconsistent_enthalpy_nodes);
@@ -631,6 +633,7 @@ namespace ContactStefan
     add_result("mean contact iterations",
                n_steps > 0 ? double(total_contact_iterations) / n_steps : 0.);
     add_result("active contact nodes", last_contact_report.active_nodes);
+    add_result("max active contact nodes over the steps", max_active_nodes);
     for (const auto &[group, force] : last_contact_report.forces)
       add_result("contact force " + group, force);
     add_result("max contact pressure", last_contact_report.max_pressure);

@@ -111,7 +111,7 @@ namespace ContactStefan
     // Coupling and energy bookkeeping.
     unsigned int total_coupling_iterations = 0, max_coupling_iterations = 0;
     unsigned int reassembled_cells = 0, contact_factorisations = 0, enthalpy_factorisations = 0;
-    unsigned int reused_contact_steps     = 0;
+    unsigned int reused_contact_steps = 0, max_active_nodes = 0;
     double       total_thermoelastic_heat = 0, total_contact_work = 0, elastic_energy = 0;
     // Exact stress: the largest L2 error over the steps relative to
     // the exact stress plus the thermal stress; exact contact pressure: the
