@@ -279,6 +279,20 @@ namespace ContactStefan
       const long         share     = std::lround(nx * mean_left / (x1 - x0));
       const unsigned int n_left =
         static_cast<unsigned int>(std::min<long>(nx - 1, std::max<long>(1, share)));
+      // Refuse cells that would be slivers: the widest and narrowest columns
+      // (at the top or the bottom of each side) against the row height.
+      const double height = (y1 - y0) / ny;
+      double       aspect = 1;
+      for (const double width : {(fault_x(y1) - x0) / n_left,
+                                 (fault_x(y0) - x0) / n_left,
+                                 (x1 - fault_x(y1)) / (nx - n_left),
+                                 (x1 - fault_x(y0)) / (nx - n_left)})
+        aspect = std::max({aspect, width / height, height / width});
+      if (aspect > 10)
+        throw InputError(
+          "Geometry/Subdivisions",
+          "the dipping-interface mesh would have cells with an aspect ratio of " + number(aspect) +
+            " (more than 10): change Subdivisions, Interface top x or Interface dip");
       std::vector<Point<2>> vertices;
       for (unsigned int j = 0; j <= ny; ++j)
         {

@@ -667,10 +667,25 @@ namespace ContactStefan
   template <int dim>
   double ThermalField<dim>::melt_area() const
   {
-    double area = 0;
-    for (const auto dof : owned)
-      if (!hanging_node_constraints.is_constrained(dof))
-        area += lumped_mass[dof] * law(dof).liquid_fraction(enthalpy[dof]);
+    // Cell by cell, so that a node shared with a body that does not melt counts
+    // only the share of the melting body: each cell adds its vertex weights
+    // times the node's fraction through its own body's last transition.
+    Vector h(owned, relevant, mpi_communicator);
+    h                                         = enthalpy;
+    double                               area = 0;
+    std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const EnthalpyLaw &body_law = laws[law_of_body.at(cell->material_id())];
+          if (body_law.n_transitions() == 0)
+            continue;
+          const double melting = body_law.transition_temperature(body_law.n_transitions() - 1);
+          cell->get_dof_indices(dofs);
+          const auto &m = cell_mass[cell->active_cell_index()];
+          for (unsigned int v = 0; v < dofs.size(); ++v)
+            area += m(v) * law(dofs[v]).fraction_through_temperature(melting, h[dofs[v]]);
+        }
     return Utilities::MPI::sum(area, mpi_communicator);
   }
 
