@@ -5,6 +5,9 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <Epetra_MultiVector.h>
+#include <Teuchos_ParameterList.hpp>
+
 namespace ContactStefan
 {
   using LinearSolverType = Parameters::Solver::LinearSolverType;
@@ -44,7 +47,20 @@ namespace ContactStefan
           {
             TrilinosWrappers::PreconditionAMG::AdditionalData data;
             data.elliptic = true;
-            amg.initialize(A, data);
+            if (null_space_dimension == 0)
+              amg.initialize(A, data);
+            else
+              {
+                // deal.II's parameter list for ML, with the null space replaced
+                // by the given vectors (deal.II 9.4 only builds constant modes).
+                Teuchos::ParameterList              parameters;
+                std::unique_ptr<Epetra_MultiVector> constant_modes;
+                data.set_parameters(parameters, constant_modes, A);
+                parameters.set("null space: type", "pre-computed");
+                parameters.set("null space: dimension", static_cast<int>(null_space_dimension));
+                parameters.set("null space: vectors", null_space.data());
+                amg.initialize(A, parameters);
+              }
           }
       }
     catch (const std::exception &e)
@@ -55,6 +71,16 @@ namespace ContactStefan
                                     std::string("preconditioned by AMG")) +
                                  " (a singular or badly scaled matrix?): " + one_line(e.what()));
       }
+  }
+
+
+
+  void LinearSolver::set_near_null_space(std::vector<std::vector<double>> modes)
+  {
+    null_space_dimension = modes.size();
+    null_space.clear();
+    for (const auto &mode : modes)
+      null_space.insert(null_space.end(), mode.begin(), mode.end());
   }
 
 

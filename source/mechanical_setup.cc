@@ -321,6 +321,22 @@ namespace ContactStefan
     SparsityTools::distribute_sparsity_pattern(dsp, owned, mpi_communicator, relevant);
     linear_solver.clear();
     system_matrix.reinit(owned, owned, dsp, mpi_communicator);
+
+    // The rigid-body modes of plane elasticity (two translations and the
+    // rotation about each body's centre) as the AMG near-null space: with ML's
+    // default constant mode CG needs hundreds of iterations.
+    std::vector<std::vector<double>> modes(3, std::vector<double>(owned.n_elements(), 0.));
+    for (const auto dof : owned)
+      {
+        const auto        &info  = dof_info.at(dof);
+        const unsigned int i     = owned.index_within_set(dof);
+        const Point<dim>  &c     = body_frame[info.slot].first;
+        modes[info.component][i] = 1;
+        const double size        = body_frame[info.slot].second; // scale: O(1) entries
+        modes[2][i] =
+          (info.component == 0 ? -(info.position[1] - c[1]) : info.position[0] - c[0]) / size;
+      }
+    linear_solver.set_near_null_space(std::move(modes));
   }
 
 

@@ -18,6 +18,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace ContactStefan
 {
@@ -30,6 +31,10 @@ namespace ContactStefan
                  const ConditionalOStream &pcout,
                  const std::string        &name);
 
+    // The near-null space the AMG hierarchy is built for: vectors over the
+    // locally owned rows in their order (elasticity: the rigid-body modes; ML's
+    // default, the constant, only fits a scalar operator). Empty: the default.
+    void set_near_null_space(std::vector<std::vector<double>> modes);
     // Factorise A, or build the AMG hierarchy of A. A must stay alive and
     // unchanged until the next initialize().
     void initialize(const TrilinosWrappers::SparseMatrix &A);
@@ -48,6 +53,10 @@ namespace ContactStefan
     SolverControl                                   direct_control;
     std::unique_ptr<TrilinosWrappers::SolverDirect> direct;
     TrilinosWrappers::PreconditionAMG               amg;
+    // The near-null space, column after column (ML reads it by pointer while
+    // it builds the hierarchy).
+    std::vector<double> null_space;
+    unsigned int        null_space_dimension = 0;
   };
 } // namespace ContactStefan
 
