@@ -33,9 +33,12 @@ namespace ContactStefan
       throw std::runtime_error("the matrix of the " + name +
                                " system is not finite (overflow: are material values or the "
                                "time step extreme?)");
+    use_direct =
+      prm.linear_solver == LinearSolverType::direct ||
+      (prm.linear_solver == LinearSolverType::automatic && A.m() < prm.automatic_direct_limit);
     try
       {
-        if (prm.linear_solver == LinearSolverType::direct)
+        if (use_direct)
           {
             direct = std::make_unique<TrilinosWrappers::SolverDirect>(
               direct_control,
@@ -66,9 +69,8 @@ namespace ContactStefan
     catch (const std::exception &e)
       {
         throw std::runtime_error("the " + name + " system could not be " +
-                                 (prm.linear_solver == LinearSolverType::direct ?
-                                    "factorised by " + prm.direct_solver_type :
-                                    std::string("preconditioned by AMG")) +
+                                 (use_direct ? "factorised by " + prm.direct_solver_type :
+                                               std::string("preconditioned by AMG")) +
                                  " (a singular or badly scaled matrix?): " + one_line(e.what()));
       }
   }
@@ -100,7 +102,7 @@ namespace ContactStefan
       throw std::logic_error("LinearSolver::solve() before initialize()");
     // Nothing non-finite reaches Trilinos (whose error codes name nothing).
     check_finite(b, "the right-hand side of the " + name + " system");
-    if (prm.linear_solver == LinearSolverType::direct)
+    if (use_direct)
       {
         direct->solve(x, b);
       }

@@ -49,7 +49,8 @@ namespace ContactStefan
     const unsigned int                              verbosity;
     const ConditionalOStream                       &pcout;
     const std::string                               name;
-    const TrilinosWrappers::SparseMatrix           *matrix = nullptr;
+    const TrilinosWrappers::SparseMatrix           *matrix     = nullptr;
+    bool                                            use_direct = true; // of the last initialize()
     SolverControl                                   direct_control;
     std::unique_ptr<TrilinosWrappers::SolverDirect> direct;
     TrilinosWrappers::PreconditionAMG               amg;

@@ -273,9 +273,11 @@ namespace ContactStefan
     {
       enum class LinearSolverType
       {
+        automatic,
         direct,
         cg_amg
       } linear_solver;
+      unsigned int automatic_direct_limit; // automatic: direct below this many unknowns
       std::string  direct_solver_type;
       double       cg_tolerance;
       unsigned int cg_max_iterations;
