@@ -140,7 +140,7 @@ namespace ContactStefan
   {
     if (!prm.thermal_stress_active())
       return;
-    typename MechanicalField<dim>::VertexValues theta;
+    CellVertexValues theta;
     thermal->cell_temperatures(theta);
     mechanical->set_cell_temperatures(theta);
   }
@@ -152,7 +152,7 @@ namespace ContactStefan
   {
     if (!prm.thermoelastic_heating_active())
       return;
-    typename MechanicalField<dim>::VertexValues work;
+    CellVertexValues work;
     mechanical->thermoelastic_work(work);
     thermal->set_thermoelastic_work(work);
   }

@@ -113,17 +113,8 @@ namespace ContactStefan
                 C[i][j][k][l] = V[index[i][j]][index[k][l]];
         return C;
       }
-    const double E = m.youngs_modulus, nu = m.poisson_ratio;
-    const double lambda =
-      m.elasticity == Elasticity::lame ? m.lame_lambda : E * nu / ((1 + nu) * (1 - 2 * nu));
-    const double mu = m.elasticity == Elasticity::lame ? m.lame_mu : E / (2 * (1 + nu));
-    for (unsigned int i = 0; i < 2; ++i)
-      for (unsigned int j = i; j < 2; ++j)
-        for (unsigned int k = 0; k < 2; ++k)
-          for (unsigned int l = k; l < 2; ++l)
-            C[i][j][k][l] = (i == j && k == l ? lambda : 0.) +
-                            mu * ((i == k && j == l ? 1. : 0.) + (i == l && j == k ? 1. : 0.));
-    return C;
+    const auto [lambda, mu] = lame_constants(m, 0);
+    return isotropic_tensor(lambda, mu);
   }
 
 
@@ -131,7 +122,7 @@ namespace ContactStefan
   double plane_strain_modulus(const Parameters::BodyMaterial &m)
   {
     if (m.elasticity == Elasticity::isotropic)
-      return m.youngs_modulus / (1 - m.poisson_ratio * m.poisson_ratio);
+      return m.youngs_moduli[0] / (1 - m.poisson_ratios[0] * m.poisson_ratios[0]);
     if (m.elasticity == Elasticity::lame)
       {
         const double l = m.lame_lambda, mu = m.lame_mu;

@@ -62,7 +62,7 @@ namespace ContactStefan
 
 
   template <int dim>
-  void MechanicalField<dim>::set_cell_temperatures(const VertexValues &theta)
+  void MechanicalField<dim>::set_cell_temperatures(const CellVertexValues &theta)
   {
     if (!thermal_stress)
       return;
@@ -86,7 +86,7 @@ namespace ContactStefan
 
 
   template <int dim>
-  void MechanicalField<dim>::thermoelastic_work(VertexValues &work) const
+  void MechanicalField<dim>::thermoelastic_work(CellVertexValues &work) const
   {
     TimerOutput::Scope t(timer, "coupling: thermoelastic work");
     work.assign(triangulation.n_active_cells(), {{0., 0., 0., 0.}});
@@ -131,13 +131,13 @@ namespace ContactStefan
                              double,
                              const SymmetricTensor<2, dim> &,
                              double,
-                             const SymmetricTensor<2, dim> &)> &visit) const
+                             const SymmetricTensor<2, dim> &,
+                             const ElasticModuli &)> &visit) const
   {
-    const hp::QCollection<dim>               vertex_rule(QTrapezoid<dim>{});
-    hp::FEValues<dim>                        hp_values(fe,
+    const hp::QCollection<dim> vertex_rule(QTrapezoid<dim>{});
+    hp::FEValues<dim>          hp_values(fe,
                                 vertex_rule,
                                 update_gradients | update_JxW_values | update_quadrature_points);
-    std::vector<std::vector<Tensor<1, dim>>> gradients;
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
@@ -153,7 +153,8 @@ namespace ContactStefan
                     fv.JxW(v),
                     sigma,
                     szz,
-                    stress(cell, v, SymmetricTensor<2, dim>()).first);
+                    stress(cell, v, SymmetricTensor<2, dim>()).first,
+                    cell_moduli[cell->active_cell_index()]);
             }
         }
   }
@@ -163,26 +164,15 @@ namespace ContactStefan
   template <int dim>
   double MechanicalField<dim>::elastic_energy() const
   {
-    TimerOutput::Scope         t(timer, "statistics: elastic energy");
-    double                     energy = 0;
-    const hp::QCollection<dim> vertex_rule(QTrapezoid<dim>{});
-    hp::FEValues<dim>          hp_values(fe, vertex_rule, update_gradients | update_JxW_values);
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned())
-        {
-          hp_values.reinit(cell);
-          const FEValues<dim>                 &fv = hp_values.get_present_fe_values();
-          const FEValuesExtractors::Vector     u(slot_of_body.at(cell->material_id()) * dim);
-          std::vector<SymmetricTensor<2, dim>> strains(fv.n_quadrature_points);
-          fv[u].get_function_symmetric_gradients(displacement_ghosted, strains);
-          const SymmetricTensor<4, dim> compliance =
-            invert(cell_moduli[cell->active_cell_index()].C);
-          for (unsigned int v = 0; v < fv.n_quadrature_points; ++v)
-            {
-              const SymmetricTensor<2, dim> sigma = stress(cell, v, strains[v]).first;
-              energy += 0.5 * sigma * (compliance * sigma) * fv.JxW(v);
-            }
-        }
+    TimerOutput::Scope t(timer, "statistics: elastic energy");
+    double             energy = 0;
+    for_each_vertex_stress(
+      [&](const Point<dim> &,
+          const double                   w,
+          const SymmetricTensor<2, dim> &sigma,
+          const double,
+          const SymmetricTensor<2, dim> &,
+          const ElasticModuli &moduli) { energy += 0.5 * sigma * (invert(moduli.C) * sigma) * w; });
     return Utilities::MPI::sum(energy, mpi_communicator);
   }
 

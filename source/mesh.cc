@@ -288,11 +288,16 @@ namespace ContactStefan
                                  (x1 - fault_x(y1)) / (nx - n_left),
                                  (x1 - fault_x(y0)) / (nx - n_left)})
         aspect = std::max({aspect, width / height, height / width});
-      if (aspect > 10)
-        throw InputError(
-          "Geometry/Subdivisions",
-          "the dipping-interface mesh would have cells with an aspect ratio of " + number(aspect) +
-            " (more than 10): change Subdivisions, Interface top x or Interface dip");
+      // A sanity limit on the generator's output, not a physics parameter: Q1
+      // cells much longer than wide make the enthalpy step's conductivity
+      // matrix far from an M-matrix (Geometry/Subdivisions) and the contact
+      // normals of the interface meaningless.
+      constexpr double max_aspect = 10;
+      if (aspect > max_aspect)
+        throw InputError("Geometry/Subdivisions",
+                         "the dipping-interface mesh would have cells with an aspect ratio of " +
+                           number(aspect) + " (more than " + number(max_aspect) +
+                           "): change Subdivisions, Interface top x or Interface dip");
       std::vector<Point<2>> vertices;
       for (unsigned int j = 0; j <= ny; ++j)
         {

@@ -432,10 +432,7 @@ namespace ContactStefan
                                         std::make_pair("Poisson ratio", &poisson_ratios),
                                         std::make_pair("Thermal expansion", &thermal_expansions)})
         require(!list->empty(), path + "/" + entry, "needs a value");
-      youngs_modulus    = youngs_moduli[0];
-      poisson_ratio     = poisson_ratios[0];
-      thermal_expansion = thermal_expansions[0];
-      voigt             = parse_doubles(prm.get("Elasticity tensor"), path + "/Elasticity tensor");
+      voigt = parse_doubles(prm.get("Elasticity tensor"), path + "/Elasticity tensor");
       if (elasticity == Elasticity::isotropic)
         {
           for (const double E : youngs_moduli)

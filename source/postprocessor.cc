@@ -539,7 +539,8 @@ namespace ContactStefan
                                                const double                   w,
                                                const SymmetricTensor<2, dim> &sigma,
                                                const double                   szz,
-                                               const SymmetricTensor<2, dim> &thermal_part) {
+                                               const SymmetricTensor<2, dim> &thermal_part,
+                                               const ElasticModuli &) {
           const double e[4] = {sigma[0][0] - exact->value(x, 0),
                                sigma[1][1] - exact->value(x, 1),
                                sigma[0][1] - exact->value(x, 2),

@@ -197,7 +197,7 @@ namespace ContactStefan
 
 
   template <int dim>
-  void ThermalField<dim>::cell_temperatures(VertexValues &theta) const
+  void ThermalField<dim>::cell_temperatures(CellVertexValues &theta) const
   {
     theta.assign(triangulation.n_active_cells(), {{0., 0., 0., 0.}});
     std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
@@ -213,7 +213,7 @@ namespace ContactStefan
 
 
   template <int dim>
-  void ThermalField<dim>::set_thermoelastic_work(const VertexValues &work)
+  void ThermalField<dim>::set_thermoelastic_work(const CellVertexValues &work)
   {
     if (!heating)
       return;

@@ -110,10 +110,10 @@ int main(int argc, char *argv[])
     prm.materials.at(1).density               = 2;
     // Body 1 differs in every cached per-cell quantity, so that a cache left
     // indexed by the old cell numbering shows.
-    prm.materials.at(1).anisotropy[0]  = 2;
-    prm.materials.at(1).anisotropy[1]  = 0.5;
-    prm.materials.at(1).youngs_modulus = 2;
-    prm.initial_condition.function     = "sin(3 * x) + y * y";
+    prm.materials.at(1).anisotropy[0] = 2;
+    prm.materials.at(1).anisotropy[1] = 0.5;
+    prm.materials.at(1).youngs_moduli.assign(1, 2.);
+    prm.initial_condition.function = "sin(3 * x) + y * y";
   });
   auto            &tria = scene.triangulation;
 

@@ -9,6 +9,7 @@
 #include <deal.II/lac/trilinos_vector.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -23,6 +24,11 @@ namespace ContactStefan
 
   // The distributed vector of both fields (owned, or owned plus ghosts).
   using Vector = TrilinosWrappers::MPI::Vector;
+
+  // Four numbers per locally owned active cell, one per vertex, indexed by the
+  // active cell index: how the two fields exchange the coupling data
+  // (doc/coupling.md §3). Vertex v is the cell's v-th vertex and FE_Q(1) DoF.
+  using CellVertexValues = std::vector<std::array<double, 4>>;
 
   // Tolerances at the level of floating-point round-off (not parameters): a
   // quantity computed from terms of size s is exact to round_off_factor * eps * s.

@@ -124,17 +124,16 @@ namespace ContactStefan
     // indexed by active cell index (entries of locally owned cells only), so
     // that neither field knows the other's DoFs. Vertex v of a cell is its v-th
     // vertex, the v-th point of the trapezoidal rule and the v-th FE_Q(1) DoF.
-    using VertexValues = std::vector<std::array<double, 4>>;
     // Phase weights of each cell (one per phase of its body), lagged: the
     // stiffness and beta of cells whose mixture changed are re-assembled.
     // Returns the number of cells re-assembled (over all ranks).
     unsigned int set_phase_weights(const std::vector<std::vector<double>> &weights);
     // Theta at the vertices: the thermal stress load of the next solve().
-    void set_cell_temperatures(const VertexValues &theta);
+    void set_cell_temperatures(const CellVertexValues &theta);
     // The thermoelastic work per vertex, sum_i B_K(i, v) (u - u_old)_i with
     // B_K(i, v) = w_v beta_K : e(phi_i)(x_v): times the absolute Theta_0(x_v) it
     // is the heat that the step's strain increment takes out of node v.
-    void thermoelastic_work(VertexValues &work) const;
+    void thermoelastic_work(CellVertexValues &work) const;
     // Stored elastic energy 1/2 int sigma : C^{-1} : sigma (thermal part
     // included), by the trapezoidal rule; collective.
     double elastic_energy() const;
@@ -146,13 +145,14 @@ namespace ContactStefan
            const unsigned int                                    vertex,
            const SymmetricTensor<2, dim>                        &strain) const;
     // Visit every vertex of every owned cell with its trapezoidal weight, the
-    // computed stress there, sigma_zz and the thermal part -beta (Theta - Theta_0).
-    void
-    for_each_vertex_stress(const std::function<void(const Point<dim> &,
-                                                    double,
-                                                    const SymmetricTensor<2, dim> &,
-                                                    double,
-                                                    const SymmetricTensor<2, dim> &)> &visit) const;
+    // computed stress there, sigma_zz, the thermal part -beta (Theta - Theta_0)
+    // and the cell's moduli.
+    void for_each_vertex_stress(const std::function<void(const Point<dim> &,
+                                                         double,
+                                                         const SymmetricTensor<2, dim> &,
+                                                         double,
+                                                         const SymmetricTensor<2, dim> &,
+                                                         const ElasticModuli &)> &visit) const;
 
     // --- queries ----------------------------------------------------------------
     const DoFHandler<dim> &get_dof_handler() const
@@ -266,7 +266,7 @@ namespace ContactStefan
     std::vector<ElasticModuli>          cell_moduli;
     std::vector<LocalMatrix>            cell_stiffness, cell_thermal_operator;
     std::vector<dealii::Vector<double>> cell_load, cell_thermal_load;
-    VertexValues                        cell_reference, cell_theta_excess;
+    CellVertexValues                    cell_reference, cell_theta_excess;
     const bool                          coupled, thermal_stress;
 
     // Work skipped when its inputs did not change: the matrix (stiffness

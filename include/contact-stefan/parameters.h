@@ -91,12 +91,10 @@ namespace ContactStefan
         lame,
         anisotropic
       } elasticity;
-      // youngs_modulus, poisson_ratio and thermal_expansion are the values of
-      // phase 0; the per-phase lists have one entry per phase (n + 1) after parse().
-      double              youngs_modulus, poisson_ratio, lame_lambda, lame_mu;
+      // The per-phase lists have one entry per phase (n + 1) after parse().
+      double              lame_lambda, lame_mu;
       std::vector<double> youngs_moduli, poisson_ratios;
       std::vector<double> voigt; // C11, C12, C16, C22, C26, C66
-      double              thermal_expansion;
       std::vector<double> thermal_expansions;
       // Anisotropic thermal data, each empty or with its entries: the expansion
       // tensor alpha_xx, alpha_xy, alpha_yx, alpha_yy, alpha_zz (1/K) and the

@@ -92,16 +92,15 @@ namespace ContactStefan
     // --- coupling (doc/coupling.md) -------------------------------------------------
     // Per-cell vertex arrays indexed by active cell index (owned cells only);
     // vertex v of a cell is its v-th FE_Q(1) DoF.
-    using VertexValues = std::vector<std::array<double, 4>>;
     // Theta at the vertices of each owned cell (the current temperature).
-    void cell_temperatures(VertexValues &theta) const;
+    void cell_temperatures(CellVertexValues &theta) const;
     // The phase weights of each owned cell (one per phase of its body): the
     // phase fractions of its nodes at the previous time level, averaged.
     void cell_phase_weights(std::vector<std::vector<double>> &weights) const;
     // The thermoelastic work at the vertices (MechanicalField::thermoelastic_work):
     // times the absolute Theta_0 it is the heat G the step's strain increment
     // takes out of each node, m_i (h_i - h_i^old) + tau (A Theta)_i + G_i = tau F_i.
-    void set_thermoelastic_work(const VertexValues &work);
+    void set_thermoelastic_work(const CellVertexValues &work);
     // -sum_i G_i: the heat the step's strain increment released (J per unit
     // thickness; > 0 under compression, < 0 where the body expands).
     double thermoelastic_heat() const;
@@ -216,7 +215,7 @@ namespace ContactStefan
     // the absolute Theta_0 at the vertices, and whether the scene has the term.
     Vector                              coupling_heat;
     std::vector<dealii::Vector<double>> cell_heating;
-    VertexValues                        cell_absolute_reference;
+    CellVertexValues                    cell_absolute_reference;
     const bool                          heating;
     double                              max_coupling_strength = 0;
 
