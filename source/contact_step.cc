@@ -225,15 +225,23 @@ namespace ContactStefan
 
 
   template <int dim>
-  void MechanicalField<dim>::solve_linear_system(const bool factorise)
+  void MechanicalField<dim>::solve_linear_system(const bool factorise, const bool settled)
   {
     if (factorise)
       {
+        // Only the constraints changed since the AMG hierarchy was built
+        // (same stiffness): LinearSolver::update keeps its aggregates.
         TimerOutput::Scope t(timer, "contact step: factorise");
-        linear_solver.initialize(system_matrix);
+        if (preconditioner_stiffness_version == stiffness_version)
+          linear_solver.update(system_matrix);
+        else
+          linear_solver.initialize(system_matrix);
+        preconditioner_stiffness_version = stiffness_version;
       }
     TimerOutput::Scope t(timer, "contact step: linear solve");
-    linear_solver.solve(displacement, system_rhs);
+    linear_solver.solve(displacement,
+                        system_rhs,
+                        settled ? prm.solver.cg_tolerance : prm.solver.cg_contact_set_tolerance);
     constraints.distribute(displacement);
     displacement_ghosted = displacement;
   }
@@ -507,6 +515,9 @@ namespace ContactStefan
     std::map<std::uint64_t, unsigned int> seen_sets; // hash of an active set -> visits
     const bool                            has_contact              = !contact_groups.empty();
     bool                                  rhs_from_vector_assembly = false;
+    // Whether the active set has settled (CG then solves to its full tolerance).
+    bool         settled           = false;
+    unsigned int tightening_solves = 0;
     for (unsigned int it = 1;; ++it)
       {
         if (it > prm.contact.max_iterations)
@@ -547,11 +558,11 @@ namespace ContactStefan
               }
           }
         const bool factorise = !(have_factorisation && signature == factorisation_signature);
-        solve_linear_system(factorise);
+        solve_linear_system(factorise, settled || !has_contact);
         report.factorisations += factorise;
         have_factorisation      = true;
         factorisation_signature = signature;
-        report.iterations       = it;
+        report.iterations       = it - tightening_solves;
         if (!has_contact)
           {
             // No obstacle and no interface: one linear solve, no active set.
@@ -611,6 +622,15 @@ namespace ContactStefan
                       "")
                 << std::endl;
 
+        if (changes == 0 && !settled && !linear_solver.is_direct())
+          {
+            // The set settled on an inexact solve (CG to 'CG tolerance while
+            // the contact set changes'): solve on it to the full tolerance,
+            // from this iterate, and check it again.
+            settled = true;
+            ++tightening_solves;
+            continue;
+          }
         if (changes == 0)
           {
             // Converged: the set is a fixed point, which with a small c might still

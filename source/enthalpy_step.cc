@@ -28,54 +28,144 @@
 
 namespace ContactStefan
 {
-  // Assemble  (tau A + diag(m d)) Theta = m g + tau F  with the current
-  // constraints eliminated. tau A and tau F go through the constraints cell by
-  // cell; the lumped mass terms m_i d_i and m_i g_i are added per node afterwards
-  // on the rows that are not constrained, so that with hanging nodes the mass stays
-  // the condensed diagonal m_i (distributing a cell's diagonal mass through
-  // hanging-node constraints would couple the parents). d and g are nodal vectors.
+  // The system  (tau A + diag(m d)) Theta = m g + tau F - G  of one active-set
+  // iteration, with the Dirichlet and plateau values eliminated.
+  //
+  // Only a few rows change from one iteration (or step) to the next, so nothing
+  // is integrated here: the conductivity matrix A (hanging nodes condensed) is
+  // assembled once per mesh and conductivity (assemble_conductivity_matrix), and
+  // the step's load tau F - G once per solve() (assemble_step_load). This
+  // function copies tau A into the system matrix row by row, adds the lumped
+  // mass terms m_i d_i on the free rows, and eliminates the nodes with a
+  // prescribed value (Dirichlet or plateau): their row becomes the diagonal
+  // entry alone, their column moves to the right-hand side. That is what
+  // AffineConstraints::distribute_local_to_global would produce, at the cost
+  // of one pass over the matrix entries instead of an integration over all
+  // cells. The lumped mass stays the condensed diagonal m_i on hanging meshes
+  // (distributing a cell's diagonal mass through hanging-node constraints would
+  // couple the parents). d and g are nodal vectors.
   template <int dim>
   void ThermalField<dim>::assemble_system(const bool assemble_matrix)
   {
-    TimerOutput::Scope                   t(timer, "enthalpy step: assemble");
-    const unsigned int                   n = fe.n_dofs_per_cell();
-    LocalMatrix                          local_matrix(n, n);
-    dealii::Vector<double>               local_rhs(n);
-    std::vector<types::global_dof_index> dofs(n);
-    if (assemble_matrix)
-      system_matrix = 0;
-    system_rhs = 0;
+    TimerOutput::Scope      t(timer, "enthalpy step: assemble");
+    const Epetra_CrsMatrix &A = conductivity_matrix.trilinos_matrix();
+    // Edited in place: the matrix keeps its layout (and the AMG hierarchy
+    // built on it stays attached to it).
+    Epetra_CrsMatrix  &S         = const_cast<Epetra_CrsMatrix &>(system_matrix.trilinos_matrix());
+    const Epetra_Map  &columns   = A.ColMap();
+    const unsigned int n_columns = columns.NumMyElements();
 
+    // The prescribed value of every column (NaN: free or hanging).
+    fixed_column_value.assign(n_columns, std::numeric_limits<double>::quiet_NaN());
+    for (unsigned int c = 0; c < n_columns; ++c)
+      {
+        const types::global_dof_index dof = columns.GID(c);
+        if (constraints.is_constrained(dof) && !hanging_node_constraints.is_constrained(dof))
+          fixed_column_value[c] = constraints.get_inhomogeneity(dof);
+      }
+
+    const Epetra_Map &rows = A.RowMap();
+    for (int r = 0; r < rows.NumMyElements(); ++r)
+      {
+        const types::global_dof_index dof = rows.GID(r);
+        int                           n_a, n_s;
+        double                       *a, *s;
+        int                          *index_a, *index_s;
+        A.ExtractMyRowView(r, n_a, a, index_a);
+        S.ExtractMyRowView(r, n_s, s, index_s);
+        Assert(n_a == n_s, ExcInternalError());
+        const bool hanging  = hanging_node_constraints.is_constrained(dof);
+        const bool fixed    = !hanging && constraints.is_constrained(dof);
+        double     diagonal = 0, rhs = hanging ? 0. : step_load[dof];
+        for (int k = 0; k < n_a; ++k)
+          {
+            Assert(index_a[k] == index_s[k], ExcInternalError());
+            const double value = time_step * a[k];
+            if (columns.GID(index_a[k]) == static_cast<int>(dof))
+              diagonal = value;
+            else if (!std::isnan(fixed_column_value[index_a[k]]))
+              {
+                rhs -= value * fixed_column_value[index_a[k]];
+                if (assemble_matrix)
+                  s[k] = 0;
+              }
+            else if (assemble_matrix)
+              s[k] = fixed ? 0. : value;
+          }
+        if (fixed)
+          {
+            // The row of a prescribed node: its diagonal entry alone, scaled
+            // like its neighbours' so that neither the direct solver's pivoting
+            // nor the AMG hierarchy sees an outlier.
+            const double scale =
+              diagonal > 0 ? diagonal : lumped_mass[dof] * law(dof).max_heat_capacity();
+            diagonal = scale > 0 ? scale : 1.;
+            rhs      = diagonal * constraints.get_inhomogeneity(dof);
+          }
+        else if (!hanging)
+          {
+            diagonal += lumped_mass[dof] * nodal_diagonal[dof];
+            rhs += lumped_mass[dof] * nodal_rhs[dof];
+          }
+        if (assemble_matrix)
+          for (int k = 0; k < n_a; ++k)
+            if (columns.GID(index_a[k]) == static_cast<int>(dof))
+              s[k] = diagonal;
+        system_rhs[dof] = rhs;
+      }
+    system_rhs.compress(VectorOperation::insert);
+  }
+
+
+
+  // A (the conductivity matrix of the mesh, hanging nodes condensed), assembled
+  // from the cell matrices A_K whenever they changed.
+  template <int dim>
+  void ThermalField<dim>::assemble_conductivity_matrix()
+  {
+    if (conductivity_matrix_version == conductivity_version)
+      return;
+    TimerOutput::Scope                   t(timer, "assemble conductivity");
+    const unsigned int                   n = fe.n_dofs_per_cell();
+    std::vector<types::global_dof_index> dofs(n);
+    conductivity_matrix = 0;
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
-          const unsigned int c = cell->active_cell_index();
           cell->get_dof_indices(dofs);
-          local_matrix = cell_conductivity[c];
-          local_matrix *= time_step;
-          for (unsigned int i = 0; i < n; ++i)
-            local_rhs(i) = (functions.heat_load_present() ? time_step * cell_load[c](i) : 0.) -
-                           (heating ? cell_heating[c](i) : 0.);
-          if (assemble_matrix)
-            constraints.distribute_local_to_global(
-              local_matrix, local_rhs, dofs, system_matrix, system_rhs);
-          else
-            constraints.distribute_local_to_global(local_rhs, dofs, system_rhs, local_matrix);
+          hanging_node_constraints.distribute_local_to_global(
+            cell_conductivity[cell->active_cell_index()], dofs, conductivity_matrix);
         }
-    if (assemble_matrix)
-      system_matrix.compress(VectorOperation::add);
-    system_rhs.compress(VectorOperation::add);
+    conductivity_matrix.compress(VectorOperation::add);
+    conductivity_matrix_version = conductivity_version;
+  }
 
-    for (const auto dof : owned)
-      if (!constraints.is_constrained(dof))
-        {
-          if (assemble_matrix)
-            system_matrix.add(dof, dof, lumped_mass[dof] * nodal_diagonal[dof]);
-          system_rhs[dof] += lumped_mass[dof] * nodal_rhs[dof];
-        }
-    if (assemble_matrix)
-      system_matrix.compress(VectorOperation::add);
-    system_rhs.compress(VectorOperation::add);
+
+
+  // tau F - G of the step, hanging nodes condensed: the load every iteration of
+  // solve() shares.
+  template <int dim>
+  void ThermalField<dim>::assemble_step_load()
+  {
+    TimerOutput::Scope                   t(timer, "enthalpy step: assemble");
+    const unsigned int                   n = fe.n_dofs_per_cell();
+    std::vector<types::global_dof_index> dofs(n);
+    dealii::Vector<double>               local(n);
+    step_load = 0;
+    if (functions.heat_load_present() || heating)
+      {
+        for (const auto &cell : dof_handler.active_cell_iterators())
+          if (cell->is_locally_owned())
+            {
+              const unsigned int c = cell->active_cell_index();
+              cell->get_dof_indices(dofs);
+              for (unsigned int i = 0; i < n; ++i)
+                local(i) = (functions.heat_load_present() ? time_step * cell_load[c](i) : 0.) -
+                           (heating ? cell_heating[c](i) : 0.);
+              hanging_node_constraints.distribute_local_to_global(local, dofs, step_load);
+            }
+        step_load.compress(VectorOperation::add);
+      }
   }
 
 
@@ -113,6 +203,35 @@ namespace ContactStefan
           hanging_node_constraints.distribute_local_to_global(local_result, dofs, result);
         }
     result.compress(VectorOperation::add);
+  }
+
+
+
+  template <int dim>
+  void ThermalField<dim>::conductivity_times(Vector &result, const bool absolute) const
+  {
+    if (!absolute)
+      {
+        conductivity_matrix.vmult(result, temperature);
+        return;
+      }
+    const Epetra_CrsMatrix &A       = conductivity_matrix.trilinos_matrix();
+    const Epetra_Map       &columns = A.ColMap();
+    column_values.resize(columns.NumMyElements());
+    for (int c = 0; c < columns.NumMyElements(); ++c)
+      column_values[c] = std::abs(temperature_ghosted[columns.GID(c)]);
+    for (int r = 0; r < A.RowMap().NumMyElements(); ++r)
+      {
+        int     n;
+        double *a;
+        int    *index;
+        A.ExtractMyRowView(r, n, a, index);
+        double sum = 0;
+        for (int k = 0; k < n; ++k)
+          sum += std::abs(a[k]) * column_values[index[k]];
+        result[A.RowMap().GID(r)] = sum;
+      }
+    result.compress(VectorOperation::insert);
   }
 
 
@@ -166,11 +285,20 @@ namespace ContactStefan
     assemble_system(factorise);
     if (factorise)
       {
+        // The AMG hierarchy (iterative path) is built once per tau and
+        // conductivity and kept while only the active set changes: the
+        // operator then differs on a few rows, which the finest level sees.
+        const std::uint64_t operator_signature =
+          Fingerprint::combine(Fingerprint::bits(time_step), conductivity_version);
+        const bool keep = have_preconditioner && operator_signature == preconditioner_signature;
         TimerOutput::Scope t(timer, "enthalpy step: factorise");
-        linear_solver.initialize(system_matrix);
-        have_factorisation      = true;
-        factorisation_signature = signature;
-        ++n_factorisations;
+        if (keep ? linear_solver.update(system_matrix) :
+                   (linear_solver.initialize(system_matrix), true))
+          ++n_factorisations;
+        have_factorisation       = true;
+        factorisation_signature  = signature;
+        have_preconditioner      = true;
+        preconditioner_signature = operator_signature;
       }
     {
       TimerOutput::Scope t(timer, "enthalpy step: linear solve");
@@ -180,7 +308,7 @@ namespace ContactStefan
     temperature_ghosted = temperature;
 
     Vector A_theta(owned, mpi_communicator);
-    apply_conductivity(temperature_ghosted, A_theta);
+    conductivity_times(A_theta);
     for (const auto dof : owned)
       {
         const double theta = temperature[dof];
@@ -253,8 +381,8 @@ namespace ContactStefan
 
         // Residual of the step equations at Theta = beta(h), relative to the
         // size of their terms.
-        apply_conductivity(temperature_ghosted, A_theta);
-        apply_conductivity(temperature_ghosted, A_abs_theta, true);
+        conductivity_times(A_theta);
+        conductivity_times(A_abs_theta, true);
         double residual = 0, scale = 0;
         for (const auto dof : owned)
           if (!dirichlet_constraints.is_constrained(dof))
@@ -294,8 +422,8 @@ namespace ContactStefan
   double ThermalField<dim>::compute_energy_balance(unsigned int &inconsistent) const
   {
     Vector A_theta(owned, mpi_communicator), A_abs_theta(owned, mpi_communicator);
-    apply_conductivity(temperature_ghosted, A_theta);
-    apply_conductivity(temperature_ghosted, A_abs_theta, true);
+    conductivity_times(A_theta);
+    conductivity_times(A_abs_theta, true);
     double       free_sum = 0, scale = 0;
     unsigned int inconsistent_nodes = 0;
     for (const auto dof : owned)
@@ -488,6 +616,8 @@ namespace ContactStefan
   {
     EnthalpyStepReport report;
     n_factorisations = 0;
+    assemble_conductivity_matrix();
+    assemble_step_load();
     if (prm.solver.enthalpy_solver == Parameters::Solver::EnthalpySolver::relaxation)
       report.relaxation_iterations = relaxation_fallback();
     else if (!active_set_iteration(report))

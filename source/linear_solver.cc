@@ -7,6 +7,7 @@
 
 #include <Epetra_MultiVector.h>
 #include <Teuchos_ParameterList.hpp>
+#include <ml_MultiLevelPreconditioner.h>
 
 namespace ContactStefan
 {
@@ -50,6 +51,7 @@ namespace ContactStefan
           {
             TrilinosWrappers::PreconditionAMG::AdditionalData data;
             data.elliptic = true;
+            amg_built     = false;
             if (null_space_dimension == 0)
               amg.initialize(A, data);
             else
@@ -64,6 +66,7 @@ namespace ContactStefan
                 parameters.set("null space: vectors", null_space.data());
                 amg.initialize(A, parameters);
               }
+            amg_built = true;
           }
       }
     catch (const std::exception &e)
@@ -73,6 +76,28 @@ namespace ContactStefan
                                                std::string("preconditioned by AMG")) +
                                  " (a singular or badly scaled matrix?): " + one_line(e.what()));
       }
+  }
+
+
+
+  bool LinearSolver::update(const TrilinosWrappers::SparseMatrix &A)
+  {
+    if (matrix == &A && !use_direct && amg_built)
+      {
+        if (!std::isfinite(A.linfty_norm()))
+          throw std::runtime_error("the matrix of the " + name +
+                                   " system is not finite (overflow: are material values or the "
+                                   "time step extreme?)");
+        // Same aggregates and prolongators, coarse operators and smoothers of
+        // the new values.
+        auto *ml = dynamic_cast<ML_Epetra::MultiLevelPreconditioner *>(
+          const_cast<Epetra_Operator *>(&amg.trilinos_operator()));
+        if (ml == nullptr || ml->ReComputePreconditioner() != 0)
+          initialize(A);
+        return false;
+      }
+    initialize(A);
+    return true;
   }
 
 
@@ -92,11 +117,12 @@ namespace ContactStefan
     matrix = nullptr;
     direct.reset();
     amg.clear();
+    amg_built = false;
   }
 
 
 
-  void LinearSolver::solve(Vector &x, const Vector &b)
+  void LinearSolver::solve(Vector &x, const Vector &b, const double relative_tolerance)
   {
     if (matrix == nullptr)
       throw std::logic_error("LinearSolver::solve() before initialize()");
@@ -108,7 +134,9 @@ namespace ContactStefan
       }
     else
       {
-        SolverControl    control(prm.cg_max_iterations, prm.cg_tolerance * b.l2_norm());
+        SolverControl    control(prm.cg_max_iterations,
+                              (relative_tolerance > 0 ? relative_tolerance : prm.cg_tolerance) *
+                                b.l2_norm());
         SolverCG<Vector> cg(control);
         cg.solve(*matrix, x, b, amg);
         if (verbosity >= 2)

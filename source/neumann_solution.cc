@@ -149,6 +149,8 @@ namespace ContactStefan
 
     std::vector<double> mu_hi;
     mu = std::abs(shoot(lo, work)) <= std::abs(shoot(hi, mu_hi)) ? work : mu_hi;
+    for (unsigned int p = 0; p <= n; ++p)
+      regions.push_back(region_of_phase(p, mu));
 
     // Shooting satisfied the inner Stefan conditions by construction, but check all
     // of them (and the ordering) on the final profiles, as temperature() sees them:
@@ -237,17 +239,21 @@ namespace ContactStefan
   {
     const unsigned int n      = n_transitions();
     const double       sqrt_a = std::sqrt(diffusivities[p]);
-    return {p,
-            p == n ? 0. : mu_values[p] / sqrt_a,
-            p == 0 ? infinity : mu_values[p - 1] / sqrt_a,
-            p == n ? T_hot : temperatures[p],
-            p == 0 ? T_cold : temperatures[p - 1],
-            sqrt_a};
+    Region             r{p,
+             p == n ? 0. : mu_values[p] / sqrt_a,
+             p == 0 ? infinity : mu_values[p - 1] / sqrt_a,
+             p == n ? T_hot : temperatures[p],
+             p == 0 ? T_cold : temperatures[p - 1],
+             sqrt_a,
+             0.};
+    r.denominator = scaled_erf_difference(r.xi_left, r.xi_right);
+    return r;
   }
 
 
 
-  NeumannSolution::Region NeumannSolution::region_containing(const double x, const double t) const
+  const NeumannSolution::Region &NeumannSolution::region_containing(const double x,
+                                                                    const double t) const
   {
     if (!(t > 0) || !(x >= 0))
       throw std::invalid_argument("the Neumann solution is defined for x >= 0, t > 0 only");
@@ -255,7 +261,7 @@ namespace ContactStefan
     unsigned int p   = n_transitions();
     while (p > 0 && eta >= mu[p - 1])
       --p;
-    return region_of_phase(p, mu);
+    return regions[p];
   }
 
 
@@ -267,17 +273,17 @@ namespace ContactStefan
     const double xi = eta / r.sqrt_diffusivity;
     return -conductivities[r.phase] * (r.theta_right - r.theta_left) * 2. *
            std::exp((r.xi_left - xi) * (r.xi_left + xi)) /
-           (sqrt_pi * r.sqrt_diffusivity * scaled_erf_difference(r.xi_left, r.xi_right));
+           (sqrt_pi * r.sqrt_diffusivity * r.denominator);
   }
 
 
 
   double NeumannSolution::temperature(const double x, const double t) const
   {
-    const Region r  = region_containing(x, t);
-    const double xi = x / (2. * std::sqrt(t)) / r.sqrt_diffusivity;
-    return r.theta_left + (r.theta_right - r.theta_left) * scaled_erf_difference(r.xi_left, xi) /
-                            scaled_erf_difference(r.xi_left, r.xi_right);
+    const Region &r  = region_containing(x, t);
+    const double  xi = x / (2. * std::sqrt(t)) / r.sqrt_diffusivity;
+    return r.theta_left +
+           (r.theta_right - r.theta_left) * scaled_erf_difference(r.xi_left, xi) / r.denominator;
   }
 
 
@@ -285,7 +291,7 @@ namespace ContactStefan
   double NeumannSolution::temperature_gradient(const double x, const double t) const
   {
     // dTheta/dx = dTheta/deta / (2 sqrt t) = -q / (2 k sqrt t).
-    const Region r = region_containing(x, t);
+    const Region &r = region_containing(x, t);
     return -flux(r, x / (2. * std::sqrt(t))) / (2. * conductivities[r.phase] * std::sqrt(t));
   }
 

@@ -298,40 +298,40 @@ namespace ContactStefan
       return;
     TimerOutput::Scope t(timer, "errors");
     exact->set_time(time);
-    const DoFHandler<dim> &dof_handler = thermal->get_dof_handler();
-    const Vector          &theta_h_all = thermal->get_temperature();
+    const Vector &theta_h_all = thermal->get_temperature();
     // ||Theta_h - Theta|| and ||Theta|| in one pass over the cells (Gauss rule
-    // two orders above the element's).
-    const auto         &fe = dof_handler.get_fe();
-    const QGauss<dim>   quadrature(fe.degree + 2);
-    FEValues<dim>       fe_values(fe,
-                            quadrature,
-                            update_values | update_quadrature_points | update_JxW_values);
-    std::vector<double> theta_h(quadrature.size()), theta(quadrature.size());
-    double              error_squared = 0, norm_squared = 0;
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned())
-        {
-          fe_values.reinit(cell);
-          fe_values.get_function_values(theta_h_all, theta_h);
-          exact->value_list(fe_values.get_quadrature_points(), theta);
-          for (unsigned int q = 0; q < quadrature.size(); ++q)
-            {
-              error_squared += (theta_h[q] - theta[q]) * (theta_h[q] - theta[q]) * fe_values.JxW(q);
-              norm_squared += theta[q] * theta[q] * fe_values.JxW(q);
-            }
-        }
+    // two orders above the element's), with the cached geometry.
+    update_error_geometry();
+    const ErrorGeometry &g      = error_geometry;
+    const double        *values = theta_h_all.trilinos_vector()[0];
+    std::vector<double>  theta(g.n_q_points);
+    double               error_squared = 0, norm_squared = 0;
+    for (unsigned int c = 0; c < g.n_cells; ++c)
+      {
+        const Point<dim> *points = &g.points[c * g.n_q_points];
+        for (unsigned int q = 0; q < g.n_q_points; ++q)
+          theta[q] = exact->value(points[q]);
+        const int    *dofs = &g.local_dofs[c * g.dofs_per_cell];
+        const double *JxW  = &g.JxW[c * g.n_q_points];
+        for (unsigned int q = 0; q < g.n_q_points; ++q)
+          {
+            double theta_h = 0;
+            for (unsigned int i = 0; i < g.dofs_per_cell; ++i)
+              theta_h += values[dofs[i]] * g.shape[q * g.dofs_per_cell + i];
+            error_squared += (theta_h - theta[q]) * (theta_h - theta[q]) * JxW[q];
+            norm_squared += theta[q] * theta[q] * JxW[q];
+          }
+      }
     last_l2_error = std::sqrt(Utilities::MPI::sum(error_squared, mpi_communicator));
     last_l2_norm  = std::sqrt(Utilities::MPI::sum(norm_squared, mpi_communicator));
 
     // Max-norm error at the nodes, the largest exact nodal value, and the mean
     // signed error sum_i m_i (Theta_i - Theta(x_i)) / sum_i m_i.
-    const auto   &points    = thermal->get_support_points();
     const Vector &mass      = thermal->get_lumped_mass();
     double        max_error = 0, max_value = 0, signed_error = 0, total_mass = 0;
-    for (const auto dof : dof_handler.locally_owned_dofs())
+    for (const auto &[dof, point] : g.nodes)
       {
-        const double value = exact->value(points.at(dof));
+        const double value = exact->value(point);
         max_error          = max_with_nan(max_error, std::abs(theta_h_all[dof] - value));
         max_value          = std::max(max_value, std::abs(value));
         signed_error += mass[dof] * (theta_h_all[dof] - value);
@@ -351,6 +351,51 @@ namespace ContactStefan
         space_time_error_squared += tau * last_l2_error * last_l2_error;
         space_time_norm_squared += tau * last_l2_norm * last_l2_norm;
       }
+  }
+
+
+
+  template <int dim>
+  void Postprocessor<dim>::update_error_geometry()
+  {
+    const DoFHandler<dim> &dof_handler = thermal->get_dof_handler();
+    ErrorGeometry         &g           = error_geometry;
+    if (g.n_dofs == dof_handler.n_dofs() &&
+        g.n_cells == triangulation.n_locally_owned_active_cells() && g.n_cells > 0)
+      return;
+    const auto       &fe = dof_handler.get_fe();
+    const QGauss<dim> quadrature(fe.degree + 2);
+    FEValues<dim>     fe_values(fe,
+                            quadrature,
+                            update_values | update_quadrature_points | update_JxW_values);
+    g                                        = ErrorGeometry();
+    g.n_dofs                                 = dof_handler.n_dofs();
+    g.n_q_points                             = quadrature.size();
+    g.dofs_per_cell                          = fe.n_dofs_per_cell();
+    const Epetra_BlockMap               &map = thermal->get_temperature().trilinos_vector().Map();
+    std::vector<types::global_dof_index> dofs(g.dofs_per_cell);
+    bool                                 first = true;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          fe_values.reinit(cell);
+          cell->get_dof_indices(dofs);
+          for (const auto dof : dofs)
+            g.local_dofs.push_back(map.LID(static_cast<int>(dof)));
+          for (unsigned int q = 0; q < g.n_q_points; ++q)
+            {
+              g.points.push_back(fe_values.quadrature_point(q));
+              g.JxW.push_back(fe_values.JxW(q));
+              if (first)
+                for (unsigned int i = 0; i < g.dofs_per_cell; ++i)
+                  g.shape.push_back(fe_values.shape_value(i, q));
+            }
+          first = false;
+          ++g.n_cells;
+        }
+    for (const auto &[dof, point] : thermal->get_support_points())
+      if (dof_handler.locally_owned_dofs().is_element(dof))
+        g.nodes.emplace_back(dof, point);
   }
 
 

@@ -67,6 +67,7 @@ namespace ContactStefan
     SparsityTools::distribute_sparsity_pattern(dsp, owned, mpi_communicator, relevant);
     linear_solver.clear();
     system_matrix.reinit(owned, owned, dsp, mpi_communicator);
+    conductivity_matrix.reinit(owned, owned, dsp, mpi_communicator);
 
     for (Vector *v : {&system_rhs,
                       &temperature,
@@ -77,9 +78,13 @@ namespace ContactStefan
                       &phase_state,
                       &nodal_diagonal,
                       &nodal_rhs,
-                      &coupling_heat})
+                      &coupling_heat,
+                      &step_load})
       v->reinit(owned, mpi_communicator);
-    have_factorisation = false;
+    have_factorisation  = false;
+    have_preconditioner = false;
+    // A new mesh: the conductivity matrix is assembled before the next solve.
+    conductivity_matrix_version = conductivity_version - 1;
     for (Vector *v : {&temperature_ghosted, &enthalpy_ghosted, &phase_state_ghosted})
       v->reinit(owned, relevant, mpi_communicator);
 

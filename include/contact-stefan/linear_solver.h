@@ -38,8 +38,23 @@ namespace ContactStefan
     // Factorise A, or build the AMG hierarchy of A. A must stay alive and
     // unchanged until the next initialize().
     void initialize(const TrilinosWrappers::SparseMatrix &A);
-    // Solve A x = b with the matrix of the last initialize().
-    void solve(Vector &x, const Vector &b);
+    // A's values changed in place on a few rows (a new active set): the
+    // direct solver refactorises, but an AMG hierarchy built for an earlier
+    // state of the same matrix object is kept as the preconditioner (its finest
+    // level reads A itself, so CG and the smoother see the new values; the
+    // coarse levels are those of the earlier state). Returns whether anything
+    // was factorised or built.
+    bool update(const TrilinosWrappers::SparseMatrix &A);
+    // Whether the last initialize()/update() chose the direct solver (the
+    // choice of 'automatic' depends on the size of the system).
+    bool is_direct() const
+    {
+      return use_direct;
+    }
+    // Solve A x = b with the matrix of the last initialize(); CG (warm
+    // started from x) reduces the residual to relative_tolerance ||b||
+    // ('Solver/CG tolerance' if 0).
+    void solve(Vector &x, const Vector &b, const double relative_tolerance = 0);
     // Forget the matrix (its owner is about to reinit or destroy it): a solve()
     // before the next initialize() is then an error, not a use of freed memory.
     void clear();
@@ -54,6 +69,7 @@ namespace ContactStefan
     SolverControl                                   direct_control;
     std::unique_ptr<TrilinosWrappers::SolverDirect> direct;
     TrilinosWrappers::PreconditionAMG               amg;
+    bool                                            amg_built = false;
     // The near-null space, column after column (ML reads it by pointer while
     // it builds the hierarchy).
     std::vector<double> null_space;

@@ -210,7 +210,8 @@ namespace ContactStefan
     void build_contact_constraints(unsigned int &n_skipped);
     void check_rigid_body_modes() const;
     void assemble_system(const bool with_matrix);
-    void solve_linear_system(const bool factorise);
+    // settled: the active set has settled, solve to the full CG tolerance.
+    void solve_linear_system(const bool factorise, const bool settled);
     // Hash of the constraint lines: their pattern and coefficients (what the
     // matrix depends on), with inhomogeneities if asked; the same on every rank.
     std::uint64_t constraints_hash(const bool with_inhomogeneities) const;
@@ -272,7 +273,9 @@ namespace ContactStefan
     // Work skipped when its inputs did not change: the matrix (stiffness
     // version, constraint pattern) last assembled and factorised, and the data
     // of the last converged solve (rhs, inhomogeneities, gaps).
-    unsigned int      stiffness_version = 0;
+    unsigned int stiffness_version = 0;
+    // The stiffness the linear solver's preconditioner was built for.
+    unsigned int      preconditioner_stiffness_version = static_cast<unsigned int>(-1);
     bool              have_matrix = false, have_factorisation = false, have_solution = false;
     std::uint64_t     matrix_signature = 0, factorisation_signature = 0;
     std::uint64_t     solved_signature = 0;

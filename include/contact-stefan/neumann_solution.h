@@ -56,9 +56,11 @@ namespace ContactStefan
     {
       unsigned int phase;
       double       xi_left, xi_right, theta_left, theta_right, sqrt_diffusivity;
+      // S(xi_left, xi_right) of the profile (constant per region).
+      double denominator;
     };
     Region region_of_phase(const unsigned int phase, const std::vector<double> &mu_values) const;
-    Region region_containing(const double x, const double t) const;
+    const Region &region_containing(const double x, const double t) const;
     // The similarity heat flux q = -k dTheta/deta, eta = x/(2 sqrt t), in region r.
     double flux(const Region &r, const double eta) const;
 
@@ -69,6 +71,9 @@ namespace ContactStefan
     std::vector<double> temperatures, latent_heats;
     double              T_hot, T_cold;
     std::vector<double> mu;
+    // The regions of the final fronts, phase by phase (evaluation at every
+    // quadrature point of every step must not recompute their constants).
+    std::vector<Region> regions;
   };
 } // namespace ContactStefan
 

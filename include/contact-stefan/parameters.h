@@ -278,6 +278,7 @@ namespace ContactStefan
       unsigned int automatic_direct_limit; // automatic: direct below this many unknowns
       std::string  direct_solver_type;
       double       cg_tolerance;
+      double       cg_contact_set_tolerance;
       unsigned int cg_max_iterations;
       unsigned int max_active_set_iterations;
       enum class EnthalpySolver

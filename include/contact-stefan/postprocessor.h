@@ -65,6 +65,22 @@ namespace ContactStefan
 
   private:
     void accumulate_errors(const double time, const double tau);
+    // The geometry the error norms need, computed once per mesh: the errors
+    // are evaluated at every step, and re-running FEValues over all cells
+    // cost more than the step itself on large meshes.
+    void update_error_geometry();
+    struct ErrorGeometry
+    {
+      types::global_dof_index n_dofs  = 0; // of the mesh it was built for
+      unsigned int            n_cells = 0, n_q_points = 0, dofs_per_cell = 0;
+      // Per owned cell: the local (ghosted-vector) indices of its DoFs, its
+      // quadrature points and JxW; the shape values (the same on every cell).
+      std::vector<int>        local_dofs;
+      std::vector<Point<dim>> points;
+      std::vector<double>     JxW, shape;
+      // The owned nodes: DoF, position.
+      std::vector<std::pair<types::global_dof_index, Point<dim>>> nodes;
+    } error_geometry;
     void write_statistics_row(const unsigned int        step,
                               const double              time,
                               const EnthalpyStepReport &report,

@@ -173,7 +173,13 @@ namespace ContactStefan
     }
 
     // enthalpy_step.cc
+    void assemble_conductivity_matrix();
+    void assemble_step_load();
     void assemble_system(const bool assemble_matrix);
+    // result = A Theta (hanging nodes condensed) for the current temperature,
+    // from the assembled A; with absolute, |A| |Theta| entrywise (the size of
+    // the terms against which the round-off of (A Theta)_i is measured).
+    void conductivity_times(Vector &result, const bool absolute = false) const;
     unsigned int
          solve_for_pieces(const std::function<LinearPiece(const types::global_dof_index)> &piece_of,
                           Vector                                                          &h_new);
@@ -199,6 +205,14 @@ namespace ContactStefan
 
     TrilinosWrappers::SparseMatrix system_matrix;
     Vector                         system_rhs;
+    // A itself (hanging nodes condensed, no other constraint), assembled when
+    // conductivity_version moves; the load tau F - G of the current solve();
+    // per column of the matrix, the prescribed value of that node (NaN: free).
+    TrilinosWrappers::SparseMatrix conductivity_matrix;
+    unsigned int                   conductivity_matrix_version = 0;
+    Vector                         step_load;
+    std::vector<double>            fixed_column_value;
+    mutable std::vector<double>    column_values;
     LinearSolver                   linear_solver;
 
     // Primary state: the nodal enthalpy now and at the previous time level.
@@ -224,7 +238,10 @@ namespace ContactStefan
     unsigned int  conductivity_version    = 0;
     bool          have_factorisation      = false;
     std::uint64_t factorisation_signature = 0;
-    unsigned int  n_factorisations        = 0; // in the current solve()
+    // The operator (tau, conductivity) the AMG hierarchy was built for.
+    bool          have_preconditioner      = false;
+    std::uint64_t preconditioner_signature = 0;
+    unsigned int  n_factorisations         = 0; // in the current solve()
 
     // The enthalpy law of each locally relevant node: body laws first, then the
     // mass-weighted sums for nodes shared by bodies with different laws.
