@@ -1,0 +1,297 @@
+#!/usr/bin/python3
+"""Run time against error for contact-stefan and, where installed, FEniCSx.
+
+The two problems of issue #10, on a refinement ladder, one run at a time:
+
+  contact  the contact block (benchmarks/scenes/contact_block.prm), N x N cells,
+           N = 32 * 2^L. Both codes solve the same nodal Signorini problem, so
+           at equal N they give the same contact force (to ~10 digits): the
+           table compares wall times at equal N, i.e. at equal error.
+  stefan   the Stefan strip (benchmarks/scenes/stefan_strip.prm), nx = 100 * 2^L
+           cells along the strip, ny = nx/10, tau = h/10; the error is the
+           relative space-time L2 error against Neumann's solution. FEniCSx
+           solves a smoothed enthalpy (mushy width 2h) with Newton; the ratio
+           at equal error interpolates FEniCSx's time-error curve (log-log) at
+           contact-stefan's errors.
+
+For every contact-stefan run the script also prints the cost profile (the
+TimerOutput sections), the average cost of a step against the cost of one
+linear solve of the same operator from scratch (an average factorisation or
+AMG set-up plus an average solve; for the contact block the "step" is the
+whole run), and the cost exponent (time per step against DoFs).
+
+    benchmarks/performance.py --problem stefan --levels 4
+    benchmarks/performance.py --problem contact --levels 4 --markdown --plot doc/figures/perf
+
+FEniCSx runs when /usr/bin/python3 can import dolfinx (Debian:
+python3-dolfinx-real); --no-fenicsx skips it. Time benchmarks on a quiet
+machine: the ratios compare runs made one after the other in one session.
+"""
+import argparse
+import math
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+from ladder import get_entry, least_squares_rate, set_entry  # noqa: E402
+
+DEFAULT_BINARY = os.path.join(HERE, "..", "build", "contact-stefan")
+FENICSX_PYTHON = "/usr/bin/python3"
+SCENES = {"contact": os.path.join(HERE, "scenes", "contact_block.prm"),
+          "stefan": os.path.join(HERE, "scenes", "stefan_strip.prm")}
+FENICSX_SCRIPTS = {"contact": os.path.join(HERE, "fenicsx", "contact_block.py"),
+                   "stefan": os.path.join(HERE, "fenicsx", "stefan_strip.py")}
+
+
+def parse(stdout):
+    """RESULT lines and TimerOutput rows (section -> (calls, seconds))."""
+    results, timers = {}, {}
+    for line in stdout.splitlines():
+        m = re.match(r"RESULT (.+?) = (\S+)", line)
+        if m:
+            results[m.group(1)] = float(m.group(2))
+            continue
+        m = re.match(r"\|\s*([^|]+?)\s*\|\s*(\d+)\s*\|\s*([0-9.e+-]+)s", line)
+        if m:
+            timers[m.group(1)] = (int(m.group(2)), float(m.group(3)))
+    return results, timers
+
+
+def run(cmd, what):
+    out = subprocess.run(cmd, capture_output=True, text=True)
+    if out.returncode != 0:
+        print(f"performance.py: {what} failed (exit {out.returncode}):\n"
+              f"{out.stderr[-1500:]}{out.stdout[-1500:]}", file=sys.stderr)
+        return None
+    return parse(out.stdout)
+
+
+def run_ours(binary, problem, level, np_, workdir):
+    with open(SCENES[problem]) as f:
+        text = f.read()
+    if problem == "contact":
+        n = 32 * 2**level
+        text = set_entry(text, "Subdivisions", f"{n}, {n}")
+        size = n
+    else:
+        nx = 100 * 2**level
+        text = set_entry(text, "Subdivisions", f"{nx}, {nx // 10}")
+        text = set_entry(text, "Time step", repr(0.1 / nx))
+        size = nx
+    text = set_entry(text, "Directory", os.path.join(workdir, f"{problem}-{level}"))
+    prm = os.path.join(workdir, f"{problem}-{level}.prm")
+    with open(prm, "w") as f:
+        f.write(text)
+    cmd = [binary, prm] if np_ == 1 else ["mpirun", "--allow-run-as-root", "--oversubscribe",
+                                          "-np", str(np_), binary, prm]
+    parsed = run(cmd, f"contact-stefan {problem} level {level}")
+    if parsed is None:
+        return None
+    results, timers = parsed
+    results["size"] = size
+    results["timers"] = timers
+    return results
+
+
+def run_fenicsx(problem, level, workdir):
+    script = FENICSX_SCRIPTS[problem]
+    size = (32 if problem == "contact" else 100) * 2**level
+    flag = "--n" if problem == "contact" else "--nx"
+    parsed = run([FENICSX_PYTHON, script, flag, str(size)], f"FEniCSx {problem} level {level}")
+    if parsed is None:
+        return {"size": size, "failed": True}
+    results, _ = parsed
+    results["size"] = size
+    return results
+
+
+def fenicsx_available():
+    if not os.path.exists(FENICSX_PYTHON):
+        return False
+    probe = subprocess.run([FENICSX_PYTHON, "-c", "import dolfinx"], capture_output=True)
+    return probe.returncode == 0
+
+
+def dofs(r):
+    for key in ("temperature dofs", "displacement dofs", "dofs"):
+        if key in r:
+            return r[key]
+    return float("nan")
+
+
+def error_of(problem, r):
+    if problem == "stefan":
+        return r.get("relative space-time L2 error temperature", float("nan"))
+    return r.get("contact force boundary 2", r.get("contact force", float("nan")))
+
+
+def time_at_error(curve, error):
+    """Wall time of a (error, time) curve at the given error: log-log
+    interpolation between the two bracketing runs; None outside the curve."""
+    pts = sorted((e, t) for e, t in curve if e > 0 and t > 0)
+    for (e0, t0), (e1, t1) in zip(pts, pts[1:]):
+        if e0 <= error <= e1:
+            w = (math.log(error) - math.log(e0)) / (math.log(e1) - math.log(e0))
+            return math.exp(math.log(t0) + w * (math.log(t1) - math.log(t0)))
+    return None
+
+
+def table(headers, rows, markdown):
+    if markdown:
+        print("| " + " | ".join(headers) + " |")
+        print("|" + "---|" * len(headers))
+        for row in rows:
+            print("| " + " | ".join(row) + " |")
+    else:
+        widths = [max(len(h), *(len(r[i]) for r in rows)) for i, h in enumerate(headers)]
+        print("  ".join(h.rjust(w) for h, w in zip(headers, widths)))
+        for row in rows:
+            print("  ".join(c.rjust(w) for c, w in zip(row, widths)))
+    print()
+
+
+def solve_section(problem):
+    return "contact step: linear solve" if problem == "contact" else "enthalpy step: linear solve"
+
+
+def report(problem, ours, theirs, markdown):
+    print(f"## {problem}: contact-stefan" + (" against FEniCSx" if theirs else ""))
+    print()
+    size_name = "N" if problem == "contact" else "nx"
+    headers = [size_name, "DoFs", "steps", "wall [s]", "solves", "factorisations / AMG setups",
+               "error" if problem == "stefan" else "contact force"]
+    if theirs:
+        headers += ["FEniCSx wall [s]", "FEniCSx " + ("error" if problem == "stefan" else "force")]
+        headers += ["ratio at equal " + ("N" if problem == "contact" else "error")]
+    curve = [(error_of(problem, t), t["wall time"]) for t in theirs if not t.get("failed")]
+    rows = []
+    for i, r in enumerate(ours):
+        timers = r["timers"]
+        solves = timers.get(solve_section(problem), (0, 0))[0]
+        setups = timers.get(solve_section(problem).replace("linear solve", "factorise"), (0, 0))[0]
+        row = [f"{r['size']}", f"{dofs(r):.0f}", f"{r.get('time steps', 1):.0f}",
+               f"{r['wall time']:.2f}", f"{solves}", f"{setups}",
+               f"{error_of(problem, r):.6e}" if problem == "stefan" else f"{error_of(problem, r):.10e}"]
+        if theirs:
+            t = theirs[i] if i < len(theirs) else {"failed": True}
+            if t.get("failed"):
+                row += ["failed", "-", "-"]
+            else:
+                row += [f"{t['wall time']:.2f}",
+                        f"{error_of(problem, t):.6e}" if problem == "stefan"
+                        else f"{error_of(problem, t):.10e}"]
+                if problem == "contact":
+                    row.append(f"{t['wall time'] / r['wall time']:.1f}")
+                else:
+                    at = time_at_error(curve, error_of(problem, r))
+                    row.append(f"{at / r['wall time']:.1f}" if at else "outside")
+        rows.append(row)
+    table(headers, rows, markdown)
+
+    # Cost profile and cost of a step against one linear solve.
+    print(f"### {problem}: where the time goes (contact-stefan, share of the wall time)")
+    print()
+    sections = []
+    for r in ours:
+        for name, (_, seconds) in r["timers"].items():
+            if seconds > 0.02 * r["wall time"] and name not in sections:
+                sections.append(name)
+    headers = [size_name] + sections + ["step / one solve"]
+    rows = []
+    for r in ours:
+        timers = r["timers"]
+        row = [f"{r['size']}"]
+        row += [f"{100 * timers.get(s, (0, 0))[1] / r['wall time']:.0f} %" for s in sections]
+        # One linear solve of the operator from scratch: an average
+        # factorisation (or AMG set-up) plus an average solve.
+        calls, seconds = timers.get(solve_section(problem), (0, 0))
+        f_calls, f_seconds = timers.get(solve_section(problem).replace("linear solve", "factorise"),
+                                        (0, 0))
+        one_solve = (seconds / calls if calls else 0) + (f_seconds / f_calls if f_calls else 0)
+        steps = max(r.get("time steps", 1), 1)
+        row.append(f"{(r['wall time'] / steps) / one_solve:.2f}" if one_solve > 0 else "-")
+        rows.append(row)
+    table(headers, rows, markdown)
+    if len(ours) > 2:
+        per_step = [r["wall time"] / max(r.get("time steps", 1), 1) for r in ours]
+        exponent = least_squares_rate([dofs(r) for r in ours], per_step)
+        print(f"cost exponent (time per step ~ DoFs^p, least squares over the ladder): "
+              f"p = {exponent:.2f}")
+        print()
+
+
+def plot(problem, ours, theirs, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(6, 4))
+    if problem == "stefan":
+        ax.loglog([r["wall time"] for r in ours], [error_of(problem, r) for r in ours], "o-",
+                  label="contact-stefan (sharp, active set)")
+        good = [t for t in theirs if not t.get("failed")]
+        if good:
+            ax.loglog([t["wall time"] for t in good], [error_of(problem, t) for t in good], "s--",
+                      label="FEniCSx (smoothed, eps = 2h, Newton)")
+        ax.set_ylabel("relative space-time L2 error")
+    else:
+        ax.loglog([dofs(r) for r in ours], [r["wall time"] for r in ours], "o-",
+                  label="contact-stefan (active set, CG + AMG)")
+        good = [t for t in theirs if not t.get("failed")]
+        if good:
+            ax.loglog([dofs(t) for t in good], [t["wall time"] for t in good], "s--",
+                      label="FEniCSx (SNES-VI)")
+        ax.set_ylabel("wall time [s]")
+    ax.set_xlabel("wall time [s]" if problem == "stefan" else "DoFs")
+    ax.set_title(f"{problem}: run time against " + ("error" if problem == "stefan" else "size"))
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--problem", choices=["contact", "stefan", "all"], default="all")
+    parser.add_argument("--levels", type=int, default=4)
+    parser.add_argument("--np", type=int, default=1, help="MPI ranks of contact-stefan")
+    parser.add_argument("--binary", default=DEFAULT_BINARY)
+    parser.add_argument("--no-fenicsx", action="store_true")
+    parser.add_argument("--fenicsx-levels", type=int, help="FEniCSx levels (default: --levels)")
+    parser.add_argument("--markdown", action="store_true")
+    parser.add_argument("--plot", help="write PLOT-<problem>.png")
+    args = parser.parse_args()
+    if not os.path.exists(args.binary):
+        sys.exit(f"performance.py: no binary at {args.binary}; build first (see README)")
+    fenicsx = not args.no_fenicsx and fenicsx_available()
+    if not args.no_fenicsx and not fenicsx:
+        print("performance.py: FEniCSx not found for /usr/bin/python3 "
+              "(apt-get install python3-dolfinx-real); contact-stefan only", file=sys.stderr)
+    problems = ["contact", "stefan"] if args.problem == "all" else [args.problem]
+    with tempfile.TemporaryDirectory() as workdir:
+        for problem in problems:
+            ours, theirs = [], []
+            for level in range(args.levels):
+                r = run_ours(args.binary, problem, level, args.np, workdir)
+                if r is None:
+                    sys.exit(1)
+                ours.append(r)
+                print(f"{problem} level {level}: contact-stefan {r['wall time']:.2f} s",
+                      file=sys.stderr)
+            if fenicsx:
+                for level in range(args.fenicsx_levels if args.fenicsx_levels is not None
+                                   else args.levels):
+                    t = run_fenicsx(problem, level, workdir)
+                    theirs.append(t)
+                    took = "failed" if t.get("failed") else f"{t['wall time']:.2f} s"
+                    print(f"{problem} level {level}: FEniCSx {took}", file=sys.stderr)
+            report(problem, ours, theirs, args.markdown)
+            if args.plot:
+                plot(problem, ours, theirs, f"{args.plot}-{problem}.png")
+
+
+if __name__ == "__main__":
+    main()
