@@ -177,8 +177,10 @@ def report(problem, ours, theirs, markdown):
                f"{r['wall time']:.2f}", f"{solves}", f"{setups}",
                f"{error_of(problem, r):.6e}" if problem == "stefan" else f"{error_of(problem, r):.10e}"]
         if theirs:
-            t = theirs[i] if i < len(theirs) else {"failed": True}
-            if t.get("failed"):
+            t = theirs[i] if i < len(theirs) else None
+            if t is None:
+                row += ["not run", "-", "-"]
+            elif t.get("failed"):
                 row += ["failed", "-", "-"]
             else:
                 row += [f"{t['wall time']:.2f}",

@@ -520,7 +520,7 @@ namespace ContactStefan
     unsigned int tightening_solves = 0;
     for (unsigned int it = 1;; ++it)
       {
-        if (it > prm.contact.max_iterations)
+        if (it - tightening_solves > prm.contact.max_iterations)
           throw std::runtime_error(
             "the contact step did not converge in 'Contact/Max iterations' = " +
             std::to_string(prm.contact.max_iterations) + " iterations at t = " + number(time));
@@ -654,7 +654,15 @@ namespace ContactStefan
             store_contact_output(decisions, report);
             break;
           }
-        if (++seen_sets[set_hash] > prm.contact.max_set_repetitions)
+        if (!settled && !linear_solver.is_direct() && seen_sets.count(set_hash) > 0)
+          {
+            // A set recurs while CG solves inexactly: solve exactly from now
+            // on before judging it a cycle (noise of the loose solve can flip
+            // nodes at the threshold).
+            settled = true;
+            seen_sets.clear();
+          }
+        else if (++seen_sets[set_hash] > prm.contact.max_set_repetitions)
           {
             if (report.c_reductions == prm.contact.max_c_reductions)
               throw std::runtime_error(

@@ -26,6 +26,9 @@
 #include <functional>
 #include <limits>
 
+#include <Epetra_Import.h>
+#include <Epetra_Vector.h>
+
 namespace ContactStefan
 {
   // The system  (tau A + diag(m d)) Theta = m g + tau F - G  of one active-set
@@ -51,19 +54,24 @@ namespace ContactStefan
     const Epetra_CrsMatrix &A = conductivity_matrix.trilinos_matrix();
     // Edited in place: the matrix keeps its layout (and the AMG hierarchy
     // built on it stays attached to it).
-    Epetra_CrsMatrix  &S         = const_cast<Epetra_CrsMatrix &>(system_matrix.trilinos_matrix());
-    const Epetra_Map  &columns   = A.ColMap();
-    const unsigned int n_columns = columns.NumMyElements();
+    Epetra_CrsMatrix &S       = const_cast<Epetra_CrsMatrix &>(system_matrix.trilinos_matrix());
+    const Epetra_Map &columns = A.ColMap();
 
-    // The prescribed value of every column (NaN: free or hanging).
-    fixed_column_value.assign(n_columns, std::numeric_limits<double>::quiet_NaN());
-    for (unsigned int c = 0; c < n_columns; ++c)
-      {
-        const types::global_dof_index dof = columns.GID(c);
-        if (constraints.is_constrained(dof) && !hanging_node_constraints.is_constrained(dof))
-          fixed_column_value[c] = constraints.get_inhomogeneity(dof);
-      }
-
+    // The prescribed value of every column (NaN: free or hanging), decided by
+    // the column's owner and imported: a column of a condensed hanging-node
+    // row may lie outside this process's relevant set.
+    {
+      Epetra_Vector owned_values(A.DomainMap());
+      for (int r = 0; r < A.DomainMap().NumMyElements(); ++r)
+        {
+          const types::global_dof_index dof = A.DomainMap().GID(r);
+          owned_values[r] =
+            (constraints.is_constrained(dof) && !hanging_node_constraints.is_constrained(dof)) ?
+              constraints.get_inhomogeneity(dof) :
+              std::numeric_limits<double>::quiet_NaN();
+        }
+      to_columns(owned_values, fixed_column_value);
+    }
     const Epetra_Map &rows = A.RowMap();
     for (int r = 0; r < rows.NumMyElements(); ++r)
       {
@@ -207,6 +215,27 @@ namespace ContactStefan
 
 
 
+  // values (over the conductivity matrix's domain map, i.e. the owned rows)
+  // onto its column map, in column order.
+  template <int dim>
+  void ThermalField<dim>::to_columns(const Epetra_Vector &values, std::vector<double> &result) const
+  {
+    const Epetra_CrsMatrix &A = conductivity_matrix.trilinos_matrix();
+    result.resize(A.ColMap().NumMyElements());
+    if (A.Importer() == nullptr) // the columns are the owned rows
+      {
+        for (int c = 0; c < A.ColMap().NumMyElements(); ++c)
+          result[c] = values[c];
+        return;
+      }
+    Epetra_Vector columns(A.ColMap());
+    AssertThrow(columns.Import(values, *A.Importer(), Insert) == 0, ExcInternalError());
+    for (int c = 0; c < A.ColMap().NumMyElements(); ++c)
+      result[c] = columns[c];
+  }
+
+
+
   template <int dim>
   void ThermalField<dim>::conductivity_times(Vector &result, const bool absolute) const
   {
@@ -215,11 +244,11 @@ namespace ContactStefan
         conductivity_matrix.vmult(result, temperature);
         return;
       }
-    const Epetra_CrsMatrix &A       = conductivity_matrix.trilinos_matrix();
-    const Epetra_Map       &columns = A.ColMap();
-    column_values.resize(columns.NumMyElements());
-    for (int c = 0; c < columns.NumMyElements(); ++c)
-      column_values[c] = std::abs(temperature_ghosted[columns.GID(c)]);
+    const Epetra_CrsMatrix &A = conductivity_matrix.trilinos_matrix();
+    Epetra_Vector           owned_values(A.DomainMap());
+    for (int r = 0; r < A.DomainMap().NumMyElements(); ++r)
+      owned_values[r] = std::abs(temperature[A.DomainMap().GID(r)]);
+    to_columns(owned_values, column_values);
     for (int r = 0; r < A.RowMap().NumMyElements(); ++r)
       {
         int     n;
@@ -286,15 +315,17 @@ namespace ContactStefan
     if (factorise)
       {
         // The AMG hierarchy (iterative path) is built once per tau and
-        // conductivity and kept while only the active set changes: the
-        // operator then differs on a few rows, which the finest level sees.
+        // conductivity; while only the active set changes it is recomputed on
+        // its aggregates (LinearSolver::update), which costs about half a build.
         const std::uint64_t operator_signature =
           Fingerprint::combine(Fingerprint::bits(time_step), conductivity_version);
         const bool keep = have_preconditioner && operator_signature == preconditioner_signature;
         TimerOutput::Scope t(timer, "enthalpy step: factorise");
-        if (keep ? linear_solver.update(system_matrix) :
-                   (linear_solver.initialize(system_matrix), true))
-          ++n_factorisations;
+        if (keep)
+          linear_solver.update(system_matrix);
+        else
+          linear_solver.initialize(system_matrix);
+        ++n_factorisations;
         have_factorisation       = true;
         factorisation_signature  = signature;
         have_preconditioner      = true;

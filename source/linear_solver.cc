@@ -7,7 +7,6 @@
 
 #include <Epetra_MultiVector.h>
 #include <Teuchos_ParameterList.hpp>
-#include <ml_MultiLevelPreconditioner.h>
 
 namespace ContactStefan
 {
@@ -52,6 +51,7 @@ namespace ContactStefan
             TrilinosWrappers::PreconditionAMG::AdditionalData data;
             data.elliptic = true;
             amg_built     = false;
+            iterations_after_build.clear();
             if (null_space_dimension == 0)
               amg.initialize(A, data);
             else
@@ -80,24 +80,29 @@ namespace ContactStefan
 
 
 
-  bool LinearSolver::update(const TrilinosWrappers::SparseMatrix &A)
+  void LinearSolver::update(const TrilinosWrappers::SparseMatrix &A)
   {
-    if (matrix == &A && !use_direct && amg_built)
+    const auto baseline = iterations_after_build.find(last_tolerance);
+    const bool degraded =
+      baseline != iterations_after_build.end() && last_iterations > 1.5 * baseline->second + 2;
+    if (matrix == &A && !use_direct && amg_built && !degraded)
       {
         if (!std::isfinite(A.linfty_norm()))
           throw std::runtime_error("the matrix of the " + name +
                                    " system is not finite (overflow: are material values or the "
                                    "time step extreme?)");
-        // Same aggregates and prolongators, coarse operators and smoothers of
-        // the new values.
-        auto *ml = dynamic_cast<ML_Epetra::MultiLevelPreconditioner *>(
-          const_cast<Epetra_Operator *>(&amg.trilinos_operator()));
-        if (ml == nullptr || ml->ReComputePreconditioner() != 0)
-          initialize(A);
-        return false;
+        try
+          {
+            amg.reinit();
+          }
+        catch (const std::exception &e)
+          {
+            throw std::runtime_error("the AMG hierarchy of the " + name +
+                                     " system could not be recomputed: " + one_line(e.what()));
+          }
+        return;
       }
     initialize(A);
-    return true;
   }
 
 
@@ -134,11 +139,13 @@ namespace ContactStefan
       }
     else
       {
-        SolverControl    control(prm.cg_max_iterations,
-                              (relative_tolerance > 0 ? relative_tolerance : prm.cg_tolerance) *
-                                b.l2_norm());
+        const double     tolerance = relative_tolerance > 0 ? relative_tolerance : prm.cg_tolerance;
+        SolverControl    control(prm.cg_max_iterations, tolerance * b.l2_norm());
         SolverCG<Vector> cg(control);
         cg.solve(*matrix, x, b, amg);
+        last_tolerance  = tolerance;
+        last_iterations = control.last_step();
+        iterations_after_build.emplace(tolerance, last_iterations);
         if (verbosity >= 2)
           pcout << "      CG (" << name << "): " << control.last_step() << " iterations"
                 << std::endl;

@@ -360,8 +360,7 @@ namespace ContactStefan
   {
     const DoFHandler<dim> &dof_handler = thermal->get_dof_handler();
     ErrorGeometry         &g           = error_geometry;
-    if (g.n_dofs == dof_handler.n_dofs() &&
-        g.n_cells == triangulation.n_locally_owned_active_cells() && g.n_cells > 0)
+    if (g.mesh_generation == thermal->mesh_generation())
       return;
     const auto       &fe = dof_handler.get_fe();
     const QGauss<dim> quadrature(fe.degree + 2);

@@ -50,6 +50,7 @@ namespace ContactStefan
   void ThermalField<dim>::setup_dofs()
   {
     TimerOutput::Scope t(timer, "setup: thermal field");
+    ++n_setups;
     dof_handler.distribute_dofs(fe);
     owned = dof_handler.locally_owned_dofs();
     DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);

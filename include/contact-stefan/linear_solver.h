@@ -16,6 +16,7 @@
 #include <contact-stefan/common.h>
 #include <contact-stefan/parameters.h>
 
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -35,16 +36,18 @@ namespace ContactStefan
     // locally owned rows in their order (elasticity: the rigid-body modes; ML's
     // default, the constant, only fits a scalar operator). Empty: the default.
     void set_near_null_space(std::vector<std::vector<double>> modes);
-    // Factorise A, or build the AMG hierarchy of A. A must stay alive and
-    // unchanged until the next initialize().
+    // Factorise A, or build the AMG hierarchy of A. A must stay alive; its
+    // values may change in place only if update() follows before the next solve().
     void initialize(const TrilinosWrappers::SparseMatrix &A);
-    // A's values changed in place on a few rows (a new active set): the
-    // direct solver refactorises, but an AMG hierarchy built for an earlier
-    // state of the same matrix object is kept as the preconditioner (its finest
-    // level reads A itself, so CG and the smoother see the new values; the
-    // coarse levels are those of the earlier state). Returns whether anything
-    // was factorised or built.
-    bool update(const TrilinosWrappers::SparseMatrix &A);
+    // A's values changed in place (a new active set, same pattern): the direct
+    // solver refactorises; an AMG hierarchy built on the same matrix object
+    // keeps its aggregates and recomputes its prolongators, coarse operators
+    // and smoothers from the new values (ML's reuse, PreconditionAMG::reinit).
+    // The hierarchy is rebuilt from scratch when the last CG solve needed more
+    // than 1.5 times (plus 2) the iterations of the first solve to the same
+    // tolerance after the last full build: ML keeps some estimates of the first build (the
+    // finest level's largest eigenvalue), which a moving front can outdate.
+    void update(const TrilinosWrappers::SparseMatrix &A);
     // Whether the last initialize()/update() chose the direct solver (the
     // choice of 'automatic' depends on the size of the system).
     bool is_direct() const
@@ -70,6 +73,11 @@ namespace ContactStefan
     std::unique_ptr<TrilinosWrappers::SolverDirect> direct;
     TrilinosWrappers::PreconditionAMG               amg;
     bool                                            amg_built = false;
+    // Per relative tolerance, the CG iterations of the first solve with it
+    // after the last full AMG build; the tolerance and iterations of the last solve.
+    std::map<double, unsigned int> iterations_after_build;
+    double                         last_tolerance  = 0;
+    unsigned int                   last_iterations = 0;
     // The near-null space, column after column (ML reads it by pointer while
     // it builds the hierarchy).
     std::vector<double> null_space;

@@ -71,7 +71,8 @@ namespace ContactStefan
     void update_error_geometry();
     struct ErrorGeometry
     {
-      types::global_dof_index n_dofs  = 0; // of the mesh it was built for
+      types::global_dof_index n_dofs          = 0; // of the mesh it was built for
+      unsigned int            mesh_generation = 0; // of the field's mesh it was built for (0: none)
       unsigned int            n_cells = 0, n_q_points = 0, dofs_per_cell = 0;
       // Per owned cell: the local (ghosted-vector) indices of its DoFs, its
       // quadrature points and JxW; the shape values (the same on every cell).

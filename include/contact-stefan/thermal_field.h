@@ -51,6 +51,8 @@
 #include <map>
 #include <vector>
 
+#include <Epetra_Vector.h>
+
 namespace ContactStefan
 {
   // What one enthalpy step did, for the screen and the statistics table.
@@ -112,6 +114,11 @@ namespace ContactStefan
     }
 
     // --- queries ----------------------------------------------------------------
+    // Incremented by every setup_dofs(): caches of mesh data compare it.
+    unsigned int mesh_generation() const
+    {
+      return n_setups;
+    }
     const DoFHandler<dim> &get_dof_handler() const
     {
       return dof_handler;
@@ -146,8 +153,9 @@ namespace ContactStefan
     double melt_area() const;
     // A one-line description of what the field will do, for the start of a run.
     std::string describe() const;
-    // result = A theta (hanging-node condensed): the conductivity operator of
-    // the last assembly; with absolute, |A| |theta| entrywise.
+    // result = A theta (hanging-node condensed), integrated cell by cell from
+    // the A_K, independently of the assembled matrix the step itself uses (for
+    // the field tests); with absolute, |A| |theta| entrywise.
     void apply_conductivity(const Vector &theta_ghosted,
                             Vector       &result,
                             const bool    absolute = false) const;
@@ -180,6 +188,9 @@ namespace ContactStefan
     // from the assembled A; with absolute, |A| |Theta| entrywise (the size of
     // the terms against which the round-off of (A Theta)_i is measured).
     void conductivity_times(Vector &result, const bool absolute = false) const;
+    // Imports owned values (one per row of the conductivity matrix) onto its
+    // column map.
+    void to_columns(const Epetra_Vector &values, std::vector<double> &result) const;
     unsigned int
          solve_for_pieces(const std::function<LinearPiece(const types::global_dof_index)> &piece_of,
                           Vector                                                          &h_new);
@@ -256,8 +267,9 @@ namespace ContactStefan
     std::vector<dealii::Vector<double>>           cell_mass, cell_load;
     std::map<types::global_dof_index, Point<dim>> support_points;
 
-    double time = 0, time_step = 0, previous_time_step = 0;
-    bool   first_step = true; // no previous step to extrapolate from
+    unsigned int n_setups = 0;
+    double       time = 0, time_step = 0, previous_time_step = 0;
+    bool         first_step = true; // no previous step to extrapolate from
 
     // Output fields, alive until the next add_output().
     mutable Vector output_phase_index, output_liquid_fraction;
