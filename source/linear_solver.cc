@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <Amesos.h>
 #include <Epetra_MultiVector.h>
 #include <Teuchos_ParameterList.hpp>
 
@@ -20,7 +21,6 @@ namespace ContactStefan
     , verbosity(verbosity)
     , pcout(pcout)
     , name(name)
-    , direct_control(1, 0)
   {}
 
 
@@ -40,11 +40,21 @@ namespace ContactStefan
       {
         if (use_direct)
           {
-            direct = std::make_unique<TrilinosWrappers::SolverDirect>(
-              direct_control,
-              TrilinosWrappers::SolverDirect::AdditionalData(verbosity >= 2,
-                                                             prm.direct_solver_type));
-            direct->initialize(A);
+            problem = std::make_unique<Epetra_LinearProblem>();
+            problem->SetOperator(const_cast<Epetra_CrsMatrix *>(&A.trilinos_matrix()));
+            Amesos factory;
+            direct.reset(factory.Create(prm.direct_solver_type.c_str(), *problem));
+            if (!direct)
+              throw std::runtime_error("'Solver/Direct solver type' = " + prm.direct_solver_type +
+                                       " is not available in this Trilinos");
+            // Later numeric factorisations of the same matrix object (update())
+            // keep the pivot sequence of this one: our systems are symmetric
+            // positive definite, which needs no pivoting (KLU's refactor).
+            Teuchos::ParameterList parameters;
+            parameters.set("Refactorize", true);
+            direct->SetParameters(parameters);
+            if (direct->SymbolicFactorization() != 0 || direct->NumericFactorization() != 0)
+              throw std::runtime_error("Amesos reported an error");
           }
         else
           {
@@ -85,6 +95,17 @@ namespace ContactStefan
     const auto baseline = iterations_after_build.find(last_tolerance);
     const bool degraded =
       baseline != iterations_after_build.end() && last_iterations > 1.5 * baseline->second + 2;
+    if (matrix == &A && use_direct && direct)
+      {
+        if (!std::isfinite(A.linfty_norm()))
+          throw std::runtime_error("the matrix of the " + name +
+                                   " system is not finite (overflow: are material values or the "
+                                   "time step extreme?)");
+        if (direct->NumericFactorization() != 0)
+          throw std::runtime_error("the " + name + " system could not be factorised by " +
+                                   prm.direct_solver_type + " (a singular matrix?)");
+        return;
+      }
     if (matrix == &A && !use_direct && amg_built && !degraded)
       {
         if (!std::isfinite(A.linfty_norm()))
@@ -121,6 +142,7 @@ namespace ContactStefan
   {
     matrix = nullptr;
     direct.reset();
+    problem.reset();
     amg.clear();
     amg_built = false;
   }
@@ -135,7 +157,10 @@ namespace ContactStefan
     check_finite(b, "the right-hand side of the " + name + " system");
     if (use_direct)
       {
-        direct->solve(x, b);
+        problem->SetLHS(&x.trilinos_vector());
+        problem->SetRHS(const_cast<Epetra_MultiVector *>(&b.trilinos_vector()));
+        if (direct->Solve() != 0)
+          throw std::runtime_error("the direct solver failed on the " + name + " system");
       }
     else
       {

@@ -368,7 +368,7 @@ namespace ContactStefan
                             quadrature,
                             update_values | update_quadrature_points | update_JxW_values);
     g                                        = ErrorGeometry();
-    g.n_dofs                                 = dof_handler.n_dofs();
+    g.mesh_generation                        = thermal->mesh_generation();
     g.n_q_points                             = quadrature.size();
     g.dofs_per_cell                          = fe.n_dofs_per_cell();
     const Epetra_BlockMap               &map = thermal->get_temperature().trilinos_vector().Map();

@@ -21,6 +21,9 @@
 #include <string>
 #include <vector>
 
+#include <Amesos_BaseSolver.h>
+#include <Epetra_LinearProblem.h>
+
 namespace ContactStefan
 {
   class LinearSolver
@@ -40,7 +43,8 @@ namespace ContactStefan
     // values may change in place only if update() follows before the next solve().
     void initialize(const TrilinosWrappers::SparseMatrix &A);
     // A's values changed in place (a new active set, same pattern): the direct
-    // solver refactorises; an AMG hierarchy built on the same matrix object
+    // solver refactorises numerically on its kept symbolic analysis (the
+    // fill-reducing ordering); an AMG hierarchy built on the same matrix object
     // keeps its aggregates and recomputes its prolongators, coarse operators
     // and smoothers from the new values (ML's reuse, PreconditionAMG::reinit).
     // The hierarchy is rebuilt from scratch when the last CG solve needed more
@@ -63,16 +67,18 @@ namespace ContactStefan
     void clear();
 
   private:
-    const Parameters::Solver                       &prm;
-    const unsigned int                              verbosity;
-    const ConditionalOStream                       &pcout;
-    const std::string                               name;
-    const TrilinosWrappers::SparseMatrix           *matrix     = nullptr;
-    bool                                            use_direct = true; // of the last initialize()
-    SolverControl                                   direct_control;
-    std::unique_ptr<TrilinosWrappers::SolverDirect> direct;
-    TrilinosWrappers::PreconditionAMG               amg;
-    bool                                            amg_built = false;
+    const Parameters::Solver             &prm;
+    const unsigned int                    verbosity;
+    const ConditionalOStream             &pcout;
+    const std::string                     name;
+    const TrilinosWrappers::SparseMatrix *matrix     = nullptr;
+    bool                                  use_direct = true; // of the last initialize()
+    // The direct path: Amesos on the matrix object; its symbolic analysis
+    // (ordering) is kept by update() while only values change.
+    std::unique_ptr<Epetra_LinearProblem> problem;
+    std::unique_ptr<Amesos_BaseSolver>    direct;
+    TrilinosWrappers::PreconditionAMG     amg;
+    bool                                  amg_built = false;
     // Per relative tolerance, the CG iterations of the first solve with it
     // after the last full AMG build; the tolerance and iterations of the last solve.
     std::map<double, unsigned int> iterations_after_build;
