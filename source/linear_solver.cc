@@ -8,6 +8,7 @@
 #include <Amesos.h>
 #include <Epetra_MultiVector.h>
 #include <Teuchos_ParameterList.hpp>
+#include <ml_MultiLevelPreconditioner.h>
 
 namespace ContactStefan
 {
@@ -40,13 +41,14 @@ namespace ContactStefan
       {
         if (use_direct)
           {
+            // The solver first: its destructor may read the problem it was
+            // built on (Amesos_Mumps does).
+            direct.reset();
             problem = std::make_unique<Epetra_LinearProblem>();
             problem->SetOperator(const_cast<Epetra_CrsMatrix *>(&A.trilinos_matrix()));
             Amesos factory;
             direct.reset(factory.Create(prm.direct_solver_type.c_str(), *problem));
-            if (!direct)
-              throw std::runtime_error("'Solver/Direct solver type' = " + prm.direct_solver_type +
-                                       " is not available in this Trilinos");
+            AssertThrow(direct, ExcMessage("no " + prm.direct_solver_type + " in Amesos"));
             // Later numeric factorisations of the same matrix object (update())
             // keep the pivot sequence of this one: our systems are symmetric
             // positive definite, which needs no pivoting (KLU's refactor).
@@ -59,9 +61,9 @@ namespace ContactStefan
         else
           {
             TrilinosWrappers::PreconditionAMG::AdditionalData data;
-            data.elliptic = true;
-            amg_built     = false;
-            iterations_after_build.clear();
+            data.elliptic                     = true;
+            amg_built                         = false;
+            iterations_per_decade_after_build = 0;
             if (null_space_dimension == 0)
               amg.initialize(A, data);
             else
@@ -92,9 +94,9 @@ namespace ContactStefan
 
   void LinearSolver::update(const TrilinosWrappers::SparseMatrix &A)
   {
-    const auto baseline = iterations_after_build.find(last_tolerance);
     const bool degraded =
-      baseline != iterations_after_build.end() && last_iterations > 1.5 * baseline->second + 2;
+      iterations_per_decade_after_build > 0 &&
+      last_iterations_per_decade > 1.5 * iterations_per_decade_after_build + 0.5;
     if (matrix == &A && use_direct && direct)
       {
         if (!std::isfinite(A.linfty_norm()))
@@ -112,16 +114,12 @@ namespace ContactStefan
           throw std::runtime_error("the matrix of the " + name +
                                    " system is not finite (overflow: are material values or the "
                                    "time step extreme?)");
-        try
-          {
-            amg.reinit();
-          }
-        catch (const std::exception &e)
-          {
-            throw std::runtime_error("the AMG hierarchy of the " + name +
-                                     " system could not be recomputed: " + one_line(e.what()));
-          }
-        return;
+        // deal.II's PreconditionAMG::reinit() drops ML's return code: call ML
+        // ourselves and build afresh if the recomputation failed.
+        auto *ml = dynamic_cast<ML_Epetra::MultiLevelPreconditioner *>(
+          const_cast<Epetra_Operator *>(&amg.trilinos_operator()));
+        if (ml != nullptr && ml->ReComputePreconditioner() == 0)
+          return;
       }
     initialize(A);
   }
@@ -155,6 +153,8 @@ namespace ContactStefan
       throw std::logic_error("LinearSolver::solve() before initialize()");
     // Nothing non-finite reaches Trilinos (whose error codes name nothing).
     check_finite(b, "the right-hand side of the " + name + " system");
+    AssertThrow(!x.has_ghost_elements(),
+                ExcMessage("LinearSolver::solve() needs a vector without ghost entries"));
     if (use_direct)
       {
         problem->SetLHS(&x.trilinos_vector());
@@ -168,9 +168,18 @@ namespace ContactStefan
         SolverControl    control(prm.cg_max_iterations, tolerance * b.l2_norm());
         SolverCG<Vector> cg(control);
         cg.solve(*matrix, x, b, amg);
-        last_tolerance  = tolerance;
-        last_iterations = control.last_step();
-        iterations_after_build.emplace(tolerance, last_iterations);
+        // CG iterations per decade of residual reduction: comparable between
+        // warm-started solves to different tolerances.
+        const double decades =
+          control.last_value() > 0 && control.initial_value() > control.last_value() ?
+            std::log10(control.initial_value() / control.last_value()) :
+            0.;
+        if (decades >= 0.5)
+          {
+            last_iterations_per_decade = control.last_step() / decades;
+            if (iterations_per_decade_after_build == 0)
+              iterations_per_decade_after_build = last_iterations_per_decade;
+          }
         if (verbosity >= 2)
           pcout << "      CG (" << name << "): " << control.last_step() << " iterations"
                 << std::endl;

@@ -13,6 +13,8 @@
 #include <regex>
 #include <sstream>
 
+#include <Amesos.h>
+
 namespace ContactStefan
 {
   namespace
@@ -1018,7 +1020,8 @@ namespace ContactStefan
       prm.declare_entry("Direct solver type",
                         "Amesos_Klu",
                         Patterns::Selection("Amesos_Klu|Amesos_Mumps|Amesos_Superludist"),
-                        "Amesos back end of the direct solver.");
+                        "Amesos back end of the direct solver (one this Trilinos was "
+                        "built with: Debian's has KLU and MUMPS; a missing one is refused).");
       prm.declare_entry("CG tolerance",
                         "1e-12",
                         Patterns::Double(0),
@@ -1102,7 +1105,10 @@ namespace ContactStefan
                                                          LinearSolverType::cg_amg;
       automatic_direct_limit   = prm.get_integer("Automatic direct limit");
       direct_solver_type       = prm.get("Direct solver type");
-      cg_tolerance             = get_finite(prm, "Solver/", "CG tolerance");
+      require(Amesos().Query(direct_solver_type.c_str()),
+              "Solver/Direct solver type",
+              "'" + direct_solver_type + "' is not available in this Trilinos build");
+      cg_tolerance = get_finite(prm, "Solver/", "CG tolerance");
       cg_contact_set_tolerance =
         get_finite(prm, "Solver/", "CG tolerance while the contact set changes");
       cg_max_iterations         = prm.get_integer("CG max iterations");

@@ -124,6 +124,7 @@ class FreshGAMG:
         self.upper = upper
         self.rigid_modes = rigid_modes  # owned entries, shape (n_owned, 3)
         self.inner = None
+        self.without_modes = 0  # set-ups where the inactive set could not be matched
 
     def _inactive(self, n_reduced):
         n_full = self.rigid_modes.shape[0]
@@ -167,7 +168,6 @@ class FreshGAMG:
         if self.inner is not None:
             self.inner.destroy()
             self.inner = None
-        self.without_modes = 0  # set-ups where the inactive set could not be matched
 
 
 def main():

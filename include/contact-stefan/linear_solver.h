@@ -16,7 +16,6 @@
 #include <contact-stefan/common.h>
 #include <contact-stefan/parameters.h>
 
-#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -48,8 +47,8 @@ namespace ContactStefan
     // keeps its aggregates and recomputes its prolongators, coarse operators
     // and smoothers from the new values (ML's reuse, PreconditionAMG::reinit).
     // The hierarchy is rebuilt from scratch when the last CG solve needed more
-    // than 1.5 times (plus 2) the iterations of the first solve to the same
-    // tolerance after the last full build: ML keeps some estimates of the first build (the
+    // than 1.5 times (plus 0.5) the iterations per decade of residual reduction
+    // of the first solve after the last full build: ML keeps some estimates of the first build (the
     // finest level's largest eigenvalue), which a moving front can outdate.
     void update(const TrilinosWrappers::SparseMatrix &A);
     // Whether the last initialize()/update() chose the direct solver (the
@@ -79,11 +78,9 @@ namespace ContactStefan
     std::unique_ptr<Amesos_BaseSolver>    direct;
     TrilinosWrappers::PreconditionAMG     amg;
     bool                                  amg_built = false;
-    // Per relative tolerance, the CG iterations of the first solve with it
-    // after the last full AMG build; the tolerance and iterations of the last solve.
-    std::map<double, unsigned int> iterations_after_build;
-    double                         last_tolerance  = 0;
-    unsigned int                   last_iterations = 0;
+    // CG iterations per decade of residual reduction: of the first solve
+    // after the last full AMG build (0: none yet) and of the last solve.
+    double iterations_per_decade_after_build = 0, last_iterations_per_decade = 0;
     // The near-null space, column after column (ML reads it by pointer while
     // it builds the hierarchy).
     std::vector<double> null_space;
