@@ -44,7 +44,8 @@ namespace ContactStefan
             // The solver first: its destructor may read the problem it was
             // built on (Amesos_Mumps does).
             direct.reset();
-            problem = std::make_unique<Epetra_LinearProblem>();
+            refactorised = false;
+            problem      = std::make_unique<Epetra_LinearProblem>();
             problem->SetOperator(const_cast<Epetra_CrsMatrix *>(&A.trilinos_matrix()));
             Amesos factory;
             direct.reset(factory.Create(prm.direct_solver_type.c_str(), *problem));
@@ -106,6 +107,8 @@ namespace ContactStefan
         if (direct->NumericFactorization() != 0)
           throw std::runtime_error("the " + name + " system could not be factorised by " +
                                    prm.direct_solver_type + " (a singular matrix?)");
+        refactorised = true;
+        matrix_norm  = A.linfty_norm();
         return;
       }
     if (matrix == &A && !use_direct && amg_built && !degraded)
@@ -161,6 +164,29 @@ namespace ContactStefan
         problem->SetRHS(const_cast<Epetra_MultiVector *>(&b.trilinos_vector()));
         if (direct->Solve() != 0)
           throw std::runtime_error("the direct solver failed on the " + name + " system");
+        // A refactorisation reuses the pivot sequence of the last full
+        // factorisation, and nothing inside KLU checks its element growth:
+        // check the backward error, and factorise afresh (with pivoting) if it
+        // is far above round-off.
+        if (refactorised)
+          {
+            Vector       r(b);
+            const double residual = matrix->residual(r, x, b);
+            (void)residual;
+            const double scale = matrix_norm * x.linfty_norm() + b.linfty_norm();
+            if (!(r.linfty_norm() <= refactor_backward_error * scale))
+              {
+                if (verbosity >= 1)
+                  pcout << "      " << name << ": refactorisation inaccurate (residual "
+                        << r.linfty_norm() << " of " << scale << "), factorising afresh"
+                        << std::endl;
+                initialize(*matrix);
+                problem->SetLHS(&x.trilinos_vector());
+                problem->SetRHS(const_cast<Epetra_MultiVector *>(&b.trilinos_vector()));
+                if (direct->Solve() != 0)
+                  throw std::runtime_error("the direct solver failed on the " + name + " system");
+              }
+          }
       }
     else
       {

@@ -76,8 +76,15 @@ namespace ContactStefan
     // (ordering) is kept by update() while only values change.
     std::unique_ptr<Epetra_LinearProblem> problem;
     std::unique_ptr<Amesos_BaseSolver>    direct;
-    TrilinosWrappers::PreconditionAMG     amg;
-    bool                                  amg_built = false;
+    // Whether the current factorisation is a refactorisation (pivots of an
+    // earlier one), the matrix's infinity norm then, and the largest backward
+    // error |b - A x| / (|A| |x| + |b|) (max norms) accepted from it; above, the
+    // matrix is factorised afresh. Round-off is ~1e-16 times the growth.
+    bool                              refactorised            = false;
+    double                            matrix_norm             = 0;
+    static constexpr double           refactor_backward_error = 1e-10;
+    TrilinosWrappers::PreconditionAMG amg;
+    bool                              amg_built = false;
     // CG iterations per decade of residual reduction: of the first solve
     // after the last full AMG build (0: none yet) and of the last solve.
     double iterations_per_decade_after_build = 0, last_iterations_per_decade = 0;
