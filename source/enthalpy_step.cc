@@ -178,13 +178,10 @@ namespace ContactStefan
 
 
 
-  // result = A theta, hanging-node condensed (unconstrained otherwise); with
-  // absolute = true, |A| |theta| entrywise, the size of the terms of (A theta)_i
-  // against which its round-off is measured.
+  // result = A theta, hanging-node condensed (unconstrained otherwise), cell
+  // by cell from the A_K.
   template <int dim>
-  void ThermalField<dim>::apply_conductivity(const Vector &theta,
-                                             Vector       &result,
-                                             const bool    absolute) const
+  void ThermalField<dim>::apply_conductivity(const Vector &theta, Vector &result) const
   {
     const unsigned int                   n = fe.n_dofs_per_cell();
     std::vector<types::global_dof_index> dofs(n);
@@ -195,19 +192,8 @@ namespace ContactStefan
         {
           cell->get_dof_indices(dofs);
           for (unsigned int i = 0; i < n; ++i)
-            local_theta(i) = absolute ? std::abs(theta[dofs[i]]) : theta[dofs[i]];
-          if (absolute)
-            {
-              const LocalMatrix &A = cell_conductivity[cell->active_cell_index()];
-              for (unsigned int i = 0; i < n; ++i)
-                {
-                  local_result(i) = 0;
-                  for (unsigned int j = 0; j < n; ++j)
-                    local_result(i) += std::abs(A(i, j)) * local_theta(j);
-                }
-            }
-          else
-            cell_conductivity[cell->active_cell_index()].vmult(local_result, local_theta);
+            local_theta(i) = theta[dofs[i]];
+          cell_conductivity[cell->active_cell_index()].vmult(local_result, local_theta);
           hanging_node_constraints.distribute_local_to_global(local_result, dofs, result);
         }
     result.compress(VectorOperation::add);

@@ -26,14 +26,21 @@ namespace ContactStefan
 
 
 
-  void LinearSolver::initialize(const TrilinosWrappers::SparseMatrix &A)
+  // Nothing non-finite reaches Trilinos, whose error codes name nothing.
+  void LinearSolver::check_finite_matrix(const TrilinosWrappers::SparseMatrix &A) const
   {
-    matrix = &A;
-    // Nothing non-finite reaches Trilinos, whose error codes name nothing.
     if (!std::isfinite(A.linfty_norm()))
       throw std::runtime_error("the matrix of the " + name +
                                " system is not finite (overflow: are material values or the "
                                "time step extreme?)");
+  }
+
+
+
+  void LinearSolver::initialize(const TrilinosWrappers::SparseMatrix &A)
+  {
+    matrix = &A;
+    check_finite_matrix(A);
     use_direct =
       prm.linear_solver == LinearSolverType::direct ||
       (prm.linear_solver == LinearSolverType::automatic && A.m() < prm.automatic_direct_limit);
@@ -97,13 +104,10 @@ namespace ContactStefan
   {
     const bool degraded =
       iterations_per_decade_after_build > 0 &&
-      last_iterations_per_decade > 1.5 * iterations_per_decade_after_build + 0.5;
+      last_iterations_per_decade > prm.amg_rebuild_ratio * iterations_per_decade_after_build + 0.5;
     if (matrix == &A && use_direct && direct)
       {
-        if (!std::isfinite(A.linfty_norm()))
-          throw std::runtime_error("the matrix of the " + name +
-                                   " system is not finite (overflow: are material values or the "
-                                   "time step extreme?)");
+        check_finite_matrix(A);
         if (direct->NumericFactorization() != 0)
           throw std::runtime_error("the " + name + " system could not be factorised by " +
                                    prm.direct_solver_type + " (a singular matrix?)");
@@ -113,10 +117,7 @@ namespace ContactStefan
       }
     if (matrix == &A && !use_direct && amg_built && !degraded)
       {
-        if (!std::isfinite(A.linfty_norm()))
-          throw std::runtime_error("the matrix of the " + name +
-                                   " system is not finite (overflow: are material values or the "
-                                   "time step extreme?)");
+        check_finite_matrix(A);
         // deal.II's PreconditionAMG::reinit() drops ML's return code: call ML
         // ourselves and build afresh if the recomputation failed.
         auto *ml = dynamic_cast<ML_Epetra::MultiLevelPreconditioner *>(
@@ -174,7 +175,7 @@ namespace ContactStefan
             const double residual = matrix->residual(r, x, b);
             (void)residual;
             const double scale = matrix_norm * x.linfty_norm() + b.linfty_norm();
-            if (!(r.linfty_norm() <= refactor_backward_error * scale))
+            if (!(r.linfty_norm() <= prm.refactorisation_backward_error * scale))
               {
                 if (verbosity >= 1)
                   pcout << "      " << name << ": refactorisation inaccurate (residual "

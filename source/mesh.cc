@@ -348,6 +348,14 @@ namespace ContactStefan
     assert_two_dimensional<dim>();
     const MPI_Comm mpi_communicator = triangulation.get_communicator();
     const auto    &g                = prm.geometry;
+    // A mesh that would exceed the cell cap is refused before it is built.
+    const auto check_cell_count = [&](const double cells, const std::string &parameter) {
+      if (cells > prm.refinement.max_cells)
+        throw InputError(parameter,
+                         "the mesh would have " + std::to_string(cells) +
+                           " cells, more than 'Mesh refinement/Max cells' = " +
+                           std::to_string(prm.refinement.max_cells));
+    };
     if (g.mesh_type == Parameters::Geometry::MeshType::rectangle)
       {
         GridGenerator::subdivided_hyper_rectangle(
@@ -374,11 +382,7 @@ namespace ContactStefan
       {
         const double cells = double(g.subdivisions[0]) * g.subdivisions[1] *
                              std::pow(4., prm.refinement.initial_global_refinements);
-        if (cells > prm.refinement.max_cells)
-          throw InputError("Geometry/Subdivisions",
-                           "the mesh would have " + std::to_string(cells) +
-                             " cells, more than 'Mesh refinement/Max cells' = " +
-                             std::to_string(prm.refinement.max_cells));
+        check_cell_count(cells, "Geometry/Subdivisions");
         Triangulation<dim> coarse;
         make_dipping_interface(coarse,
                                g.lower_left,
@@ -395,11 +399,7 @@ namespace ContactStefan
         const double n = g.subdivisions[0], m = g.subdivisions[1];
         const double cells =
           (3 * n * n + 2 * n * m) * std::pow(4., prm.refinement.initial_global_refinements);
-        if (cells > prm.refinement.max_cells)
-          throw InputError("Geometry/Subdivisions",
-                           "the mesh would have " + std::to_string(cells) +
-                             " cells, more than 'Mesh refinement/Max cells' = " +
-                             std::to_string(prm.refinement.max_cells));
+        check_cell_count(cells, "Geometry/Subdivisions");
         Triangulation<dim> coarse;
         make_disk_in_ring(
           coarse, g.inner_radius, g.outer_radius, g.subdivisions[0], g.subdivisions[1]);
@@ -428,11 +428,7 @@ namespace ContactStefan
         check_mesh(coarse, g.mesh_file);
         const double cells =
           coarse.n_active_cells() * std::pow(4., prm.refinement.initial_global_refinements);
-        if (cells > prm.refinement.max_cells)
-          throw InputError("Mesh refinement/Initial global refinements",
-                           "the mesh would have " + std::to_string(cells) +
-                             " cells, more than 'Mesh refinement/Max cells' = " +
-                             std::to_string(prm.refinement.max_cells));
+        check_cell_count(cells, "Mesh refinement/Initial global refinements");
         triangulation.copy_triangulation(coarse);
       }
 

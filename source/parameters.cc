@@ -1026,6 +1026,20 @@ namespace ContactStefan
                         "1e-12",
                         Patterns::Double(0),
                         "Relative residual reduction of CG.");
+      prm.declare_entry("AMG rebuild ratio",
+                        "1.5",
+                        Patterns::Double(1),
+                        "An AMG hierarchy kept across active sets (recomputed on its "
+                        "aggregates) is rebuilt from scratch when CG needs more than this "
+                        "times (plus 0.5) the iterations per decade of residual reduction "
+                        "of the first solve after the last build.");
+      prm.declare_entry("Refactorisation backward error",
+                        "1e-10",
+                        Patterns::Double(0),
+                        "A direct solve that reused the pivot order of an earlier "
+                        "factorisation is accepted if |b - A x| <= this times "
+                        "(|A| |x| + |b|) (max norms); otherwise the matrix is factorised "
+                        "afresh with pivoting. Round-off is about 1e-16 times the growth.");
       prm.declare_entry("CG tolerance while the contact set changes",
                         "1e-6",
                         Patterns::Double(0),
@@ -1108,7 +1122,9 @@ namespace ContactStefan
       require(Amesos().Query(direct_solver_type.c_str()),
               "Solver/Direct solver type",
               "'" + direct_solver_type + "' is not available in this Trilinos build");
-      cg_tolerance = get_finite(prm, "Solver/", "CG tolerance");
+      cg_tolerance                   = get_finite(prm, "Solver/", "CG tolerance");
+      amg_rebuild_ratio              = get_finite(prm, "Solver/", "AMG rebuild ratio");
+      refactorisation_backward_error = get_finite(prm, "Solver/", "Refactorisation backward error");
       cg_contact_set_tolerance =
         get_finite(prm, "Solver/", "CG tolerance while the contact set changes");
       cg_max_iterations         = prm.get_integer("CG max iterations");
@@ -1125,6 +1141,9 @@ namespace ContactStefan
       relaxation_max_iterations     = prm.get_integer("Relaxation max iterations");
       prm.leave_subsection();
       require(cg_tolerance > 0 && cg_tolerance < 1, "Solver/CG tolerance", "must lie in (0, 1)");
+      require(refactorisation_backward_error > 0 && refactorisation_backward_error < 1,
+              "Solver/Refactorisation backward error",
+              "must lie in (0, 1)");
       require(cg_contact_set_tolerance > 0 && cg_contact_set_tolerance < 1,
               "Solver/CG tolerance while the contact set changes",
               "must lie in (0, 1)");

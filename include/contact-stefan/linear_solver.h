@@ -47,9 +47,9 @@ namespace ContactStefan
     // keeps its aggregates and recomputes its prolongators, coarse operators
     // and smoothers from the new values (ML's reuse, PreconditionAMG::reinit).
     // The hierarchy is rebuilt from scratch when the last CG solve needed more
-    // than 1.5 times (plus 0.5) the iterations per decade of residual reduction
-    // of the first solve after the last full build: ML keeps some estimates of the first build (the
-    // finest level's largest eigenvalue), which a moving front can outdate.
+    // than 'Solver/AMG rebuild ratio' times (plus 0.5) the iterations per decade of residual
+    // reduction of the first solve after the last full build: ML keeps some estimates of the first
+    // build (the finest level's largest eigenvalue), which a moving front can outdate.
     void update(const TrilinosWrappers::SparseMatrix &A);
     // Whether the last initialize()/update() chose the direct solver (the
     // choice of 'automatic' depends on the size of the system).
@@ -66,6 +66,8 @@ namespace ContactStefan
     void clear();
 
   private:
+    void check_finite_matrix(const TrilinosWrappers::SparseMatrix &A) const;
+
     const Parameters::Solver             &prm;
     const unsigned int                    verbosity;
     const ConditionalOStream             &pcout;
@@ -77,12 +79,10 @@ namespace ContactStefan
     std::unique_ptr<Epetra_LinearProblem> problem;
     std::unique_ptr<Amesos_BaseSolver>    direct;
     // Whether the current factorisation is a refactorisation (pivots of an
-    // earlier one), the matrix's infinity norm then, and the largest backward
-    // error |b - A x| / (|A| |x| + |b|) (max norms) accepted from it; above, the
-    // matrix is factorised afresh. Round-off is ~1e-16 times the growth.
-    bool                              refactorised            = false;
-    double                            matrix_norm             = 0;
-    static constexpr double           refactor_backward_error = 1e-10;
+    // earlier one; its solves are checked against 'Solver/Refactorisation
+    // backward error') and the matrix's infinity norm then.
+    bool                              refactorised = false;
+    double                            matrix_norm  = 0;
     TrilinosWrappers::PreconditionAMG amg;
     bool                              amg_built = false;
     // CG iterations per decade of residual reduction: of the first solve

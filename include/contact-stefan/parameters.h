@@ -279,6 +279,8 @@ namespace ContactStefan
       std::string  direct_solver_type;
       double       cg_tolerance;
       double       cg_contact_set_tolerance;
+      double       amg_rebuild_ratio;
+      double       refactorisation_backward_error;
       unsigned int cg_max_iterations;
       unsigned int max_active_set_iterations;
       enum class EnthalpySolver

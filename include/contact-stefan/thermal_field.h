@@ -154,11 +154,9 @@ namespace ContactStefan
     // A one-line description of what the field will do, for the start of a run.
     std::string describe() const;
     // result = A theta (hanging-node condensed), integrated cell by cell from
-    // the A_K, independently of the assembled matrix the step itself uses (for
-    // the field tests); with absolute, |A| |theta| entrywise.
-    void apply_conductivity(const Vector &theta_ghosted,
-                            Vector       &result,
-                            const bool    absolute = false) const;
+    // the A_K, independently of the assembled matrix the step itself uses (the
+    // field tests probe the conductivity with it).
+    void apply_conductivity(const Vector &theta_ghosted, Vector &result) const;
 
   private:
     using LocalMatrix = FullMatrix<double>;
