@@ -9,6 +9,10 @@
 // thermal expansion exchanges nothing between the fields.
 #include <deal.II/base/utilities.h>
 
+#include <deal.II/distributed/solution_transfer.h>
+
+#include <deal.II/dofs/dof_tools.h>
+
 #include <contact-stefan/coupled_problem.h>
 #include <contact-stefan/mesh.h>
 
@@ -46,13 +50,8 @@ namespace ContactStefan
 
 
   template <int dim>
-  void CoupledProblem<dim>::run()
+  ContactStepReport CoupledProblem<dim>::set_initial_state()
   {
-    wall_clock.restart();
-    {
-      TimerOutput::Scope t(timer, "setup: mesh");
-      make_mesh(prm, triangulation);
-    }
     // Set-up and initial state; every input check that needs the mesh happens
     // here, before anything is printed or written.
     if (thermal)
@@ -79,8 +78,21 @@ namespace ContactStefan
     // initial temperature (not zero): the first step's strain increment, which
     // heats through the coupling, is then the step's own, not the jump from an
     // unloaded state to the initial loads and thermal expansion.
-    const ContactStepReport initial_contact =
-      mechanical ? mechanical->solve() : ContactStepReport();
+    return mechanical ? mechanical->solve() : ContactStepReport();
+  }
+
+
+
+  template <int dim>
+  void CoupledProblem<dim>::run()
+  {
+    wall_clock.restart();
+    {
+      TimerOutput::Scope t(timer, "setup: mesh");
+      make_mesh(prm, triangulation);
+    }
+    ContactStepReport initial_contact = set_initial_state();
+    adapt_initial_mesh(initial_contact);
     postprocessor->start(time, initial_contact, wall_clock.wall_time());
     pcout << "Mesh: " << triangulation.n_global_active_cells() << " cells on "
           << Utilities::MPI::n_mpi_processes(triangulation.get_communicator()) << " MPI rank(s)\n"
@@ -126,11 +138,215 @@ namespace ContactStefan
                                 coupling_report,
                                 wall_clock.wall_time());
         print_step_line(thermal_report, contact_report, coupling_report);
+        if (prm.refinement.adaptive_interval > 0 &&
+            step_number % prm.refinement.adaptive_interval == 0 && time < end - end_slack * time_step)
+          adapt_mesh();
       }
 
     postprocessor->print_results(step_number, time);
     pcout << "RESULT wall time = " << wall_clock.wall_time() << std::endl;
     timer.print_wall_time_statistics(triangulation.get_communicator());
+  }
+
+
+
+  template <int dim>
+  AdaptationReport CoupledProblem<dim>::mark_for_adaptation()
+  {
+    const MPI_Comm        comm = triangulation.get_communicator();
+    dealii::Vector<float> indicator(triangulation.n_active_cells()), part;
+    // Each indicator divided by its largest value, so that the weights are
+    // pure numbers whatever the units of Theta and u.
+    const auto add = [&](const double weight) {
+      const double largest = Utilities::MPI::max(double(part.linfty_norm()), comm);
+      if (weight > 0 && largest > 0)
+        indicator.add(weight / largest, part);
+    };
+    if (thermal && prm.refinement.temperature_weight > 0)
+      {
+        thermal->error_indicator(part);
+        add(prm.refinement.temperature_weight);
+      }
+    if (mechanical && prm.refinement.displacement_weight > 0)
+      {
+        mechanical->error_indicator(part);
+        add(prm.refinement.displacement_weight);
+      }
+    std::vector<Point<dim>> front_points, contact_points;
+    if (thermal && prm.refinement.mark_fronts && thermal->phase_change_present())
+      thermal->front_points(front_points);
+    if (mechanical && prm.refinement.mark_contact)
+      mechanical->contact_points(contact_points);
+    const AdaptationReport report = mark_cells(triangulation,
+                                               prm.refinement,
+                                               indicator,
+                                               FeatureCloud<dim>(front_points, comm),
+                                               FeatureCloud<dim>(contact_points, comm));
+    // Node-to-node contact needs the same vertices on both sides of an
+    // interface; without mechanics there are no pairs to keep.
+    if (mechanical)
+      make_interfaces_conforming(triangulation);
+    else
+      triangulation.prepare_coarsening_and_refinement();
+    return report;
+  }
+
+
+
+  // Refines and coarsens as flagged. With transfer, the primary state of each
+  // field (both time levels) is interpolated onto the new mesh by
+  // parallel::distributed::SolutionTransfer (Q1 interpolation: a refined
+  // cell's children take the bilinear values of their parent, a coarsened
+  // family gives the parent its vertex values); derived state is not moved.
+  template <int dim>
+  void CoupledProblem<dim>::execute_with_transfer(const bool transfer)
+  {
+    using Transfer = parallel::distributed::SolutionTransfer<dim, Vector>;
+    struct Carried
+    {
+      std::unique_ptr<Transfer> transfer;
+      std::vector<Vector>       ghosted;
+    } carried_thermal, carried_mechanical;
+    const auto prepare = [&](const DoFHandler<dim>       &dof_handler,
+                             const std::vector<Vector *> &state,
+                             Carried                     &carried) {
+      IndexSet relevant;
+      DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
+      carried.ghosted.resize(state.size());
+      std::vector<const Vector *> inputs;
+      for (unsigned int i = 0; i < state.size(); ++i)
+        {
+          carried.ghosted[i].reinit(dof_handler.locally_owned_dofs(),
+                                    relevant,
+                                    triangulation.get_communicator());
+          carried.ghosted[i] = *state[i];
+          inputs.push_back(&carried.ghosted[i]);
+        }
+      carried.transfer = std::make_unique<Transfer>(dof_handler);
+      carried.transfer->prepare_for_coarsening_and_refinement(inputs);
+    };
+    const auto interpolate = [&](const DoFHandler<dim>       &dof_handler,
+                                 const std::vector<Vector *> &state,
+                                 Carried                     &carried) {
+      std::vector<Vector>   results(state.size());
+      std::vector<Vector *> outputs;
+      for (auto &v : results)
+        {
+          v.reinit(dof_handler.locally_owned_dofs(), triangulation.get_communicator());
+          outputs.push_back(&v);
+        }
+      carried.transfer->interpolate(outputs);
+      for (unsigned int i = 0; i < state.size(); ++i)
+        *state[i] = results[i];
+    };
+    if (transfer && thermal)
+      prepare(thermal->get_dof_handler(), thermal->primary_state(), carried_thermal);
+    if (transfer && mechanical)
+      prepare(mechanical->get_dof_handler(), mechanical->primary_state(), carried_mechanical);
+    triangulation.execute_coarsening_and_refinement();
+    if (thermal)
+      thermal->setup_dofs();
+    if (mechanical)
+      mechanical->setup_dofs();
+    if (transfer && thermal)
+      interpolate(thermal->get_dof_handler(), thermal->primary_state(), carried_thermal);
+    if (transfer && mechanical)
+      interpolate(mechanical->get_dof_handler(), mechanical->primary_state(), carried_mechanical);
+  }
+
+
+
+  // The flags of mark_for_adaptation() executed, then repairs while an
+  // interface is refined on one side only (p4est's 2:1 balance can refine
+  // cells that carried no flag, and does not know about interfaces).
+  template <int dim>
+  void CoupledProblem<dim>::execute_and_repair(const bool transfer)
+  {
+    execute_with_transfer(transfer);
+    if (!mechanical)
+      return;
+    for (unsigned int round = 0; flag_nonconforming_interface_cells(triangulation) > 0; ++round)
+      {
+        if (round == 10)
+          throw std::runtime_error("an interface between bodies is still refined differently on "
+                                   "its two sides after 10 repair refinements");
+        make_interfaces_conforming(triangulation);
+        execute_with_transfer(transfer);
+      }
+  }
+
+
+
+  template <int dim>
+  void CoupledProblem<dim>::after_mesh_change()
+  {
+    if (thermal)
+      thermal->after_transfer();
+    if (prm.elasticity_depends_on_phase())
+      {
+        std::vector<std::vector<double>> weights;
+        thermal->cell_phase_weights(weights);
+        mechanical->set_phase_weights(weights);
+      }
+    if (thermal && mechanical)
+      exchange_temperature();
+    if (mechanical)
+      mechanical->after_transfer();
+  }
+
+
+
+  // Initial adaptive refinement: each round marks on the initial state (its
+  // temperature and fronts, the initial equilibrium's displacement and contact
+  // zone), refines, and sets the initial state afresh on the new mesh (the
+  // initial condition is known exactly; nothing is interpolated).
+  template <int dim>
+  void CoupledProblem<dim>::adapt_initial_mesh(ContactStepReport &initial_contact)
+  {
+    for (unsigned int round = 0; round < prm.refinement.initial_adaptive_refinements; ++round)
+      {
+        {
+          TimerOutput::Scope t(timer, "adapt mesh");
+          const AdaptationReport report = mark_for_adaptation();
+          if (report.refine == 0 && report.coarsen == 0)
+            break;
+          execute_and_repair(false);
+        }
+        initial_contact = set_initial_state();
+        pcout << "Initial adaptation " << round + 1 << ": "
+              << triangulation.n_global_active_cells() << " cells" << std::endl;
+      }
+  }
+
+
+
+  // Adaptation during the time loop, between two steps. The total enthalpy
+  // before and after goes to the statistics: Q1 interpolation onto children
+  // conserves sum_i m_i h_i to round-off on parallelogram cells (the vertex
+  // rule integrates Q1 functions exactly there), coarsening does not (the
+  // parent keeps its children's corner values), and its change is reported.
+  template <int dim>
+  void CoupledProblem<dim>::adapt_mesh()
+  {
+    TimerOutput::Scope     t(timer, "adapt mesh");
+    const double           before    = thermal ? thermal->total_enthalpy() : 0.;
+    const unsigned int     old_cells = triangulation.n_global_active_cells();
+    const AdaptationReport report    = mark_for_adaptation();
+    bool                   coarsening = false;
+    for (const auto &cell : triangulation.active_cell_iterators())
+      if (cell->is_locally_owned() && cell->coarsen_flag_set())
+        coarsening = true;
+    coarsening = Utilities::MPI::logical_or(coarsening, triangulation.get_communicator());
+    execute_and_repair(true);
+    after_mesh_change();
+    const double after  = thermal ? thermal->total_enthalpy() : 0.;
+    const double change = before != 0 ? (after - before) / std::abs(before) : after - before;
+    postprocessor->record_adaptation(change, coarsening);
+    if (prm.output.verbosity >= 1 || report.capped)
+      pcout << "    adapted: " << old_cells << " -> " << triangulation.n_global_active_cells()
+            << " cells, " << report.feature_cells << " at fronts and contact zones"
+            << (report.capped ? ", refinement capped by 'Mesh refinement/Max cells'" : "")
+            << ", relative enthalpy change " << change << std::endl;
   }
 
 

@@ -6,6 +6,7 @@
 
 #include <contact-stefan/common.h>
 #include <contact-stefan/mesh.h>
+#include <contact-stefan/mesh_adaptation.h>
 
 #include <algorithm>
 #include <array>
@@ -471,6 +472,10 @@ namespace ContactStefan
             if (cell->is_locally_owned() && cell->center().distance(r.prerefinement_center) <
                                               r.prerefinement_radius + 0.5 * cell->diameter())
               cell->set_refine_flag();
+          // Both sides of a contact interface are refined alike (the
+          // node-to-node pairs need the same vertices on both sides).
+          if (prm.physics.mechanics)
+            make_interfaces_conforming(triangulation);
           // Each flagged cell becomes four: refuse before the cells are built.
           unsigned int flagged = 0;
           for (const auto &cell : triangulation.active_cell_iterators())
@@ -484,6 +489,17 @@ namespace ContactStefan
                                " cells, more than 'Mesh refinement/Max cells' = " +
                                std::to_string(r.max_cells));
           triangulation.execute_coarsening_and_refinement();
+          // p4est's 2:1 balance may have refined one side of an interface.
+          for (unsigned int round = 0;
+               prm.physics.mechanics && flag_nonconforming_interface_cells(triangulation) > 0;
+               ++round)
+            {
+              if (round == 10)
+                throw std::runtime_error("an interface between bodies is still refined "
+                                         "differently on its two sides after 10 repairs");
+              make_interfaces_conforming(triangulation);
+              triangulation.execute_coarsening_and_refinement();
+            }
         }
   }
 

@@ -1179,14 +1179,79 @@ namespace ContactStefan
                         "0",
                         Patterns::Integer(0, 20),
                         "... this many times. Creates hanging nodes at the rim of the refined "
-                        "zone; contact interfaces between bodies must not cross that rim.");
+                        "zone; cells across a contact interface from a refined cell are "
+                        "refined with it, so that both bodies keep matching nodes.");
       prm.declare_entry("Max cells",
                         "10000000",
                         Patterns::Integer(1),
                         "A mesh that would have more cells than this (coarse cells times "
                         "4^global refinements, then after each pre-refinement step) is refused "
                         "before it is built: a guard against a mistyped subdivision or "
-                        "refinement count that would exhaust the memory. Raise it on purpose.");
+                        "refinement count that would exhaust the memory. Raise it on purpose. "
+                        "Adaptive refinement treats it as a cap: it refines fewer cells "
+                        "rather than exceed it.");
+      prm.declare_entry("Adaptive refinement interval",
+                        "0",
+                        Patterns::Integer(0),
+                        "Adapt the mesh after every this many time steps (0: the mesh stays "
+                        "fixed). Cells are marked by the error indicators below, cells at a "
+                        "phase front or in an active contact zone are refined to Maximum "
+                        "level, and the primary state (enthalpy, displacement, both time "
+                        "levels) is carried over to the new mesh (doc/adaptivity.md).");
+      prm.declare_entry("Initial adaptive refinements",
+                        "0",
+                        Patterns::Integer(0, 20),
+                        "Before the first step, adapt the mesh this many times to the initial "
+                        "data (initial temperature and front, closed contact at t0), each time "
+                        "setting the initial state afresh on the new mesh.");
+      prm.declare_entry("Refinement strategy",
+                        "fixed fraction",
+                        Patterns::Selection("fixed fraction|fixed number"),
+                        "fixed fraction: refine the cells that carry Refine fraction of the "
+                        "total indicator (and coarsen those carrying Coarsen fraction); fixed "
+                        "number: refine that fraction of the cells.");
+      prm.declare_entry("Refine fraction", "0.3", Patterns::Double(0, 1), "See Refinement strategy.");
+      prm.declare_entry("Coarsen fraction",
+                        "0.05",
+                        Patterns::Double(0, 1),
+                        "See Refinement strategy; 0: never coarsen.");
+      prm.declare_entry("Minimum level",
+                        "-1",
+                        Patterns::Integer(-1, 30),
+                        "No cell is coarsened below this level of the coarse mesh; -1: the "
+                        "level after the Initial global refinements.");
+      prm.declare_entry("Maximum level",
+                        "10",
+                        Patterns::Integer(0, 30),
+                        "No cell is refined beyond this level of the coarse mesh.");
+      prm.declare_entry("Temperature indicator weight",
+                        "1",
+                        Patterns::Double(0),
+                        "The indicator of a cell is the weighted sum of the Kelly jump "
+                        "indicators of the temperature and of the displacement, each divided by "
+                        "its largest value over the mesh (so the weights have no units).");
+      prm.declare_entry("Displacement indicator weight",
+                        "1",
+                        Patterns::Double(0),
+                        "See Temperature indicator weight.");
+      prm.declare_entry("Mark phase fronts",
+                        "true",
+                        Patterns::Bool(),
+                        "Refine the cells that carry a phase front (nodes in different states "
+                        "or on a plateau), and their neighbours within Front buffer cells, to "
+                        "Maximum level; they are never coarsened.");
+      prm.declare_entry("Front buffer",
+                        "2",
+                        Patterns::Integer(0, 100),
+                        "Cells around a front cell (in widths of the cell marked) that are "
+                        "refined with it: cover the distance the front travels between two "
+                        "adaptations.");
+      prm.declare_entry("Mark contact zones",
+                        "true",
+                        Patterns::Bool(),
+                        "Refine the cells at active contact nodes (and within Contact buffer "
+                        "cells of them) to Maximum level; they are never coarsened.");
+      prm.declare_entry("Contact buffer", "2", Patterns::Integer(0, 100), "See Mark contact zones.");
       prm.leave_subsection();
     }
 
@@ -1201,6 +1266,63 @@ namespace ContactStefan
       prerefinement_radius = get_finite(prm, "Mesh refinement/", "Pre-refinement radius");
       prerefinement_steps  = prm.get_integer("Pre-refinement steps");
       max_cells            = prm.get_integer("Max cells");
+      adaptive_interval    = prm.get_integer("Adaptive refinement interval");
+      initial_adaptive_refinements = prm.get_integer("Initial adaptive refinements");
+      strategy         = prm.get("Refinement strategy") == "fixed number" ? Strategy::fixed_number :
+                                                                            Strategy::fixed_fraction;
+      refine_fraction  = get_finite(prm, "Mesh refinement/", "Refine fraction");
+      coarsen_fraction = get_finite(prm, "Mesh refinement/", "Coarsen fraction");
+      require(refine_fraction + coarsen_fraction <= 1,
+              "Mesh refinement/Coarsen fraction",
+              "Refine fraction + Coarsen fraction must not exceed 1");
+      const int min = prm.get_integer("Minimum level");
+      min_level     = min < 0 ? initial_global_refinements : static_cast<unsigned int>(min);
+      max_level     = prm.get_integer("Maximum level");
+      require(max_level >= min_level,
+              "Mesh refinement/Maximum level",
+              "is " + std::to_string(max_level) + ", below Minimum level (" +
+                std::to_string(min_level) + ")");
+      temperature_weight  = get_finite(prm, "Mesh refinement/", "Temperature indicator weight");
+      displacement_weight = get_finite(prm, "Mesh refinement/", "Displacement indicator weight");
+      mark_fronts         = prm.get_bool("Mark phase fronts");
+      front_buffer        = prm.get_integer("Front buffer");
+      mark_contact        = prm.get_bool("Mark contact zones");
+      contact_buffer      = prm.get_integer("Contact buffer");
+      prm.leave_subsection();
+    }
+
+
+
+    void Checkpoint::declare(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Checkpoint");
+      prm.declare_entry("Interval (steps)",
+                        "0",
+                        Patterns::Integer(0),
+                        "Write a checkpoint (mesh, primary state, time, statistics, "
+                        "accumulated errors, output records) into Output/Directory/checkpoint "
+                        "after every this many steps; 0: not by step count.");
+      prm.declare_entry("Interval (minutes)",
+                        "0",
+                        Patterns::Double(0),
+                        "... and/or whenever this much wall-clock time has passed since the "
+                        "last one; 0: not by time. A checkpoint is written to a new directory "
+                        "and then renamed, so a crash while writing leaves the previous one.");
+      prm.declare_entry("Resume",
+                        "false",
+                        Patterns::Bool(),
+                        "Continue from the checkpoint in Output/Directory (the same as the "
+                        "command-line option --resume): statistics and PVD records are kept up "
+                        "to the checkpoint and appended to.");
+      prm.leave_subsection();
+    }
+
+    void Checkpoint::parse(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Checkpoint");
+      interval_steps   = prm.get_integer("Interval (steps)");
+      interval_minutes = get_finite(prm, "Checkpoint/", "Interval (minutes)");
+      resume           = prm.get_bool("Resume");
       prm.leave_subsection();
     }
 
@@ -1305,6 +1427,7 @@ namespace ContactStefan
     Parameters::TimeStepping::declare(prm);
     Parameters::Solver::declare(prm);
     Parameters::Refinement::declare(prm);
+    Parameters::Checkpoint::declare(prm);
     Parameters::Output::declare(prm);
   }
 
@@ -1453,6 +1576,7 @@ namespace ContactStefan
     time.parse(prm);
     solver.parse(prm);
     refinement.parse(prm);
+    checkpoint.parse(prm);
     output.parse(prm);
 
     check_consistency();
@@ -1535,6 +1659,11 @@ namespace ContactStefan
               "Mesh refinement/Initial global refinements",
               "'disk in ring' is refined by Geometry/Subdivisions (refined cells would "
               "leave the circles); set the refinements to 0");
+    if (geometry.mesh_type == Parameters::Geometry::MeshType::disk_in_ring)
+      require(!refinement.adaptive(),
+              "Mesh refinement/Adaptive refinement interval",
+              "'disk in ring' cannot be refined (refined cells would leave the circles); set "
+              "it and Initial adaptive refinements to 0");
     // The coupling: what it needs of the temperature unit and of the phases.
     if (thermoelastic_heating_active())
       require(coupling.temperature_scale != Parameters::Coupling::TemperatureScale::unspecified,

@@ -75,6 +75,7 @@ namespace ContactStefan
                                  const ContactStepReport &initial_contact,
                                  const double             wall_time)
   {
+    start_time = time;
     if (thermal)
       {
         initial_total_enthalpy = thermal->total_enthalpy();
@@ -131,9 +132,27 @@ namespace ContactStefan
         total_thermoelastic_heat += report.thermoelastic_heat;
         accumulate_errors(time, time_step);
       }
+    dof_time_integral +=
+      time_step * (thermal ? thermal->get_dof_handler() : mechanical->get_dof_handler()).n_dofs();
     write_statistics_row(step, time, report, contact_report, coupling_report, wall_time);
+    pending_change = 0;
     if (prm.output.vtu_interval > 0 && (step % prm.output.vtu_interval == 0 || last_step))
       output_vtu(step, time);
+  }
+
+
+
+  template <int dim>
+  void Postprocessor<dim>::record_adaptation(const double relative_enthalpy_change,
+                                             const bool   coarsened)
+  {
+    if (!std::isfinite(relative_enthalpy_change))
+      throw std::runtime_error("the total enthalpy is not finite after mesh adaptation " +
+                               std::to_string(n_adaptations + 1));
+    ++n_adaptations;
+    pending_change = relative_enthalpy_change;
+    double &largest = coarsened ? max_coarsening_change : max_refinement_change;
+    largest         = std::max(largest, std::abs(relative_enthalpy_change));
   }
 
 
@@ -234,6 +253,8 @@ namespace ContactStefan
               }
             out << " max_pressure elastic_energy contact_work";
           }
+        if (prm.refinement.adaptive())
+          out << " cells adapt_enthalpy_change";
         out << " wall_time\n";
       }
     out << step;
@@ -265,6 +286,11 @@ namespace ContactStefan
         add("%.10e", contact_report.max_pressure);
         add("%.10e", elastic_energy);
         add("%.10e", total_contact_work);
+      }
+    if (prm.refinement.adaptive())
+      {
+        add("%u", static_cast<unsigned int>(triangulation.n_global_active_cells()));
+        add("%.2e", pending_change);
       }
     add("%.3f", wall_time);
     out << std::endl;
@@ -429,6 +455,15 @@ namespace ContactStefan
       print_mechanical_results(n_steps);
     if (thermal && mechanical)
       print_coupling_results(n_steps);
+    if (prm.refinement.adaptive())
+      {
+        add_result("final cells", triangulation.n_global_active_cells());
+        add_result("mesh adaptations", n_adaptations);
+        if (time > start_time)
+          add_result("time-averaged dofs", dof_time_integral / (time - start_time));
+        add_result("max relative enthalpy change through refinement", max_refinement_change);
+        add_result("max relative enthalpy change through coarsening", max_coarsening_change);
+      }
     print_timer_calls();
     for (const auto &[name, value] : results)
       if (!std::isfinite(value))
@@ -535,6 +570,21 @@ namespace ContactStefan
             add_result("exact front position" + suffix, s);
             add_result("front position error" + suffix, std::abs(s_h - s));
             add_result("front position error in mesh widths" + suffix, std::abs(s_h - s) / h);
+            if (prm.refinement.adaptive())
+              {
+                // The widest cell the exact front crosses.
+                double local = 0;
+                for (const auto &cell : triangulation.active_cell_iterators())
+                  if (cell->is_locally_owned())
+                    {
+                      const auto box = cell->bounding_box();
+                      if (box.lower_bound(0) <= s && s <= box.upper_bound(0))
+                        local = std::max(local, cell->extent_in_direction(0));
+                    }
+                local = Utilities::MPI::max(local, mpi_communicator);
+                add_result("front position error in local mesh widths" + suffix,
+                           local > 0 ? std::abs(s_h - s) / local : 0.);
+              }
           }
       }
   }

@@ -20,6 +20,7 @@
 
 #include <contact-stefan/materials.h>
 #include <contact-stefan/mechanical_field.h>
+#include <contact-stefan/mesh_adaptation.h>
 #include <contact-stefan/parameters.h>
 #include <contact-stefan/postprocessor.h>
 #include <contact-stefan/scene_functions.h>
@@ -42,6 +43,24 @@ namespace ContactStefan
     void coupled_step(EnthalpyStepReport &thermal_report,
                       ContactStepReport  &contact_report,
                       CouplingReport     &coupling_report);
+    // Set-up and initial state on the current mesh: DoFs, initial enthalpy and
+    // displacement, the initial exchange between the fields and the initial
+    // equilibrium (a contact step at t0).
+    ContactStepReport set_initial_state();
+    // Mesh adaptation (doc/adaptivity.md). mark_for_adaptation() sets the
+    // flags from the indicators and features of the current state and makes
+    // them conforming at the interfaces; execute_with_transfer() refines and
+    // carries the primary state of both fields over (transfer = false: the
+    // initial adaptation, whose state is set afresh); repairs follow while
+    // p4est's balance refined one side of an interface only.
+    AdaptationReport mark_for_adaptation();
+    void             execute_with_transfer(const bool transfer);
+    void             execute_and_repair(const bool transfer);
+    void             adapt_initial_mesh(ContactStepReport &initial_contact);
+    void             adapt_mesh();
+    // After the primary state arrived on a new mesh: the derived state of
+    // both fields and the data they exchange.
+    void after_mesh_change();
     // The data each field hands the other (doc/coupling.md).
     void exchange_temperature();
     void exchange_thermoelastic_work();

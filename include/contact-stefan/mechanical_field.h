@@ -154,6 +154,14 @@ namespace ContactStefan
                                                          const SymmetricTensor<2, dim> &,
                                                          const ElasticModuli &)> &visit) const;
 
+    // --- adaptivity (doc/adaptivity.md) ----------------------------------------
+    // Positions of the owned obstacle and interface nodes in contact.
+    void contact_points(std::vector<Point<dim>> &points) const;
+    // The Kelly jump indicator of the displacement, per active cell (zero on
+    // cells that are not owned). The jump across a contact interface is not
+    // counted (the two bodies' displacements are independent there).
+    void error_indicator(dealii::Vector<float> &indicator) const;
+
     // --- queries ----------------------------------------------------------------
     const DoFHandler<dim> &get_dof_handler() const
     {

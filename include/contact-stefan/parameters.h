@@ -310,6 +310,42 @@ namespace ContactStefan
       unsigned int prerefinement_steps;
       unsigned int max_cells;
 
+      // Adaptive refinement during the time loop (doc/adaptivity.md).
+      enum class Strategy
+      {
+        fixed_fraction,
+        fixed_number
+      };
+      unsigned int adaptive_interval; // steps; 0: the mesh stays fixed
+      unsigned int initial_adaptive_refinements;
+      Strategy     strategy;
+      double       refine_fraction, coarsen_fraction;
+      unsigned int min_level, max_level; // min_level is resolved against the global refinements
+      double       temperature_weight, displacement_weight;
+      bool         mark_fronts, mark_contact;
+      unsigned int front_buffer, contact_buffer; // in cells
+
+      bool adaptive() const
+      {
+        return adaptive_interval > 0 || initial_adaptive_refinements > 0;
+      }
+
+      static void declare(ParameterHandler &prm);
+      void        parse(ParameterHandler &prm);
+    };
+
+    // Checkpoint/restart (doc/adaptivity.md).
+    struct Checkpoint
+    {
+      unsigned int interval_steps;   // 0: none by step count
+      double       interval_minutes; // 0: none by wall-clock time
+      bool         resume;
+
+      bool enabled() const
+      {
+        return interval_steps > 0 || interval_minutes > 0;
+      }
+
       static void declare(ParameterHandler &prm);
       void        parse(ParameterHandler &prm);
     };
@@ -343,6 +379,7 @@ namespace ContactStefan
     Parameters::TimeStepping                               time;
     Parameters::Solver                                     solver;
     Parameters::Refinement                                 refinement;
+    Parameters::Checkpoint                                 checkpoint;
     Parameters::Output                                     output;
 
     // Declare everything for the given body and boundary lists.

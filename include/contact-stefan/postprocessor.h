@@ -60,6 +60,9 @@ namespace ContactStefan
                   const ContactStepReport  &contact_report,
                   const CouplingReport     &coupling_report,
                   const double              wall_time);
+    // A mesh adaptation between two steps changed the total enthalpy by this
+    // (relative) amount; coarsened: it coarsened cells (else refinement only).
+    void record_adaptation(const double relative_enthalpy_change, const bool coarsened);
     // The RESULT lines.
     void print_results(const unsigned int n_steps, const double time) const;
 
@@ -139,6 +142,17 @@ namespace ContactStefan
     // force has dropped to zero after them, the interpolated opening time.
     std::map<std::string, std::vector<std::pair<double, double>>> loaded_force_history;
     std::map<std::string, double>                                 opening_time, largest_force;
+
+    // Mesh adaptation: the number of adaptations, the largest enthalpy changes
+    // through pure refinement and through adaptations that coarsened, the
+    // change of the adaptation before the next statistics row, and the integral
+    // of the number of DoFs over time (the time-averaged DoFs).
+    unsigned int n_adaptations              = 0;
+    double       max_refinement_change      = 0;
+    double       max_coarsening_change      = 0;
+    double       pending_change             = 0;
+    double       dof_time_integral          = 0;
+    double       start_time                 = 0;
 
     // The RESULT lines of a run, collected and checked before any is printed:
     // researchers publish these numbers, so a non-finite one stops the run with

@@ -145,6 +145,14 @@ namespace ContactStefan
     {
       return materials.phase_change_present();
     }
+    // --- adaptivity (doc/adaptivity.md) ----------------------------------------
+    // Centres of the owned cells that carry a phase front: nodes in different
+    // phases, or a node on a plateau.
+    void front_points(std::vector<Point<dim>> &points) const;
+    // The Kelly jump indicator of the temperature, per active cell (zero on
+    // cells that are not owned).
+    void error_indicator(dealii::Vector<float> &indicator) const;
+
     // sum_i m_i h_i: the heat content (J per unit thickness) of the mesh.
     double total_enthalpy() const;
     // sum_i m_i (fraction of node i through the transition at T).
