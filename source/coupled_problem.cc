@@ -346,7 +346,8 @@ namespace ContactStefan
       pcout << "    adapted: " << old_cells << " -> " << triangulation.n_global_active_cells()
             << " cells, " << report.feature_cells << " at fronts and contact zones"
             << (report.capped ? ", refinement capped by 'Mesh refinement/Max cells'" : "")
-            << ", relative enthalpy change " << change << std::endl;
+            << (thermal ? ", relative enthalpy change " + number(change) : std::string())
+            << std::endl;
   }
 
 

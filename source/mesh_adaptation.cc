@@ -127,8 +127,9 @@ namespace ContactStefan
       for (const auto &cell : triangulation.active_cell_iterators())
         if (cell->is_locally_owned())
           {
-            refine += cell->refine_flag_set();
-            coarsen += cell->coarsen_flag_set();
+            // (refine_flag_set() is a RefinementCase: 3 for isotropic)
+            refine += cell->refine_flag_set() ? 1 : 0;
+            coarsen += cell->coarsen_flag_set() ? 1 : 0;
           }
       report.refine  = Utilities::MPI::sum(refine, comm);
       report.coarsen = Utilities::MPI::sum(coarsen, comm);
@@ -177,7 +178,7 @@ namespace ContactStefan
         GridTools::exchange_cell_data_to_ghosts<char, parallel::distributed::Triangulation<dim>>(
           triangulation,
           [](const Iterator &cell) -> std_cxx17::optional<char> {
-            return char(cell->refine_flag_set());
+            return char(cell->refine_flag_set() ? 1 : 0);
           },
           [&](const Iterator &cell, const char &flag) {
             ghost_refine[cell->active_cell_index()] = flag;

@@ -60,9 +60,9 @@ namespace ContactStefan
     // Whether a cell with this centre and diameter lies within `buffer` cells
     // of a point: distance <= (buffer + 1/2) diameter. A cell that contains a
     // point is within 0 cells of it (its centre is at most half a diameter
-    // away); with buffer 1 its edge and corner neighbours of the same size
-    // join it (their centres are 1 and sqrt(2) widths = 0.71 and 1 diameters
-    // away), and so on.
+    // away); with buffer k every cell up to k cells away in any direction
+    // joins it (k sqrt(2) widths = k diameters), and along the axes a few more
+    // (k = 1 on a square mesh: the cells two across, 2 < 1.5 sqrt(2) widths).
     bool within(const Point<dim> &centre, const double diameter, const unsigned int buffer) const;
 
   private:
