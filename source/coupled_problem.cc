@@ -87,13 +87,18 @@ namespace ContactStefan
   void CoupledProblem<dim>::run()
   {
     wall_clock.restart();
-    {
-      TimerOutput::Scope t(timer, "setup: mesh");
-      make_mesh(prm, triangulation);
-    }
-    ContactStepReport initial_contact = set_initial_state();
-    adapt_initial_mesh(initial_contact);
-    postprocessor->start(time, initial_contact, wall_clock.wall_time());
+    if (prm.checkpoint.resume)
+      resume();
+    else
+      {
+        {
+          TimerOutput::Scope t(timer, "setup: mesh");
+          make_mesh(prm, triangulation);
+        }
+        ContactStepReport initial_contact = set_initial_state();
+        adapt_initial_mesh(initial_contact);
+        postprocessor->start(time, initial_contact, wall_clock.wall_time());
+      }
     pcout << "Mesh: " << triangulation.n_global_active_cells() << " cells on "
           << Utilities::MPI::n_mpi_processes(triangulation.get_communicator()) << " MPI rank(s)\n"
           << (thermal ? thermal->describe() :
@@ -136,15 +141,21 @@ namespace ContactStefan
                                 thermal_report,
                                 contact_report,
                                 coupling_report,
-                                wall_clock.wall_time());
+                                wall_offset + wall_clock.wall_time());
         print_step_line(thermal_report, contact_report, coupling_report);
+        const bool last = !(time < end - end_slack * time_step);
         if (prm.refinement.adaptive_interval > 0 &&
-            step_number % prm.refinement.adaptive_interval == 0 && time < end - end_slack * time_step)
+            step_number % prm.refinement.adaptive_interval == 0 && !last)
           adapt_mesh();
+        // After the adaptation: a resumed run continues on the adapted mesh,
+        // as the uninterrupted one does.
+        if (!last && checkpoint_due())
+          write_checkpoint();
+        kill_if_asked("CONTACT_STEFAN_KILL_AFTER_STEP", step_number);
       }
 
     postprocessor->print_results(step_number, time);
-    pcout << "RESULT wall time = " << wall_clock.wall_time() << std::endl;
+    pcout << "RESULT wall time = " << wall_offset + wall_clock.wall_time() << std::endl;
     timer.print_wall_time_statistics(triangulation.get_communicator());
   }
 
@@ -532,7 +543,7 @@ namespace ContactStefan
                                             const CouplingReport     &coupling_report) const
   {
     const double done    = (time - prm.time.start_time) / (prm.time.end_time - prm.time.start_time);
-    const double elapsed = wall_clock.wall_time();
+    const double elapsed = wall_offset + wall_clock.wall_time();
     char         line[256];
     int          length = std::snprintf(line,
                                sizeof(line),

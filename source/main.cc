@@ -23,6 +23,8 @@ namespace
                       "  -p, --print-parameters     print every parameter with its default and\n"
                       "                             documentation, in .prm format, and exit\n"
                       "  -c, --check                read and check scene.prm, then exit\n"
+                      "  -r, --resume               continue from the checkpoint in the scene's\n"
+                      "                             output directory (Checkpoint/Resume = true)\n"
                       "\n"
                       "A run writes VTU/PVD files and a statistics table into 'Output/Directory';\n"
                       "runs with an exact solution end with 'RESULT <name> = <value>' lines.\n"
@@ -37,7 +39,7 @@ int main(int argc, char *argv[])
   const bool                       root = Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
 
   std::string filename;
-  bool        check_only = false;
+  bool        check_only = false, resume = false;
   for (int i = 1; i < argc; ++i)
     {
       const std::string arg = argv[i];
@@ -59,6 +61,8 @@ int main(int argc, char *argv[])
         }
       if (arg == "-c" || arg == "--check")
         check_only = true;
+      else if (arg == "-r" || arg == "--resume")
+        resume = true;
       else if (!arg.empty() && arg[0] == '-')
         {
           if (root)
@@ -105,6 +109,8 @@ int main(int argc, char *argv[])
   try
     {
       parameters.read(filename);
+      if (resume)
+        parameters.checkpoint.resume = true;
     }
   catch (const std::exception &e)
     {

@@ -344,7 +344,9 @@ namespace ContactStefan
   // disk in a ring, a rectangle cut by a dipping interface, or a Gmsh file. Body and boundary ids
   // in the mesh are checked against the parameter file here, before any time step runs.
   template <int dim>
-  void make_mesh(const AllParameters &prm, parallel::distributed::Triangulation<dim> &triangulation)
+  void make_mesh(const AllParameters                       &prm,
+                 parallel::distributed::Triangulation<dim> &triangulation,
+                 const bool                                 coarse_only)
   {
     assert_two_dimensional<dim>();
     const MPI_Comm mpi_communicator = triangulation.get_communicator();
@@ -463,6 +465,8 @@ namespace ContactStefan
         throw InputError("Boundary conditions/Mechanical boundaries",
                          "boundary id " + std::to_string(id) + " does not occur in the mesh");
 
+    if (coarse_only)
+      return;
     triangulation.refine_global(prm.refinement.initial_global_refinements);
     const auto &r = prm.refinement;
     if (r.prerefinement_radius > 0)
@@ -505,5 +509,6 @@ namespace ContactStefan
 
 
 
-  template void make_mesh<2>(const AllParameters &, parallel::distributed::Triangulation<2> &);
+  template void
+  make_mesh<2>(const AllParameters &, parallel::distributed::Triangulation<2> &, const bool);
 } // namespace ContactStefan

@@ -29,24 +29,8 @@ trap 'rm -rf "$TMPDIR"; [ "$passed" = 1 ] && rm -rf "$work"' EXIT
 passed=0
 cp "$scene" scene.prm
 requirements=()
-for argument in "$@"; do
-  if [[ "$argument" == SET:* ]]; then
-    entry=${argument#SET:} path=${entry%%=*} value=${entry#*=}
-    section=${path%/*} key=${path##*/}
-    if [[ "$section" != */* ]] && grep -q "^ *set $key *=" scene.prm; then
-      sed -i "s|^\( *set $key *=\).*|\1 $value|" scene.prm
-    else
-      # Append, entering each level of a nested section (A/B/key); a file may
-      # enter a subsection more than once.
-      IFS=/ read -ra levels <<< "$section"
-      for level in "${levels[@]}"; do echo "subsection $level"; done >> scene.prm
-      echo "set $key = $value" >> scene.prm
-      for level in "${levels[@]}"; do echo "end"; done >> scene.prm
-    fi
-  else
-    requirements+=("$argument")
-  fi
-done
+while IFS= read -r requirement; do requirements+=("$requirement"); done \
+  < <("$(dirname "$0")/apply_settings.sh" scene.prm "$@")
 scene=scene.prm
 
 if [ "$np" -eq 1 ]; then

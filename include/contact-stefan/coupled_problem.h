@@ -30,6 +30,11 @@
 
 namespace ContactStefan
 {
+  // Fault injection for the restart tests: if the environment variable holds
+  // this step number, the process kills itself with SIGKILL (uncatchable, as
+  // an external kill -9 or a lost node). Unset in normal runs.
+  void kill_if_asked(const char *variable, const unsigned int step);
+
   template <int dim>
   class CoupledProblem
   {
@@ -61,6 +66,15 @@ namespace ContactStefan
     // After the primary state arrived on a new mesh: the derived state of
     // both fields and the data they exchange.
     void after_mesh_change();
+    // Checkpoint/restart (checkpoint.cc, doc/adaptivity.md): the mesh, the
+    // primary state of both fields, the time state, the postprocessor's
+    // accumulated results and the statistics file, written atomically into
+    // Output/Directory/checkpoint; resume() builds the coarse mesh and loads
+    // all of it (on any number of ranks).
+    bool        checkpoint_due();
+    void        write_checkpoint();
+    void        resume();
+    std::string checkpoint_directory(const std::string &suffix = "") const;
     // The data each field hands the other (doc/coupling.md).
     void exchange_temperature();
     void exchange_thermoelastic_work();
@@ -84,6 +98,8 @@ namespace ContactStefan
 
     double       time, time_step = 0;
     unsigned int step_number = 0;
+    // Wall time of the run before a resume, and at the last checkpoint.
+    double wall_offset = 0, last_checkpoint_wall = 0;
   };
 } // namespace ContactStefan
 

@@ -48,6 +48,9 @@
 #include <contact-stefan/parameters.h>
 #include <contact-stefan/scene_functions.h>
 
+#include <boost/serialization/map.hpp>
+#include <boost/serialization/string.hpp>
+
 #include <array>
 #include <cstdint>
 #include <functional>
@@ -73,6 +76,14 @@ namespace ContactStefan
     double       min_active_pressure = 0; // over the nodes in contact (0 if none)
     // Total compressive normal force per obstacle boundary / interface.
     std::map<std::string, double> forces;
+
+    // For checkpoints (boost serialization).
+    template <class Archive>
+    void serialize(Archive &ar, const unsigned int)
+    {
+      ar &iterations &active_nodes &changes &c_reductions &factorisations &reused &max_pressure
+        &min_active_pressure &forces;
+    }
   };
 
   // A node with a normal condition: a roller (u.n = 0), a rigid obstacle

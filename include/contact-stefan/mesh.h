@@ -12,8 +12,11 @@
 namespace ContactStefan
 {
   template <int dim>
+  // coarse_only: the coarse mesh alone (checked the same way), on which a
+  // checkpoint's refined mesh is loaded.
   void make_mesh(const AllParameters                       &prm,
-                 parallel::distributed::Triangulation<dim> &triangulation);
+                 parallel::distributed::Triangulation<dim> &triangulation,
+                 const bool                                 coarse_only = false);
 } // namespace ContactStefan
 
 #endif

@@ -17,6 +17,11 @@
 #include <contact-stefan/scene_functions.h>
 #include <contact-stefan/thermal_field.h>
 
+#include <boost/serialization/map.hpp>
+#include <boost/serialization/string.hpp>
+#include <boost/serialization/utility.hpp>
+#include <boost/serialization/vector.hpp>
+
 #include <map>
 #include <string>
 #include <utility>
@@ -63,6 +68,24 @@ namespace ContactStefan
     // A mesh adaptation between two steps changed the total enthalpy by this
     // (relative) amount; coarsened: it coarsened cells (else refinement only).
     void record_adaptation(const double relative_enthalpy_change, const bool coarsened);
+    // Everything accumulated over the run (errors, counters, histories, the
+    // PVD records), for checkpoints: the same on every rank.
+    template <class Archive>
+    void serialize(Archive &ar, const unsigned int)
+    {
+      ar &pvd_records &initial_total_enthalpy &last_l2_error &last_l2_norm &last_max_error
+        &space_time_error_squared &space_time_norm_squared &max_max_error &max_exact_temperature
+          &max_liquid_fraction_error &mean_errors &max_energy_residual &total_active_set_iterations
+            &steps_with_fallback &inconsistent_enthalpy_nodes &total_contact_iterations
+              &max_contact_iterations &first_contact_iterations &max_contact_iterations_warm
+                &last_contact_report &total_coupling_iterations &max_coupling_iterations
+                  &reassembled_cells &contact_factorisations &enthalpy_factorisations
+                    &reused_contact_steps &max_active_nodes &total_thermoelastic_heat
+                      &total_contact_work &elastic_energy &max_relative_stress_error
+                        &max_pressure_error &max_exact_pressure &loaded_force_history
+                          &opening_time &largest_force &n_adaptations &max_refinement_change
+                            &max_coarsening_change &pending_change &dof_time_integral &start_time;
+    }
     // The RESULT lines.
     void print_results(const unsigned int n_steps, const double time) const;
 

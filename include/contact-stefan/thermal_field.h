@@ -153,6 +153,18 @@ namespace ContactStefan
     // cells that are not owned).
     void error_indicator(dealii::Vector<float> &indicator) const;
 
+    // What a restart needs besides the primary state: whether a step was taken
+    // and the length of the last one (the warm start extrapolates from it).
+    std::vector<double> time_levels() const
+    {
+      return {first_step ? 1. : 0., previous_time_step};
+    }
+    void set_time_levels(const std::vector<double> &levels)
+    {
+      first_step         = levels.at(0) != 0;
+      previous_time_step = levels.at(1);
+    }
+
     // sum_i m_i h_i: the heat content (J per unit thickness) of the mesh.
     double total_enthalpy() const;
     // sum_i m_i (fraction of node i through the transition at T).
