@@ -55,6 +55,21 @@ namespace ContactStefan
 
 
 
+  // What the attached vectors belong to: a checkpoint is only read by a scene
+  // with the same fields, bodies and coarse mesh size (a different scene would
+  // misread the mesh data or the vectors).
+  template <int dim>
+  std::string CoupledProblem<dim>::fields_fingerprint() const
+  {
+    std::string text = std::string(thermal ? "thermal" : "no thermal") +
+                       (mechanical ? " and mechanical" : " and no mechanical") + " fields, bodies";
+    for (const unsigned int b : prm.body_ids)
+      text += " " + std::to_string(b);
+    return text + ", " + std::to_string(triangulation.n_cells(0)) + " coarse cells";
+  }
+
+
+
   // By step count, or by wall-clock time since the last checkpoint (the
   // slowest rank's clock decides, so that all ranks agree).
   template <int dim>
@@ -153,10 +168,11 @@ namespace ContactStefan
       {
         std::ofstream                 out(next + "/state.txt");
         boost::archive::text_oarchive archive(out);
-        const std::string             scene = "contact-stefan checkpoint 1";
+        const std::string             format  = "contact-stefan checkpoint 1";
         const unsigned int            n_ranks = Utilities::MPI::n_mpi_processes(comm);
-        std::vector<double>           levels  = thermal ? thermal->time_levels() : std::vector<double>();
-        archive << scene << n_ranks << time << time_step << step_number << levels << wall;
+        std::vector<double> levels = thermal ? thermal->time_levels() : std::vector<double>();
+        archive << format << fields_fingerprint() << n_ranks << time << time_step << step_number
+                << levels << wall;
         archive << *postprocessor;
         out.flush();
         if (!out)
@@ -175,8 +191,7 @@ namespace ContactStefan
     });
     last_checkpoint_wall = wall;
     if (prm.output.verbosity >= 1)
-      pcout << "    checkpoint written at step " << step_number << " into " << current
-            << std::endl;
+      pcout << "    checkpoint written at step " << step_number << " into " << current << std::endl;
   }
 
 
@@ -187,7 +202,8 @@ namespace ContactStefan
     const MPI_Comm comm = triangulation.get_communicator();
     // The checkpoint, or the previous one if a crash came between the renames.
     std::string directory = checkpoint_directory();
-    if (!fs::exists(directory + "/state.txt") && fs::exists(checkpoint_directory(".old") + "/state.txt"))
+    if (!fs::exists(directory + "/state.txt") &&
+        fs::exists(checkpoint_directory(".old") + "/state.txt"))
       directory = checkpoint_directory(".old");
     if (!fs::exists(directory + "/state.txt"))
       throw InputError("Checkpoint/Resume",
@@ -195,8 +211,12 @@ namespace ContactStefan
                          "' (a run writes one when 'Checkpoint/Interval (steps)' or 'Interval "
                          "(minutes)' is set)");
 
-    // The state file first: a wrong or damaged checkpoint is refused before
-    // the mesh is touched.
+    // The coarse mesh (the checkpoint holds its refinement), then the state
+    // file: a wrong or damaged checkpoint is refused before the mesh is loaded.
+    {
+      TimerOutput::Scope t(timer, "setup: mesh");
+      make_mesh(prm, triangulation, true);
+    }
     std::vector<double> levels;
     double              wall = 0;
     {
@@ -204,11 +224,15 @@ namespace ContactStefan
       try
         {
           boost::archive::text_iarchive archive(in);
-          std::string                   scene;
+          std::string                   format, fields;
           unsigned int                  n_ranks = 0;
-          archive >> scene;
-          if (scene != "contact-stefan checkpoint 1")
+          archive >> format;
+          if (format != "contact-stefan checkpoint 1")
             throw std::runtime_error("not a contact-stefan checkpoint");
+          archive >> fields;
+          if (fields != fields_fingerprint())
+            throw std::runtime_error("it was written by a scene with " + fields +
+                                     ", this one has " + fields_fingerprint());
           archive >> n_ranks >> time >> time_step >> step_number >> levels >> wall;
           archive >> *postprocessor;
         }
@@ -225,14 +249,14 @@ namespace ContactStefan
 
     {
       TimerOutput::Scope t(timer, "setup: mesh");
-      make_mesh(prm, triangulation, true);
       triangulation.load(directory + "/mesh");
     }
     if (thermal)
       thermal->setup_dofs();
     if (mechanical)
       mechanical->setup_dofs();
-    const auto restore = [&](const DoFHandler<dim> &dof_handler, const std::vector<Vector *> &state) {
+    const auto restore = [&](const DoFHandler<dim>       &dof_handler,
+                             const std::vector<Vector *> &state) {
       parallel::distributed::SolutionTransfer<dim, Vector> transfer(dof_handler);
       std::vector<Vector>                                  values(state.size());
       std::vector<Vector *>                                outputs;
@@ -275,8 +299,9 @@ namespace ContactStefan
 
 
 
-  template bool CoupledProblem<2>::checkpoint_due();
-  template void CoupledProblem<2>::write_checkpoint();
-  template void CoupledProblem<2>::resume();
+  template bool        CoupledProblem<2>::checkpoint_due();
+  template void        CoupledProblem<2>::write_checkpoint();
+  template void        CoupledProblem<2>::resume();
   template std::string CoupledProblem<2>::checkpoint_directory(const std::string &) const;
+  template std::string CoupledProblem<2>::fields_fingerprint() const;
 } // namespace ContactStefan

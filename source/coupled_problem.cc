@@ -317,15 +317,15 @@ namespace ContactStefan
     for (unsigned int round = 0; round < prm.refinement.initial_adaptive_refinements; ++round)
       {
         {
-          TimerOutput::Scope t(timer, "adapt mesh");
+          TimerOutput::Scope     t(timer, "adapt mesh");
           const AdaptationReport report = mark_for_adaptation();
           if (report.refine == 0 && report.coarsen == 0)
             break;
           execute_and_repair(false);
         }
         initial_contact = set_initial_state();
-        pcout << "Initial adaptation " << round + 1 << ": "
-              << triangulation.n_global_active_cells() << " cells" << std::endl;
+        pcout << "Initial adaptation " << round + 1 << ": " << triangulation.n_global_active_cells()
+              << " cells" << std::endl;
       }
   }
 
@@ -340,9 +340,9 @@ namespace ContactStefan
   void CoupledProblem<dim>::adapt_mesh()
   {
     TimerOutput::Scope     t(timer, "adapt mesh");
-    const double           before    = thermal ? thermal->total_enthalpy() : 0.;
-    const unsigned int     old_cells = triangulation.n_global_active_cells();
-    const AdaptationReport report    = mark_for_adaptation();
+    const double           before     = thermal ? thermal->total_enthalpy() : 0.;
+    const unsigned int     old_cells  = triangulation.n_global_active_cells();
+    const AdaptationReport report     = mark_for_adaptation();
     bool                   coarsening = false;
     for (const auto &cell : triangulation.active_cell_iterators())
       if (cell->is_locally_owned() && cell->coarsen_flag_set())

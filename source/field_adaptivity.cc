@@ -83,23 +83,23 @@ namespace ContactStefan
     hp::QCollection<dim - 1> quadrature;
     for (unsigned int i = 0; i < fe.size(); ++i)
       quadrature.push_back(QGauss<dim - 1>(2));
-    const UpdateFlags flags = update_gradients | update_JxW_values | update_normal_vectors;
-    hp::FEFaceValues<dim>    face_values(fe, quadrature, flags), neighbor_face_values(fe, quadrature, flags);
+    const UpdateFlags     flags = update_gradients | update_JxW_values | update_normal_vectors;
+    hp::FEFaceValues<dim> face_values(fe, quadrature, flags),
+      neighbor_face_values(fe, quadrature, flags);
     hp::FESubfaceValues<dim> subface_values(fe, quadrature, flags),
       neighbor_subface_values(fe, quadrature, flags);
-    const unsigned int                   n_q = quadrature[0].size();
-    std::vector<Tensor<2, dim>>          mine(n_q), theirs(n_q);
-    const auto                           jump = [&](const FEValuesBase<dim> &here,
-                          const FEValuesBase<dim> &there,
-                          const unsigned int       slot) {
-      const FEValuesExtractors::Vector u(dim * slot);
-      here[u].get_function_gradients(displacement_ghosted, mine);
-      there[u].get_function_gradients(displacement_ghosted, theirs);
-      double integral = 0;
-      for (unsigned int q = 0; q < n_q; ++q)
-        integral += ((mine[q] - theirs[q]) * here.normal_vector(q)).norm_square() * here.JxW(q);
-      return integral;
-    };
+    const unsigned int          n_q = quadrature[0].size();
+    std::vector<Tensor<2, dim>> mine(n_q), theirs(n_q);
+    const auto                  jump =
+      [&](const FEValuesBase<dim> &here, const FEValuesBase<dim> &there, const unsigned int slot) {
+        const FEValuesExtractors::Vector u(dim * slot);
+        here[u].get_function_gradients(displacement_ghosted, mine);
+        there[u].get_function_gradients(displacement_ghosted, theirs);
+        double integral = 0;
+        for (unsigned int q = 0; q < n_q; ++q)
+          integral += ((mine[q] - theirs[q]) * here.normal_vector(q)).norm_square() * here.JxW(q);
+        return integral;
+      };
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {

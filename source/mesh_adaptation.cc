@@ -196,9 +196,9 @@ namespace ContactStefan
                   const auto neighbor = cell->neighbor(face);
                   if (neighbor->has_children())
                     continue; // finer already: flag_nonconforming_interface_cells()
-                  const bool neighbor_refines =
-                    neighbor->is_locally_owned() ? neighbor->refine_flag_set() :
-                                                   ghost_refine[neighbor->active_cell_index()];
+                  const bool neighbor_refines = neighbor->is_locally_owned() ?
+                                                  neighbor->refine_flag_set() :
+                                                  ghost_refine[neighbor->active_cell_index()];
                   if (neighbor_refines && !cell->refine_flag_set() &&
                       neighbor->level() == cell->level())
                     {

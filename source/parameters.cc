@@ -1210,7 +1210,10 @@ namespace ContactStefan
                         "fixed fraction: refine the cells that carry Refine fraction of the "
                         "total indicator (and coarsen those carrying Coarsen fraction); fixed "
                         "number: refine that fraction of the cells.");
-      prm.declare_entry("Refine fraction", "0.3", Patterns::Double(0, 1), "See Refinement strategy.");
+      prm.declare_entry("Refine fraction",
+                        "0.3",
+                        Patterns::Double(0, 1),
+                        "See Refinement strategy.");
       prm.declare_entry("Coarsen fraction",
                         "0.05",
                         Patterns::Double(0, 1),
@@ -1251,7 +1254,10 @@ namespace ContactStefan
                         Patterns::Bool(),
                         "Refine the cells at active contact nodes (and within Contact buffer "
                         "cells of them) to Maximum level; they are never coarsened.");
-      prm.declare_entry("Contact buffer", "2", Patterns::Integer(0, 100), "See Mark contact zones.");
+      prm.declare_entry("Contact buffer",
+                        "2",
+                        Patterns::Integer(0, 100),
+                        "See Mark contact zones.");
       prm.leave_subsection();
     }
 
@@ -1262,11 +1268,11 @@ namespace ContactStefan
       const auto c =
         parse_doubles(prm.get("Pre-refinement center"), "Mesh refinement/Pre-refinement center");
       require(c.size() == 2, "Mesh refinement/Pre-refinement center", "needs two numbers");
-      prerefinement_center = Point<2>(c[0], c[1]);
-      prerefinement_radius = get_finite(prm, "Mesh refinement/", "Pre-refinement radius");
-      prerefinement_steps  = prm.get_integer("Pre-refinement steps");
-      max_cells            = prm.get_integer("Max cells");
-      adaptive_interval    = prm.get_integer("Adaptive refinement interval");
+      prerefinement_center         = Point<2>(c[0], c[1]);
+      prerefinement_radius         = get_finite(prm, "Mesh refinement/", "Pre-refinement radius");
+      prerefinement_steps          = prm.get_integer("Pre-refinement steps");
+      max_cells                    = prm.get_integer("Max cells");
+      adaptive_interval            = prm.get_integer("Adaptive refinement interval");
       initial_adaptive_refinements = prm.get_integer("Initial adaptive refinements");
       strategy         = prm.get("Refinement strategy") == "fixed number" ? Strategy::fixed_number :
                                                                             Strategy::fixed_fraction;

@@ -150,7 +150,7 @@ namespace ContactStefan
       throw std::runtime_error("the total enthalpy is not finite after mesh adaptation " +
                                std::to_string(n_adaptations + 1));
     ++n_adaptations;
-    pending_change = relative_enthalpy_change;
+    pending_change  = relative_enthalpy_change;
     double &largest = coarsened ? max_coarsening_change : max_refinement_change;
     largest         = std::max(largest, std::abs(relative_enthalpy_change));
   }

@@ -40,9 +40,9 @@ int main(int argc, char *argv[])
 
   // --- FeatureCloud: the buffer in cell widths ---------------------------------
   {
-    const double             h = 0.1, d = h * std::sqrt(2.);
-    const FeatureCloud<2>    cloud(std::vector<Point<2>>{Point<2>(0.05, 0.05)});
-    const FeatureCloud<2>    none(std::vector<Point<2>>{});
+    const double          h = 0.1, d = h * std::sqrt(2.);
+    const FeatureCloud<2> cloud(std::vector<Point<2>>{Point<2>(0.05, 0.05)});
+    const FeatureCloud<2> none(std::vector<Point<2>>{});
     check(cloud.within(Point<2>(0.05, 0.05), d, 0), "a cell contains its own centre");
     check(!cloud.within(Point<2>(0.15, 0.05), d, 0), "buffer 0: the edge neighbour is out");
     check(cloud.within(Point<2>(0.15, 0.05), d, 1), "buffer 1: the edge neighbour is in");
@@ -67,14 +67,14 @@ int main(int argc, char *argv[])
     parallel::distributed::Triangulation<2> tria(MPI_COMM_WORLD);
     make_two_bodies(tria);
     Parameters::Refinement prm;
-    prm.strategy          = Parameters::Refinement::Strategy::fixed_fraction;
-    prm.refine_fraction   = 0.3;
-    prm.coarsen_fraction  = 0.3;
-    prm.min_level         = 0;
-    prm.max_level         = 3;
-    prm.front_buffer      = 1;
-    prm.contact_buffer    = 0;
-    prm.max_cells         = 1000000;
+    prm.strategy         = Parameters::Refinement::Strategy::fixed_fraction;
+    prm.refine_fraction  = 0.3;
+    prm.coarsen_fraction = 0.3;
+    prm.min_level        = 0;
+    prm.max_level        = 3;
+    prm.front_buffer     = 1;
+    prm.contact_buffer   = 0;
+    prm.max_cells        = 1000000;
     // A smooth indicator that peaks at x = 1: the coarsening goes to the left.
     dealii::Vector<float> indicator(tria.n_active_cells());
     for (const auto &cell : tria.active_cell_iterators())
@@ -82,7 +82,7 @@ int main(int argc, char *argv[])
     // A front through the cell at (1/16, 1/16), far from the large indicator.
     const FeatureCloud<2>  fronts(std::vector<Point<2>>{Point<2>(1. / 16, 1. / 16)});
     const FeatureCloud<2>  contacts(std::vector<Point<2>>{});
-    const AdaptationReport report = mark_cells(tria, prm, indicator, fronts, contacts);
+    const AdaptationReport report        = mark_cells(tria, prm, indicator, fronts, contacts);
     bool                   front_refined = true, front_kept = true;
     for (const auto &cell : tria.active_cell_iterators())
       if (fronts.within(cell->center(), cell->diameter(), 1))
@@ -105,11 +105,12 @@ int main(int argc, char *argv[])
     // Level limits: nothing refined beyond max_level, nothing coarsened below min_level.
     for (const auto &cell : tria.active_cell_iterators())
       cell->clear_refine_flag(), cell->clear_coarsen_flag();
-    prm.max_cells = 1000000;
-    prm.max_level = 1;
-    prm.min_level = 1;
+    prm.max_cells                  = 1000000;
+    prm.max_level                  = 1;
+    prm.min_level                  = 1;
     const AdaptationReport limited = mark_cells(tria, prm, indicator, fronts, contacts);
-    check(limited.refine == 0 && limited.coarsen == 0, "level limits: no flag at level 1 of [1, 1]");
+    check(limited.refine == 0 && limited.coarsen == 0,
+          "level limits: no flag at level 1 of [1, 1]");
   }
 
   // --- interfaces: refinement propagated across, coarsening withheld ----------------

@@ -75,6 +75,7 @@ namespace ContactStefan
     void        write_checkpoint();
     void        resume();
     std::string checkpoint_directory(const std::string &suffix = "") const;
+    std::string fields_fingerprint() const;
     // The data each field hands the other (doc/coupling.md).
     void exchange_temperature();
     void exchange_thermoelastic_work();

@@ -42,14 +42,14 @@
 #include <deal.II/numerics/data_out.h>
 #include <deal.II/numerics/data_postprocessor.h>
 
+#include <boost/serialization/map.hpp>
+#include <boost/serialization/string.hpp>
+
 #include <contact-stefan/common.h>
 #include <contact-stefan/linear_solver.h>
 #include <contact-stefan/materials.h>
 #include <contact-stefan/parameters.h>
 #include <contact-stefan/scene_functions.h>
-
-#include <boost/serialization/map.hpp>
-#include <boost/serialization/string.hpp>
 
 #include <array>
 #include <cstdint>

@@ -75,9 +75,9 @@ namespace ContactStefan
   // What mark_cells() was given and what it decided, for the statistics.
   struct AdaptationReport
   {
-    unsigned int feature_cells = 0; // owned cells within a buffer of a front or contact point
-    unsigned int refine        = 0; // cells flagged for refinement (all ranks)
-    unsigned int coarsen       = 0; // cells flagged for coarsening (all ranks)
+    unsigned int feature_cells = 0;     // owned cells within a buffer of a front or contact point
+    unsigned int refine        = 0;     // cells flagged for refinement (all ranks)
+    unsigned int coarsen       = 0;     // cells flagged for coarsening (all ranks)
     bool         capped        = false; // indicator flags dropped for 'Max cells'
   };
 
@@ -105,8 +105,8 @@ namespace ContactStefan
   // ranks (0: the mesh is conforming at every interface). p4est's 2:1 balance
   // can refine cells that carried no flag, on one side only.
   template <int dim>
-  unsigned int flag_nonconforming_interface_cells(
-    parallel::distributed::Triangulation<dim> &triangulation);
+  unsigned int
+  flag_nonconforming_interface_cells(parallel::distributed::Triangulation<dim> &triangulation);
 } // namespace ContactStefan
 
 #endif

@@ -10,17 +10,17 @@
 
 #include <deal.II/distributed/tria.h>
 
+#include <boost/serialization/map.hpp>
+#include <boost/serialization/string.hpp>
+#include <boost/serialization/utility.hpp>
+#include <boost/serialization/vector.hpp>
+
 #include <contact-stefan/common.h>
 #include <contact-stefan/materials.h>
 #include <contact-stefan/mechanical_field.h>
 #include <contact-stefan/parameters.h>
 #include <contact-stefan/scene_functions.h>
 #include <contact-stefan/thermal_field.h>
-
-#include <boost/serialization/map.hpp>
-#include <boost/serialization/string.hpp>
-#include <boost/serialization/utility.hpp>
-#include <boost/serialization/vector.hpp>
 
 #include <map>
 #include <string>
@@ -82,8 +82,8 @@ namespace ContactStefan
                   &reassembled_cells &contact_factorisations &enthalpy_factorisations
                     &reused_contact_steps &max_active_nodes &total_thermoelastic_heat
                       &total_contact_work &elastic_energy &max_relative_stress_error
-                        &max_pressure_error &max_exact_pressure &loaded_force_history
-                          &opening_time &largest_force &n_adaptations &max_refinement_change
+                        &max_pressure_error &max_exact_pressure &loaded_force_history &opening_time
+                          &largest_force &n_adaptations &max_refinement_change
                             &max_coarsening_change &pending_change &dof_time_integral &start_time;
     }
     // The RESULT lines.
@@ -170,12 +170,12 @@ namespace ContactStefan
     // through pure refinement and through adaptations that coarsened, the
     // change of the adaptation before the next statistics row, and the integral
     // of the number of DoFs over time (the time-averaged DoFs).
-    unsigned int n_adaptations              = 0;
-    double       max_refinement_change      = 0;
-    double       max_coarsening_change      = 0;
-    double       pending_change             = 0;
-    double       dof_time_integral          = 0;
-    double       start_time                 = 0;
+    unsigned int n_adaptations         = 0;
+    double       max_refinement_change = 0;
+    double       max_coarsening_change = 0;
+    double       pending_change        = 0;
+    double       dof_time_integral     = 0;
+    double       start_time            = 0;
 
     // The RESULT lines of a run, collected and checked before any is printed:
     // researchers publish these numbers, so a non-finite one stops the run with
