@@ -12,11 +12,14 @@
 // It is written into checkpoint.new and then renamed: the old checkpoint is
 // first renamed to checkpoint.old, the new one into place, and the old one
 // removed. A crash at any moment leaves a complete checkpoint under one of the
-// two names, and resume() takes checkpoint, else checkpoint.old.
+// two names, and resume() takes checkpoint, else checkpoint.old. (Nothing is
+// fsync'd: this protects against a killed process, not against a power loss.)
 //
 // Everything derived (temperature, phase states, contact sets, per-cell
-// operators) is recomputed on resume exactly as after a mesh change, so a
-// resumed run repeats the steps of the uninterrupted one.
+// operators) is recomputed on resume exactly as after a mesh change. The
+// uninterrupted run does the same right after writing a checkpoint (and starts
+// its solvers afresh), so a resumed run repeats the steps of the uninterrupted
+// one, iteration for iteration.
 #include <deal.II/base/mpi.h>
 
 #include <deal.II/distributed/solution_transfer.h>
@@ -30,6 +33,7 @@
 #include <contact-stefan/mesh.h>
 
 #include <csignal>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -65,7 +69,15 @@ namespace ContactStefan
                        (mechanical ? " and mechanical" : " and no mechanical") + " fields, bodies";
     for (const unsigned int b : prm.body_ids)
       text += " " + std::to_string(b);
-    return text + ", " + std::to_string(triangulation.n_cells(0)) + " coarse cells";
+    // FNV-1a of the parameters that determine the solution (AllParameters::
+    // solution_parameters: all but Checkpoint, Output and the end time).
+    std::uint64_t hash = 14695981039346656037ull;
+    for (const unsigned char c : prm.solution_parameters)
+      hash = (hash ^ c) * 1099511628211ull;
+    char hex[17];
+    std::snprintf(hex, sizeof(hex), "%016llx", static_cast<unsigned long long>(hash));
+    return text + ", " + std::to_string(triangulation.n_cells(0)) + " coarse cells, parameters " +
+           hex;
   }
 
 
@@ -139,6 +151,20 @@ namespace ContactStefan
 
 
 
+  // A fresh run starts a fresh history: checkpoints of an earlier run in the
+  // same output directory are removed (its statistics file is overwritten too),
+  // so that a later --resume cannot continue the earlier run with this one's rows.
+  template <int dim>
+  void CoupledProblem<dim>::remove_checkpoints()
+  {
+    on_root(triangulation.get_communicator(), [&]() {
+      for (const char *suffix : {"", ".old", ".new"})
+        fs::remove_all(checkpoint_directory(suffix));
+    });
+  }
+
+
+
   template <int dim>
   void CoupledProblem<dim>::write_checkpoint()
   {
@@ -190,6 +216,15 @@ namespace ContactStefan
       fs::remove_all(old);
     });
     last_checkpoint_wall = wall;
+    // From here on the run must do what a run resumed from this checkpoint
+    // does: derive the state from the primary one and start the solvers
+    // afresh (else the warm-started active sets and the reused factorisations
+    // would differ, and so would the iteration counts after a resume).
+    after_mesh_change();
+    if (thermal)
+      thermal->restart_solvers();
+    if (mechanical)
+      mechanical->restart_solvers();
     if (prm.output.verbosity >= 1)
       pcout << "    checkpoint written at step " << step_number << " into " << current << std::endl;
   }
@@ -201,11 +236,16 @@ namespace ContactStefan
   {
     const MPI_Comm comm = triangulation.get_communicator();
     // The checkpoint, or the previous one if a crash came between the renames.
+    // (decided on rank 0 alone: ranks with cached views of a shared file
+    // system must not load different directories)
     std::string directory = checkpoint_directory();
     if (!fs::exists(directory + "/state.txt") &&
         fs::exists(checkpoint_directory(".old") + "/state.txt"))
       directory = checkpoint_directory(".old");
     if (!fs::exists(directory + "/state.txt"))
+      directory.clear();
+    directory = Utilities::MPI::broadcast(comm, directory, 0);
+    if (directory.empty())
       throw InputError("Checkpoint/Resume",
                        "there is no checkpoint in '" + checkpoint_directory() +
                          "' (a run writes one when 'Checkpoint/Interval (steps)' or 'Interval "
@@ -301,6 +341,7 @@ namespace ContactStefan
 
   template bool        CoupledProblem<2>::checkpoint_due();
   template void        CoupledProblem<2>::write_checkpoint();
+  template void        CoupledProblem<2>::remove_checkpoints();
   template void        CoupledProblem<2>::resume();
   template std::string CoupledProblem<2>::checkpoint_directory(const std::string &) const;
   template std::string CoupledProblem<2>::fields_fingerprint() const;

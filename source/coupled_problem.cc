@@ -97,6 +97,7 @@ namespace ContactStefan
         }
         ContactStepReport initial_contact = set_initial_state();
         adapt_initial_mesh(initial_contact);
+        remove_checkpoints();
         postprocessor->start(time, initial_contact, wall_clock.wall_time());
       }
     pcout << "Mesh: " << triangulation.n_global_active_cells() << " cells on "

@@ -1188,8 +1188,11 @@ namespace ContactStefan
                         "4^global refinements, then after each pre-refinement step) is refused "
                         "before it is built: a guard against a mistyped subdivision or "
                         "refinement count that would exhaust the memory. Raise it on purpose. "
-                        "Adaptive refinement treats it as a cap: it refines fewer cells "
-                        "rather than exceed it.");
+                        "Adaptive refinement treats it as a soft cap: when the flagged cells "
+                        "would exceed it, the indicator's refinement flags are dropped (then "
+                        "those at fronts and contact zones); the count is estimated before "
+                        "the mesh smoothing and the interface propagation, which can add a "
+                        "few percent.");
       prm.declare_entry("Adaptive refinement interval",
                         "0",
                         Patterns::Integer(0),
@@ -1584,6 +1587,34 @@ namespace ContactStefan
     refinement.parse(prm);
     checkpoint.parse(prm);
     output.parse(prm);
+
+    // The canonical text of the solution-determining parameters (see
+    // solution_parameters): the printed file without the subsections that a
+    // resumed run may change.
+    {
+      std::ostringstream all;
+      prm.print_parameters(all, ParameterHandler::ShortPRM);
+      std::istringstream lines(all.str());
+      std::string        line;
+      int                depth = 0, skip_depth = -1;
+      solution_parameters.clear();
+      while (std::getline(lines, line))
+        {
+          const auto        first = line.find_first_not_of(' ');
+          const std::string word  = first == std::string::npos ? "" : line.substr(first);
+          const bool        opens = word.rfind("subsection ", 0) == 0, closes = word == "end";
+          if (opens && skip_depth < 0 && depth == 0 &&
+              (word == "subsection Checkpoint" || word == "subsection Output"))
+            skip_depth = depth;
+          const bool skipped = skip_depth >= 0 || word.rfind("set End time", 0) == 0;
+          if (opens)
+            ++depth;
+          if (closes && --depth == skip_depth)
+            skip_depth = -1;
+          else if (!skipped)
+            solution_parameters += word + '\n';
+        }
+    }
 
     check_consistency();
   }

@@ -1,17 +1,29 @@
 #!/bin/bash
-# resume_other_scene.sh BINARY THERMAL_SCENE MECHANICAL_SCENE: a checkpoint
-# written by the thermal scene must be refused, in one line naming
-# Checkpoint/Resume, by the mechanical scene resuming from it (it would
-# misread the attached vectors), before any work.
-binary=$1 thermal=$2 mechanical=$3
+# resume_other_scene.sh BINARY SCENE_A SCENE_B EXPECTED [--fresh-run-between]
+#                       [SET:... ...]
+# SCENE_A runs with checkpoints; SCENE_B (with the SET: entries applied) resumes
+# from its checkpoint and must be refused in one line containing EXPECTED,
+# naming Checkpoint/Resume, before any work: another scene (or the same one
+# with other parameters) would misread the attached vectors or continue
+# another history. With --fresh-run-between, SCENE_B first runs from the start
+# in the same directory (which must remove SCENE_A's checkpoints).
+binary=$1 scene_a=$2 scene_b=$3 expected=$4
+shift 4
+between=0
+if [ "${1:-}" = --fresh-run-between ]; then between=1; shift; fi
 dir=$(mktemp -d) && cd "$dir" || exit 1
 trap 'rm -rf "$dir"' EXIT
-cp "$thermal" a.prm
+cp "$scene_a" a.prm
 printf 'subsection Checkpoint\n set Interval (steps) = 5\nend\nsubsection Output\n set Directory = %s\nend\n' \
   "$dir/out" >> a.prm
-"$binary" a.prm > /dev/null 2>&1 || { echo "the thermal scene failed"; exit 1; }
-cp "$mechanical" b.prm
-printf 'subsection Checkpoint\n set Resume = true\nend\nsubsection Output\n set Directory = %s\nend\n' \
-  "$dir/out" >> b.prm
-"$(dirname "$0")/expect_error.sh" "$binary" "$dir/b.prm" \
-  "parameter 'Checkpoint/Resume': cannot read '$dir/out/checkpoint/state.txt' (it was written by a scene with thermal and no mechanical fields"
+"$binary" a.prm > /dev/null 2>&1 || { echo "the first scene failed"; exit 1; }
+[ -f "$dir/out/checkpoint/state.txt" ] || { echo "the first scene wrote no checkpoint"; exit 1; }
+cp "$scene_b" b.prm
+extra=$("$(dirname "$0")/apply_settings.sh" b.prm "$@") || exit 1
+[ -z "$extra" ] || { echo "unexpected arguments: $extra"; exit 1; }
+printf 'subsection Output\n set Directory = %s\nend\n' "$dir/out" >> b.prm
+if [ $between = 1 ]; then
+  "$binary" b.prm > /dev/null 2>&1 || { echo "the fresh run failed"; exit 1; }
+fi
+printf 'subsection Checkpoint\n set Resume = true\nend\n' >> b.prm
+"$(dirname "$0")/expect_error.sh" "$binary" "$dir/b.prm" "$expected"

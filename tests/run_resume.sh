@@ -14,7 +14,9 @@
 # The resumed run must reproduce the uninterrupted one: every RESULT line
 # except the wall time and the per-process timer call counts, the statistics
 # table without its wall_time column, and the PVD record, compared by numdiff
-# (relative 1e-8; absolute 1e-13 for the round-off energy residuals).
+# (relative 1e-8; absolute 1e-12: values below it are round-off in these
+# scenes -- energy residuals, stress errors of solutions exact to round-off --
+# and change with the order of summation, e.g. on another number of ranks).
 set -u
 binary=$1 scene=$2 np=$3 np_resume=$4 kill_variable=$5 kill_step=$6
 shift 6
@@ -62,9 +64,9 @@ grep '^Resumed from' killed/resumed.txt || { echo "the run did not resume"; exit
 
 deterministic whole/stdout.txt "whole/$directory/statistics.txt" > whole.out
 deterministic killed/resumed.txt "killed/$directory/statistics.txt" > resumed.out
-numdiff -q -r 1e-8 -a 1e-13 -s ' \t\n=' whole.out resumed.out > /dev/null || {
+numdiff -q -r 1e-8 -a 1e-12 -s ' \t\n=' whole.out resumed.out > /dev/null || {
   echo "the resumed run differs from the uninterrupted one:"
-  numdiff -r 1e-8 -a 1e-13 -s ' \t\n=' whole.out resumed.out | head -30; exit 1; }
+  numdiff -r 1e-8 -a 1e-12 -s ' \t\n=' whole.out resumed.out | head -30; exit 1; }
 echo "RESULT lines and $(($(wc -l < whole.out) - $(grep -c '^RESULT' whole.out))) statistics rows agree"
 if [ -f "whole/$directory/solution.pvd" ]; then
   # (without the line that holds the time of writing)

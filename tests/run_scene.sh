@@ -29,8 +29,11 @@ trap 'rm -rf "$TMPDIR"; [ "$passed" = 1 ] && rm -rf "$work"' EXIT
 passed=0
 cp "$scene" scene.prm
 requirements=()
-while IFS= read -r requirement; do requirements+=("$requirement"); done \
-  < <("$(dirname "$0")/apply_settings.sh" scene.prm "$@")
+listed=$("$(dirname "$0")/apply_settings.sh" scene.prm "$@") ||
+  { echo "cannot apply the SET: entries"; exit 1; }
+while IFS= read -r requirement; do
+  [ -z "$requirement" ] || requirements+=("$requirement")
+done <<< "$listed"
 scene=scene.prm
 
 if [ "$np" -eq 1 ]; then

@@ -32,7 +32,7 @@ namespace ContactStefan
 {
   // Fault injection for the restart tests: if the environment variable holds
   // this step number, the process kills itself with SIGKILL (uncatchable, as
-  // an external kill -9 or a lost node). Unset in normal runs.
+  // an external kill -9). Unset in normal runs.
   void kill_if_asked(const char *variable, const unsigned int step);
 
   template <int dim>
@@ -73,6 +73,7 @@ namespace ContactStefan
     // all of it (on any number of ranks).
     bool        checkpoint_due();
     void        write_checkpoint();
+    void        remove_checkpoints();
     void        resume();
     std::string checkpoint_directory(const std::string &suffix = "") const;
     std::string fields_fingerprint() const;

@@ -127,6 +127,16 @@ namespace ContactStefan
     ContactStepReport     solve();
     std::vector<Vector *> primary_state(); // {u, u_old}, owned vectors
     void                  after_transfer();
+    // Forget factorisations, preconditioners and the last solution, as a new
+    // set-up does. A checkpoint calls it (after re-deriving the state with
+    // after_transfer()), so that the steps after it do exactly the work of a
+    // run resumed from it.
+    void restart_solvers()
+    {
+      ++stiffness_version; // the preconditioner is rebuilt for it
+      have_matrix = have_factorisation = have_solution = false;
+      linear_solver.clear();
+    }
     // Adds displacement, stresses, von Mises stress, contact pressure and gap.
     void add_output(DataOut<dim> &data_out) const;
 

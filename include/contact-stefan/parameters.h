@@ -380,7 +380,12 @@ namespace ContactStefan
     Parameters::Solver                                     solver;
     Parameters::Refinement                                 refinement;
     Parameters::Checkpoint                                 checkpoint;
-    Parameters::Output                                     output;
+    // Every parameter that determines the solution, as text (all entries in
+    // canonical order, without the subsections Checkpoint and Output and
+    // without Time stepping/End time): a checkpoint is resumed only by a scene
+    // with the same text.
+    std::string        solution_parameters;
+    Parameters::Output output;
 
     // Declare everything for the given body and boundary lists.
     static void declare(ParameterHandler                &prm,

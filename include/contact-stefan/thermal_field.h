@@ -87,6 +87,16 @@ namespace ContactStefan
     EnthalpyStepReport    solve();
     std::vector<Vector *> primary_state(); // {h, h_old}, owned vectors
     void                  after_transfer();
+    // Forget factorisations, preconditioners and the last solution, as a new
+    // set-up does. A checkpoint calls it (after re-deriving the state with
+    // after_transfer()), so that the steps after it do exactly the work of a
+    // run resumed from it.
+    void restart_solvers()
+    {
+      have_factorisation  = false;
+      have_preconditioner = false;
+      linear_solver.clear();
+    }
     // Adds temperature, enthalpy, phase index and liquid fraction. The vectors
     // stay alive in this object until the next call.
     void add_output(DataOut<dim> &data_out) const;
