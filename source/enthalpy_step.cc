@@ -72,10 +72,14 @@ namespace ContactStefan
         }
       to_columns(owned_values, fixed_column_value);
     }
-    const Epetra_Map &rows = A.RowMap();
-    for (int r = 0; r < rows.NumMyElements(); ++r)
+    // Row r is owned node r (index_local_entries() checks it).
+    const double *load = entries(step_load), *m = entries(lumped_mass);
+    const double *capacity = entries(nodal_diagonal), *nodal = entries(nodal_rhs);
+    double       *rhs_entries = entries(system_rhs);
+    for (int r = 0; r < static_cast<int>(n_owned); ++r)
       {
-        const types::global_dof_index dof = rows.GID(r);
+        const types::global_dof_index dof      = first_owned + r;
+        const int                     diagonal_column = columns.LID(static_cast<int>(dof));
         int                           n_a, n_s;
         double                       *a, *s;
         int                          *index_a, *index_s;
@@ -84,12 +88,12 @@ namespace ContactStefan
         Assert(n_a == n_s, ExcInternalError());
         const bool hanging  = hanging_node_constraints.is_constrained(dof);
         const bool fixed    = !hanging && constraints.is_constrained(dof);
-        double     diagonal = 0, rhs = hanging ? 0. : step_load[dof];
+        double     diagonal = 0, rhs = hanging ? 0. : load[r];
         for (int k = 0; k < n_a; ++k)
           {
             Assert(index_a[k] == index_s[k], ExcInternalError());
             const double value = time_step * a[k];
-            if (columns.GID(index_a[k]) == static_cast<int>(dof))
+            if (index_a[k] == diagonal_column)
               diagonal = value;
             else if (!std::isnan(fixed_column_value[index_a[k]]))
               {
@@ -106,22 +110,21 @@ namespace ContactStefan
             // like its neighbours' so that neither the direct solver's pivoting
             // nor the AMG hierarchy sees an outlier.
             const double scale =
-              diagonal > 0 ? diagonal : lumped_mass[dof] * law(dof).max_heat_capacity();
+              diagonal > 0 ? diagonal : m[r] * owned_node_law(r).max_heat_capacity();
             diagonal = scale > 0 ? scale : 1.;
             rhs      = diagonal * constraints.get_inhomogeneity(dof);
           }
         else if (!hanging)
           {
-            diagonal += lumped_mass[dof] * nodal_diagonal[dof];
-            rhs += lumped_mass[dof] * nodal_rhs[dof];
+            diagonal += m[r] * capacity[r];
+            rhs += m[r] * nodal[r];
           }
         if (assemble_matrix)
           for (int k = 0; k < n_a; ++k)
-            if (columns.GID(index_a[k]) == static_cast<int>(dof))
+            if (index_a[k] == diagonal_column)
               s[k] = diagonal;
-        system_rhs[dof] = rhs;
+        rhs_entries[r] = rhs;
       }
-    system_rhs.compress(VectorOperation::insert);
   }
 
 
@@ -232,8 +235,9 @@ namespace ContactStefan
       }
     const Epetra_CrsMatrix &A = conductivity_matrix.trilinos_matrix();
     Epetra_Vector           owned_values(A.DomainMap());
+    const double           *theta = entries(temperature);
     for (int r = 0; r < A.DomainMap().NumMyElements(); ++r)
-      owned_values[r] = std::abs(temperature[A.DomainMap().GID(r)]);
+      owned_values[r] = std::abs(theta[r]);
     to_columns(owned_values, column_values);
     for (int r = 0; r < A.RowMap().NumMyElements(); ++r)
       {
@@ -244,9 +248,8 @@ namespace ContactStefan
         double sum = 0;
         for (int k = 0; k < n; ++k)
           sum += std::abs(a[k]) * column_values[index[k]];
-        result[A.RowMap().GID(r)] = sum;
+        entries(result)[r] = sum;
       }
-    result.compress(VectorOperation::insert);
   }
 
 
@@ -258,35 +261,38 @@ namespace ContactStefan
   // node has its enthalpy: from its piece where it is free, from the residual of
   // its row where its temperature was fixed, from the temperature on Dirichlet nodes.
   template <int dim>
-  unsigned int ThermalField<dim>::solve_for_pieces(
-    const std::function<LinearPiece(const types::global_dof_index)> &piece_of,
-    Vector                                                          &h_new)
+  unsigned int ThermalField<dim>::solve_for_pieces(Vector &h_new)
   {
     constraints.clear();
     constraints.reinit(relevant);
     constraints.merge(dirichlet_constraints);
-    unsigned int local_fixed = 0;
-    for (const auto dof : relevant)
-      if (!constraints.is_constrained(dof))
+    unsigned int  local_fixed = 0, k = 0;
+    const double *state_ghosted = entries(phase_state_ghosted);
+    for (auto it = relevant.begin(); it != relevant.end(); ++it, ++k)
+      if (!constraints.is_constrained(*it))
         {
-          const LinearPiece p = piece_of(dof);
+          const LinearPiece p = laws[law_of_node[k]].piece(
+            static_cast<unsigned int>(state_ghosted[relevant_entry[k]]));
           if (p.fixed)
             {
-              constraints.add_line(dof);
-              constraints.set_inhomogeneity(dof, p.temperature);
-              local_fixed += owned.is_element(dof);
+              constraints.add_line(*it);
+              constraints.set_inhomogeneity(*it, p.temperature);
+              local_fixed += (*it >= first_owned && *it < first_owned + n_owned);
             }
         }
     constraints.close();
 
-    for (const auto dof : owned)
+    const double *state = entries(phase_state), *h_old = entries(old_enthalpy);
+    double       *diagonal = entries(nodal_diagonal), *rhs = entries(nodal_rhs);
+    const auto    piece_at = [&](const unsigned int i) {
+      return owned_node_law(i).piece(static_cast<unsigned int>(state[i]));
+    };
+    for (unsigned int i = 0; i < n_owned; ++i)
       {
-        const LinearPiece p = piece_of(dof);
-        nodal_diagonal[dof] = p.fixed ? 0. : p.capacity;
-        nodal_rhs[dof]      = p.fixed ? 0. : old_enthalpy[dof] - p.offset;
+        const LinearPiece p = piece_at(i);
+        diagonal[i]         = p.fixed ? 0. : p.capacity;
+        rhs[i]              = p.fixed ? 0. : h_old[i] - p.offset;
       }
-    nodal_diagonal.compress(VectorOperation::insert);
-    nodal_rhs.compress(VectorOperation::insert);
 
     // The matrix tau A + diag(m d) with these constraints: unchanged (same
     // tau, conductivity, constraint pattern and diagonal; a scene without
@@ -326,18 +332,19 @@ namespace ContactStefan
 
     Vector A_theta(owned, mpi_communicator);
     conductivity_times(A_theta);
-    for (const auto dof : owned)
+    const double *theta = entries(temperature), *A = entries(A_theta), *m = entries(lumped_mass);
+    const double *F = entries(heat_load), *G = entries(coupling_heat);
+    double       *h = entries(h_new);
+    for (unsigned int i = 0; i < n_owned; ++i)
       {
-        const double theta = temperature[dof];
-        if (dirichlet_constraints.is_constrained(dof))
-          h_new[dof] = law(dof).enthalpy(theta);
-        else if (const LinearPiece p = piece_of(dof); p.fixed)
-          h_new[dof] =
-            old_enthalpy[dof] + (step_heat(dof) - time_step * A_theta[dof]) / lumped_mass[dof];
+        if (!owned_free[i])
+          h[i] = owned_node_law(i).enthalpy(theta[i]);
+        else if (const LinearPiece p = piece_at(i); p.fixed)
+          // (step_heat() = tau F - G)
+          h[i] = h_old[i] + (time_step * F[i] - G[i] - time_step * A[i]) / m[i];
         else
-          h_new[dof] = p.offset + p.capacity * theta;
+          h[i] = p.offset + p.capacity * theta[i];
       }
-    h_new.compress(VectorOperation::insert);
     return Utilities::MPI::sum(local_fixed, mpi_communicator);
   }
 
@@ -441,38 +448,41 @@ namespace ContactStefan
     Vector A_theta(owned, mpi_communicator), A_abs_theta(owned, mpi_communicator);
     conductivity_times(A_theta);
     conductivity_times(A_abs_theta, true);
-    double       free_sum = 0, scale = 0;
-    unsigned int inconsistent_nodes = 0;
-    for (const auto dof : owned)
+    double        free_sum = 0, scale = 0;
+    unsigned int  inconsistent_nodes = 0;
+    const double *h = entries(enthalpy), *h_old = entries(old_enthalpy), *m = entries(lumped_mass);
+    const double *A = entries(A_theta), *A_abs = entries(A_abs_theta), *theta = entries(temperature);
+    const double *F = entries(heat_load), *G = entries(coupling_heat);
+    for (unsigned int i = 0; i < n_owned; ++i)
       {
+        const types::global_dof_index dof = first_owned + i;
         if (hanging_node_constraints.is_constrained(dof))
           continue;
-        const double stored = lumped_mass[dof] * (enthalpy[dof] - old_enthalpy[dof]);
-        const double r      = stored + time_step * A_theta[dof] - step_heat(dof);
-        if (!dirichlet_constraints.is_constrained(dof))
+        const double stored = m[i] * (h[i] - h_old[i]);
+        // (step_heat() = tau F - G)
+        const double r = stored + time_step * A[i] - (time_step * F[i] - G[i]);
+        if (owned_free[i])
           {
             free_sum += std::abs(r);
             // h in H([Theta - e, Theta + e]) with e the round-off of Theta: at a
             // kink a temperature 1e-18 below the transition is on the plateau.
-            const double theta = temperature[dof];
-            const double e =
-              round_off_factor * std::numeric_limits<double>::epsilon() * (1 + std::abs(theta));
-            const std::pair<double, double> range{law(dof).enthalpy_range(theta - e).first,
-                                                  law(dof).enthalpy_range(theta + e).second};
+            const double e = round_off_factor * std::numeric_limits<double>::epsilon() *
+                             (1 + std::abs(theta[i]));
+            const std::pair<double, double> range{
+              owned_node_law(i).enthalpy_range(theta[i] - e).first,
+              owned_node_law(i).enthalpy_range(theta[i] + e).second};
             const double slack = round_off_factor * std::numeric_limits<double>::epsilon() *
                                  (1 + std::abs(range.first) + std::abs(range.second));
-            const bool outside =
-              (enthalpy[dof] < range.first - slack || enthalpy[dof] > range.second + slack);
+            const bool outside = (h[i] < range.first - slack || h[i] > range.second + slack);
             if (outside && prm.output.verbosity >= 2)
-              std::cout << "      node " << dof << ": h = " << enthalpy[dof] << " outside ["
-                        << range.first << ", " << range.second
-                        << "] of Theta = " << temperature[dof] << std::endl;
+              std::cout << "      node " << dof << ": h = " << h[i] << " outside ["
+                        << range.first << ", " << range.second << "] of Theta = " << theta[i]
+                        << std::endl;
             inconsistent_nodes += outside;
           }
         else
           scale += std::abs(r);
-        scale += std::abs(stored) + std::abs(coupling_heat[dof]) +
-                 time_step * (std::abs(heat_load[dof]) + A_abs_theta[dof]);
+        scale += std::abs(stored) + std::abs(G[i]) + time_step * (std::abs(F[i]) + A_abs[i]);
       }
     free_sum     = Utilities::MPI::sum(free_sum, mpi_communicator);
     scale        = Utilities::MPI::sum(scale, mpi_communicator);
@@ -499,12 +509,6 @@ namespace ContactStefan
   template <int dim>
   bool ThermalField<dim>::active_set_iteration(EnthalpyStepReport &report)
   {
-    const auto piece_of = [&](const types::global_dof_index dof) {
-      return law(dof).piece(static_cast<unsigned int>(phase_state_ghosted[dof]));
-    };
-    const auto is_free = [&](const types::global_dof_index dof) {
-      return !dirichlet_constraints.is_constrained(dof);
-    };
     Vector h_new(owned, mpi_communicator);
     Vector z(owned, mpi_communicator);
     // The size of enthalpy changes that matter: the largest latent heat or, without
@@ -516,20 +520,25 @@ namespace ContactStefan
         for (unsigned int j = 0; j < l.n_transitions(); ++j)
           enthalpy_scale = std::max(enthalpy_scale, l.latent_heat(j));
       }
+    // The per-node loops below run over the owned entries directly (see
+    // index_local_entries()).
+    double       *h = entries(enthalpy), *zz = entries(z), *state = entries(phase_state);
+    const double *hn = entries(h_new), *theta = entries(temperature), *m = entries(lumped_mass);
+    const char   *free = owned_free.data();
 
     for (unsigned int it = 1; it <= prm.solver.max_active_set_iterations; ++it)
       {
-        report.plateau_nodes         = solve_for_pieces(piece_of, h_new);
+        report.plateau_nodes         = solve_for_pieces(h_new);
         report.active_set_iterations = it;
 
         // A target whose every free node lies on the piece it was computed with
         // solves the step exactly: take it. (Near convergence the decrease of E
         // can be below its round-off, so the line search must not judge it.)
         unsigned int local_inconsistent = 0;
-        for (const auto dof : owned)
-          if (is_free(dof))
-            local_inconsistent += (law(dof).state_of_enthalpy(h_new[dof]) !=
-                                   static_cast<unsigned int>(phase_state[dof]));
+        for (unsigned int i = 0; i < n_owned; ++i)
+          if (free[i])
+            local_inconsistent +=
+              (owned_node_law(i).state_of_enthalpy(hn[i]) != static_cast<unsigned int>(state[i]));
         const bool target_consistent =
           Utilities::MPI::sum(local_inconsistent, mpi_communicator) == 0;
         // A Newton step that moves no enthalpy beyond round-off ends the
@@ -537,11 +546,11 @@ namespace ContactStefan
         // exactly on a kink of H (e.g. an equilibrium at a transition
         // temperature), where neighbouring pieces give the same (Theta, h).
         double local_step = 0, local_size = 0;
-        for (const auto dof : owned)
-          if (is_free(dof))
+        for (unsigned int i = 0; i < n_owned; ++i)
+          if (free[i])
             {
-              local_step = std::max(local_step, std::abs(h_new[dof] - enthalpy[dof]));
-              local_size = std::max(local_size, std::abs(h_new[dof]));
+              local_step = std::max(local_step, std::abs(hn[i] - h[i]));
+              local_size = std::max(local_size, std::abs(hn[i]));
             }
         const bool step_negligible =
           it > 1 && Utilities::MPI::max(local_step, mpi_communicator) <=
@@ -553,13 +562,13 @@ namespace ContactStefan
           {
             // Slope and the two quadratic coefficients of E along h_new - h.
             double local[3] = {0, 0, 0}; // grad E . d,  d . z,  d . K^{-1} d
-            for (const auto dof : owned)
-              if (is_free(dof))
+            for (unsigned int i = 0; i < n_owned; ++i)
+              if (free[i])
                 {
-                  const double d = lumped_mass[dof] * (h_new[dof] - enthalpy[dof]);
-                  local[0] += d * (z[dof] + law(dof).temperature(enthalpy[dof]));
-                  local[1] += d * z[dof];
-                  local[2] += d * (-z[dof] - temperature[dof]);
+                  const double d = m[i] * (hn[i] - h[i]);
+                  local[0] += d * (zz[i] + owned_node_law(i).temperature(h[i]));
+                  local[1] += d * zz[i];
+                  local[2] += d * (-zz[i] - theta[i]);
                 }
             double global[3];
             Utilities::MPI::sum(ArrayView<const double>(local, 3),
@@ -570,15 +579,14 @@ namespace ContactStefan
             const double round_off    = round_off_factor * std::numeric_limits<double>::epsilon();
             const auto   armijo_holds = [&](const double a) {
               double psi[2] = {0, 0}; // sum m (Psi(h + a d) - Psi(h)), sum m (|..| + |..|)
-              for (const auto dof : owned)
-                if (is_free(dof))
+              for (unsigned int i = 0; i < n_owned; ++i)
+                if (free[i])
                   {
-                    const EnthalpyLaw &l      = law(dof);
-                    const double       h      = enthalpy[dof];
-                    const double       before = l.beta_primitive(h);
-                    const double       after  = l.beta_primitive(h + a * (h_new[dof] - h));
-                    psi[0] += lumped_mass[dof] * (after - before);
-                    psi[1] += lumped_mass[dof] * (std::abs(after) + std::abs(before));
+                    const EnthalpyLaw &l      = owned_node_law(i);
+                    const double       before = l.beta_primitive(h[i]);
+                    const double       after  = l.beta_primitive(h[i] + a * (hn[i] - h[i]));
+                    psi[0] += m[i] * (after - before);
+                    psi[1] += m[i] * (std::abs(after) + std::abs(before));
                   }
               double sums[2];
               Utilities::MPI::sum(ArrayView<const double>(psi, 2),
@@ -594,23 +602,19 @@ namespace ContactStefan
           }
         // h <- h + alpha (h_new - h), z <- (1 - alpha) z - alpha Theta_new.
         unsigned int local_changes = 0;
-        for (const auto dof : owned)
+        for (unsigned int i = 0; i < n_owned; ++i)
           {
-            z[dof]                   = (1 - alpha) * z[dof] - alpha * temperature[dof];
-            enthalpy[dof]            = enthalpy[dof] + alpha * (h_new[dof] - enthalpy[dof]);
-            const unsigned int state = is_free(dof) ?
-                                         law(dof).state_of_enthalpy(enthalpy[dof]) :
-                                         law(dof).state_of_temperature(temperature[dof]);
-            if (state != static_cast<unsigned int>(phase_state[dof]))
+            zz[i]                    = (1 - alpha) * zz[i] - alpha * theta[i];
+            h[i]                     = h[i] + alpha * (hn[i] - h[i]);
+            const unsigned int s_new = free[i] ? owned_node_law(i).state_of_enthalpy(h[i]) :
+                                                 owned_node_law(i).state_of_temperature(theta[i]);
+            if (s_new != static_cast<unsigned int>(state[i]))
               {
-                phase_state[dof] = state;
+                state[i] = s_new;
                 // Prescribed nodes follow their data; they are not unknowns.
-                local_changes += is_free(dof);
+                local_changes += free[i];
               }
           }
-        z.compress(VectorOperation::insert);
-        enthalpy.compress(VectorOperation::insert);
-        phase_state.compress(VectorOperation::insert);
         enthalpy_ghosted             = enthalpy;
         phase_state_ghosted          = phase_state;
         const unsigned int n_changes = Utilities::MPI::sum(local_changes, mpi_communicator);

@@ -330,13 +330,15 @@ namespace ContactStefan
     update_error_geometry();
     const ErrorGeometry &g      = error_geometry;
     const double        *values = theta_h_all.trilinos_vector()[0];
-    std::vector<double>  theta(g.n_q_points);
-    double               error_squared = 0, norm_squared = 0;
+    exact_values.resize(g.evaluation_points.size());
+    for (unsigned int k = 0; k < g.evaluation_points.size(); ++k)
+      exact_values[k] = exact->value(g.evaluation_points[k]);
+    std::vector<double> theta(g.n_q_points);
+    double              error_squared = 0, norm_squared = 0;
     for (unsigned int c = 0; c < g.n_cells; ++c)
       {
-        const Point<dim> *points = &g.points[c * g.n_q_points];
         for (unsigned int q = 0; q < g.n_q_points; ++q)
-          theta[q] = exact->value(points[q]);
+          theta[q] = exact_values[g.point_evaluation[c * g.n_q_points + q]];
         const int    *dofs = &g.local_dofs[c * g.dofs_per_cell];
         const double *JxW  = &g.JxW[c * g.n_q_points];
         for (unsigned int q = 0; q < g.n_q_points; ++q)
@@ -353,15 +355,16 @@ namespace ContactStefan
 
     // Max-norm error at the nodes, the largest exact nodal value, and the mean
     // signed error sum_i m_i (Theta_i - Theta(x_i)) / sum_i m_i.
-    const Vector &mass      = thermal->get_lumped_mass();
+    const double *mass      = thermal->get_lumped_mass().trilinos_vector()[0];
     double        max_error = 0, max_value = 0, signed_error = 0, total_mass = 0;
-    for (const auto &[dof, point] : g.nodes)
+    for (unsigned int n = 0; n < g.nodes.size(); ++n)
       {
-        const double value = exact->value(point);
-        max_error          = max_with_nan(max_error, std::abs(theta_h_all[dof] - value));
-        max_value          = std::max(max_value, std::abs(value));
-        signed_error += mass[dof] * (theta_h_all[dof] - value);
-        total_mass += mass[dof];
+        const auto [ghosted, local] = g.nodes[n];
+        const double value          = exact_values[g.node_evaluation[n]];
+        max_error = max_with_nan(max_error, std::abs(values[ghosted] - value));
+        max_value = std::max(max_value, std::abs(value));
+        signed_error += mass[local] * (values[ghosted] - value);
+        total_mass += mass[local];
       }
     functions.check_finite_values(mpi_communicator);
     last_max_error = global_max_with_nan(max_error, mpi_communicator);
@@ -418,9 +421,35 @@ namespace ContactStefan
           first = false;
           ++g.n_cells;
         }
+    const Epetra_BlockMap &owned_map = thermal->get_lumped_mass().trilinos_vector().Map();
+    std::vector<Point<dim>> node_points;
     for (const auto &[dof, point] : thermal->get_support_points())
       if (dof_handler.locally_owned_dofs().is_element(dof))
-        g.nodes.emplace_back(dof, point);
+        {
+          g.nodes.emplace_back(map.LID(static_cast<int>(dof)),
+                               owned_map.LID(static_cast<int>(dof)));
+          node_points.push_back(point);
+        }
+    // The distinct evaluation points (exact equality: the quadrature points of
+    // cells in one column of a rectangle have bitwise equal abscissae).
+    const bool                         x_only = functions.neumann() != nullptr;
+    std::map<double, unsigned int>     abscissa;
+    const auto                         index_of = [&](const Point<dim> &p) {
+      if (!x_only)
+        {
+          g.evaluation_points.push_back(p);
+          return static_cast<unsigned int>(g.evaluation_points.size() - 1);
+        }
+      const auto [it, inserted] =
+        abscissa.emplace(p[0], static_cast<unsigned int>(g.evaluation_points.size()));
+      if (inserted)
+        g.evaluation_points.push_back(p);
+      return it->second;
+    };
+    for (const auto &p : g.points)
+      g.point_evaluation.push_back(index_of(p));
+    for (const auto &p : node_points)
+      g.node_evaluation.push_back(index_of(p));
   }
 
 

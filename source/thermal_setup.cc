@@ -134,6 +134,7 @@ namespace ContactStefan
         }
 
     setup_nodal_enthalpy_laws();
+    index_local_entries();
     support_points.clear();
     DoFTools::map_dofs_to_support_points(MappingQ1<dim>(), dof_handler, support_points);
     setup_coupling();
@@ -443,13 +444,11 @@ namespace ContactStefan
     // active-set iteration usually needs one solve.
     if (!first_step && prm.solver.extrapolate_active_set)
       {
-        const double ratio = tau / previous_time_step;
-        for (const auto dof : owned)
-          {
-            const double h_predicted = enthalpy[dof] + ratio * (enthalpy[dof] - old_enthalpy[dof]);
-            phase_state[dof]         = law(dof).state_of_enthalpy(h_predicted);
-          }
-        phase_state.compress(VectorOperation::insert);
+        const double  ratio = tau / previous_time_step;
+        const double *h = entries(enthalpy), *h_old = entries(old_enthalpy);
+        double       *state = entries(phase_state);
+        for (unsigned int i = 0; i < n_owned; ++i)
+          state[i] = owned_node_law(i).state_of_enthalpy(h[i] + ratio * (h[i] - h_old[i]));
         phase_state_ghosted = phase_state;
       }
     first_step         = false;
@@ -619,6 +618,47 @@ namespace ContactStefan
           VectorTools::interpolate_boundary_values(dof_handler, id, value, dirichlet_constraints);
         }
     dirichlet_constraints.close();
+    owned_free.assign(n_owned, 1);
+    for (unsigned int i = 0; i < n_owned; ++i)
+      owned_free[i] = !dirichlet_constraints.is_constrained(first_owned + i);
+  }
+
+
+
+  template <int dim>
+  void ThermalField<dim>::index_local_entries()
+  {
+    if (!owned.is_contiguous())
+      throw std::logic_error("the owned temperature DoFs are not one contiguous range");
+    first_owned = owned.n_elements() > 0 ? *owned.begin() : 0;
+    n_owned     = owned.n_elements();
+    const Epetra_BlockMap &ghosted = phase_state_ghosted.trilinos_vector().Map();
+    const Epetra_BlockMap &local   = phase_state.trilinos_vector().Map();
+    relevant_entry.clear();
+    for (const auto dof : relevant)
+      relevant_entry.push_back(ghosted.LID(static_cast<int>(dof)));
+    cell_nodes.assign(triangulation.n_active_cells(), {});
+    std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          cell->get_dof_indices(dofs);
+          for (unsigned int v = 0; v < dofs.size(); ++v)
+            cell_nodes[cell->active_cell_index()][v] =
+              static_cast<unsigned int>(relevant.index_within_set(dofs[v]));
+        }
+    const Epetra_Map &rows   = conductivity_matrix.trilinos_matrix().RowMap();
+    const Epetra_Map &domain = conductivity_matrix.trilinos_matrix().DomainMap();
+    owned_law.resize(n_owned);
+    for (unsigned int i = 0; i < n_owned; ++i)
+      {
+        const int dof = static_cast<int>(first_owned + i);
+        if (local.LID(dof) != static_cast<int>(i) || rows.LID(dof) != static_cast<int>(i) ||
+            domain.LID(dof) != static_cast<int>(i))
+          throw std::logic_error("the owned vector's entries or the matrix rows are not in DoF "
+                                 "order");
+        owned_law[i] = law_of_node[relevant.index_within_set(first_owned + i)];
+      }
   }
 
 
@@ -628,13 +668,13 @@ namespace ContactStefan
   template <int dim>
   void ThermalField<dim>::set_nodal_state_from_enthalpy()
   {
-    for (const auto dof : owned)
+    double       *theta = entries(temperature), *state = entries(phase_state);
+    const double *h     = entries(enthalpy);
+    for (unsigned int i = 0; i < n_owned; ++i)
       {
-        temperature[dof] = law(dof).temperature(enthalpy[dof]);
-        phase_state[dof] = law(dof).state_of_enthalpy(enthalpy[dof]);
+        theta[i] = owned_node_law(i).temperature(h[i]);
+        state[i] = owned_node_law(i).state_of_enthalpy(h[i]);
       }
-    temperature.compress(VectorOperation::insert);
-    phase_state.compress(VectorOperation::insert);
     hanging_node_constraints.distribute(temperature);
     temperature_ghosted = temperature;
     enthalpy_ghosted    = enthalpy;
@@ -676,10 +716,10 @@ namespace ContactStefan
     // Cell by cell, so that a node shared with a body that does not melt counts
     // only the share of the melting body: each cell adds its vertex weights
     // times the node's fraction through its own body's last transition.
-    Vector h(owned, relevant, mpi_communicator);
-    h                                         = enthalpy;
-    double                               area = 0;
-    std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+    Vector h_ghosted(owned, relevant, mpi_communicator);
+    h_ghosted        = enthalpy;
+    const double *h  = entries(h_ghosted);
+    double      area = 0;
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
@@ -687,10 +727,11 @@ namespace ContactStefan
           if (body_law.n_transitions() == 0)
             continue;
           const double melting = body_law.transition_temperature(body_law.n_transitions() - 1);
-          cell->get_dof_indices(dofs);
-          const auto &m = cell_mass[cell->active_cell_index()];
-          for (unsigned int v = 0; v < dofs.size(); ++v)
-            area += m(v) * law(dofs[v]).fraction_through_temperature(melting, h[dofs[v]]);
+          const auto  &m       = cell_mass[cell->active_cell_index()];
+          const auto  &nodes   = cell_nodes[cell->active_cell_index()];
+          for (unsigned int v = 0; v < nodes.size(); ++v)
+            area += m(v) * laws[law_of_node[nodes[v]]].fraction_through_temperature(
+                             melting, h[relevant_entry[nodes[v]]]);
         }
     return Utilities::MPI::sum(area, mpi_communicator);
   }

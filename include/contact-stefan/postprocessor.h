@@ -105,9 +105,18 @@ namespace ContactStefan
       std::vector<int>        local_dofs;
       std::vector<Point<dim>> points;
       std::vector<double>     JxW, shape;
-      // The owned nodes: DoF, position.
-      std::vector<std::pair<types::global_dof_index, Point<dim>>> nodes;
+      // The owned nodes: their local index in the ghosted temperature and in
+      // the owned lumped mass.
+      std::vector<std::pair<int, int>> nodes;
+      // Where the exact solution is evaluated: the distinct points among the
+      // quadrature points and the nodes (for a solution of x alone, such as
+      // the Neumann solution on a strip, one per distinct abscissa: 40 times
+      // fewer erfc calls on a strip 40 cells high), and for each quadrature
+      // point, then each node, its index in that list.
+      std::vector<Point<dim>>   evaluation_points;
+      std::vector<unsigned int> point_evaluation, node_evaluation;
     } error_geometry;
+    std::vector<double> exact_values; // at the evaluation points, per step
     void write_statistics_row(const unsigned int        step,
                               const double              time,
                               const EnthalpyStepReport &report,

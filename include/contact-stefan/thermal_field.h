@@ -219,9 +219,9 @@ namespace ContactStefan
     // Imports owned values (one per row of the conductivity matrix) onto its
     // column map.
     void to_columns(const Epetra_Vector &values, std::vector<double> &result) const;
-    unsigned int
-         solve_for_pieces(const std::function<LinearPiece(const types::global_dof_index)> &piece_of,
-                          Vector                                                          &h_new);
+    // One linear solve with every node on the linear piece of its current
+    // phase state (phase_state_ghosted).
+    unsigned int solve_for_pieces(Vector &h_new);
     bool active_set_iteration(EnthalpyStepReport &report);
     unsigned int relaxation_fallback();
     double       compute_energy_balance(unsigned int &inconsistent_nodes) const;
@@ -294,6 +294,35 @@ namespace ContactStefan
     std::vector<LocalMatrix>                      cell_shape_conductivity, cell_conductivity;
     std::vector<dealii::Vector<double>>           cell_mass, cell_load;
     std::map<types::global_dof_index, Point<dim>> support_points;
+
+    // Direct access to the entries of the per-node loops. The owned DoFs are
+    // one contiguous range (p4est numbering), so owned entry dof of an owned
+    // vector is its local entry dof - first_owned; for relevant node k (k-th
+    // element of `relevant`) relevant_entry[k] is its local entry in a ghosted
+    // vector. Per owned node: its law and whether it is free (no Dirichlet
+    // value). Element access through TrilinosWrappers maps every index through
+    // Epetra's hash table: 13 % of a Stefan strip run before these.
+    types::global_dof_index first_owned = 0;
+    unsigned int            n_owned     = 0;
+    std::vector<int>        relevant_entry;
+    // Per owned cell (by active cell index): the relevant-node numbers k of its
+    // vertices.
+    std::vector<std::array<unsigned int, GeometryInfo<dim>::vertices_per_cell>> cell_nodes;
+    std::vector<unsigned int> owned_law;
+    std::vector<char>         owned_free;
+    void                      index_local_entries();
+    static double            *entries(Vector &v)
+    {
+      return v.trilinos_vector()[0];
+    }
+    static const double *entries(const Vector &v)
+    {
+      return v.trilinos_vector()[0];
+    }
+    const EnthalpyLaw &owned_node_law(const unsigned int i) const
+    {
+      return laws[owned_law[i]];
+    }
 
     unsigned int n_setups = 0;
     double       time = 0, time_step = 0, previous_time_step = 0;
