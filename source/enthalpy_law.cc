@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -147,6 +148,34 @@ namespace ContactStefan
     if (is_plateau(s))
       return temperatures[s / 2];
     return (h - offsets[s / 2]) / capacities[s / 2];
+  }
+
+
+
+  double EnthalpyLaw::solve_nodal(const double a, const double m, const double r) const
+  {
+    // g(theta) = a theta + m H(theta) is strictly increasing; walk its pieces
+    // from cold to hot comparing r with the ends of each plateau, so that
+    // exactly one piece is chosen even where round-off blurs the joints.
+    const unsigned int n   = n_transitions();
+    const double       inf = std::numeric_limits<double>::infinity();
+    for (unsigned int j = 0; j <= n; ++j)
+      {
+        if (j == n || r < a * temperatures[j] + m * h_minus[j])
+          {
+            double theta = (r - m * offsets[j]) / (a + m * capacities[j]);
+            // Strictly inside the branch: a value rounded onto T_j would read
+            // as the plateau.
+            if (j > 0)
+              theta = std::max(theta, std::nextafter(temperatures[j - 1], inf));
+            if (j < n)
+              theta = std::min(theta, std::nextafter(temperatures[j], -inf));
+            return theta;
+          }
+        if (r <= a * temperatures[j] + m * h_plus[j])
+          return temperatures[j];
+      }
+    return std::numeric_limits<double>::quiet_NaN(); // not reached
   }
 
 

@@ -78,7 +78,7 @@ namespace ContactStefan
     double       *rhs_entries = entries(system_rhs);
     for (int r = 0; r < static_cast<int>(n_owned); ++r)
       {
-        const types::global_dof_index dof      = first_owned + r;
+        const types::global_dof_index dof             = first_owned + r;
         const int                     diagonal_column = columns.LID(static_cast<int>(dof));
         int                           n_a, n_s;
         double                       *a, *s;
@@ -271,8 +271,8 @@ namespace ContactStefan
     for (auto it = relevant.begin(); it != relevant.end(); ++it, ++k)
       if (!constraints.is_constrained(*it))
         {
-          const LinearPiece p = laws[law_of_node[k]].piece(
-            static_cast<unsigned int>(state_ghosted[relevant_entry[k]]));
+          const LinearPiece p =
+            laws[law_of_node[k]].piece(static_cast<unsigned int>(state_ghosted[relevant_entry[k]]));
           if (p.fixed)
             {
               constraints.add_line(*it);
@@ -451,7 +451,8 @@ namespace ContactStefan
     double        free_sum = 0, scale = 0;
     unsigned int  inconsistent_nodes = 0;
     const double *h = entries(enthalpy), *h_old = entries(old_enthalpy), *m = entries(lumped_mass);
-    const double *A = entries(A_theta), *A_abs = entries(A_abs_theta), *theta = entries(temperature);
+    const double *A = entries(A_theta), *A_abs = entries(A_abs_theta),
+                 *theta = entries(temperature);
     const double *F = entries(heat_load), *G = entries(coupling_heat);
     for (unsigned int i = 0; i < n_owned; ++i)
       {
@@ -466,8 +467,8 @@ namespace ContactStefan
             free_sum += std::abs(r);
             // h in H([Theta - e, Theta + e]) with e the round-off of Theta: at a
             // kink a temperature 1e-18 below the transition is on the plateau.
-            const double e = round_off_factor * std::numeric_limits<double>::epsilon() *
-                             (1 + std::abs(theta[i]));
+            const double e =
+              round_off_factor * std::numeric_limits<double>::epsilon() * (1 + std::abs(theta[i]));
             const std::pair<double, double> range{
               owned_node_law(i).enthalpy_range(theta[i] - e).first,
               owned_node_law(i).enthalpy_range(theta[i] + e).second};
@@ -475,9 +476,8 @@ namespace ContactStefan
                                  (1 + std::abs(range.first) + std::abs(range.second));
             const bool outside = (h[i] < range.first - slack || h[i] > range.second + slack);
             if (outside && prm.output.verbosity >= 2)
-              std::cout << "      node " << dof << ": h = " << h[i] << " outside ["
-                        << range.first << ", " << range.second << "] of Theta = " << theta[i]
-                        << std::endl;
+              std::cout << "      node " << dof << ": h = " << h[i] << " outside [" << range.first
+                        << ", " << range.second << "] of Theta = " << theta[i] << std::endl;
             inconsistent_nodes += outside;
           }
         else
@@ -639,9 +639,30 @@ namespace ContactStefan
     n_factorisations = 0;
     assemble_conductivity_matrix();
     assemble_step_load();
-    if (prm.solver.enthalpy_solver == Parameters::Solver::EnthalpySolver::relaxation)
+    using EnthalpySolver = Parameters::Solver::EnthalpySolver;
+    const auto solver    = prm.solver.enthalpy_solver;
+    bool       converged = false;
+    if (solver == EnthalpySolver::active_set)
+      {
+        converged = active_set_iteration(report);
+        if (!converged)
+          {
+            // Where the front crosses many cells in one step the active-set
+            // iteration advances it about a column of nodes per solve; the
+            // truncated Newton method does not (doc/algorithms.md).
+            pcout << "   Enthalpy step: no convergence in 'Solver/Max active-set iterations' = "
+                  << prm.solver.max_active_set_iterations << " at t = " << time
+                  << "; switching to the truncated Newton method" << std::endl;
+            const unsigned int spent = report.active_set_iterations;
+            converged                = truncated_newton_iteration(report);
+            report.active_set_iterations += spent;
+          }
+      }
+    else if (solver == EnthalpySolver::truncated_newton)
+      converged = truncated_newton_iteration(report);
+    if (solver == EnthalpySolver::relaxation)
       report.relaxation_iterations = relaxation_fallback();
-    else if (!active_set_iteration(report))
+    else if (!converged)
       {
         pcout << "   Enthalpy step: no convergence in 'Solver/Max active-set iterations' = "
               << prm.solver.max_active_set_iterations << " at t = " << time

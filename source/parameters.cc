@@ -1061,10 +1061,24 @@ namespace ContactStefan
                         "step; reaching it switches to the relaxation fallback. (At most 10000.)");
       prm.declare_entry("Enthalpy solver",
                         "active-set",
-                        Patterns::Selection("active-set|relaxation"),
+                        Patterns::Selection("active-set|truncated-newton|relaxation"),
                         "'active-set': the primal-dual active-set (semismooth Newton) method "
-                        "with line search; 'relaxation': the nonlinear relaxation iteration "
-                        "alone (slow; a baseline for comparisons).");
+                        "with an Armijo line search in h; should it reach 'Max active-set "
+                        "iterations', the step is solved by the truncated Newton method, "
+                        "then by the relaxation iteration. 'truncated-newton': nonlinear "
+                        "Gauss-Seidel sweeps, a Newton step with the nodes at a transition "
+                        "temperature held there, and an exact line search on the step's "
+                        "convex functional in Theta; its solves per step do not grow with "
+                        "tau/h^2 (the choice for large time steps and adaptive meshes, see "
+                        "doc/algorithms.md); falls back to the relaxation iteration. "
+                        "'relaxation': the nonlinear relaxation iteration alone (slow; a "
+                        "baseline for comparisons).");
+      prm.declare_entry("Gauss-Seidel sweeps",
+                        "1",
+                        Patterns::Integer(0, 100),
+                        "Nonlinear Gauss-Seidel sweeps before every Newton step but the "
+                        "first of 'Enthalpy solver = truncated-newton'. They are what lets "
+                        "a node leave a plateau. (At most 100.)");
       prm.declare_entry("Active-set step tolerance",
                         "1e-12",
                         Patterns::Double(0, 1),
@@ -1129,8 +1143,13 @@ namespace ContactStefan
         get_finite(prm, "Solver/", "CG tolerance while the contact set changes");
       cg_max_iterations         = prm.get_integer("CG max iterations");
       max_active_set_iterations = prm.get_integer("Max active-set iterations");
-      enthalpy_solver = prm.get("Enthalpy solver") == "relaxation" ? EnthalpySolver::relaxation :
-                                                                     EnthalpySolver::active_set;
+      {
+        const std::string solver = prm.get("Enthalpy solver");
+        enthalpy_solver          = solver == "relaxation"       ? EnthalpySolver::relaxation :
+                                   solver == "truncated-newton" ? EnthalpySolver::truncated_newton :
+                                                                  EnthalpySolver::active_set;
+      }
+      gauss_seidel_sweeps       = prm.get_integer("Gauss-Seidel sweeps");
       active_set_step_tolerance = get_finite(prm, "Solver/", "Active-set step tolerance");
       line_search_sufficient_decrease =
         get_finite(prm, "Solver/", "Line search sufficient decrease");

@@ -80,7 +80,8 @@ namespace ContactStefan
                       &nodal_diagonal,
                       &nodal_rhs,
                       &coupling_heat,
-                      &step_load})
+                      &step_load,
+                      &predicted_temperature})
       v->reinit(owned, mpi_communicator);
     have_factorisation  = false;
     have_preconditioner = false;
@@ -442,15 +443,23 @@ namespace ContactStefan
     // on the first step). A front moving at a steady speed then starts each step
     // with the node it is about to reach already on its plateau, and the
     // active-set iteration usually needs one solve.
-    if (!first_step && prm.solver.extrapolate_active_set)
-      {
-        const double  ratio = tau / previous_time_step;
-        const double *h = entries(enthalpy), *h_old = entries(old_enthalpy);
-        double       *state = entries(phase_state);
-        for (unsigned int i = 0; i < n_owned; ++i)
-          state[i] = owned_node_law(i).state_of_enthalpy(h[i] + ratio * (h[i] - h_old[i]));
+    // The truncated Newton method starts from the temperature of that
+    // extrapolated enthalpy (of the present one without extrapolation).
+    {
+      const bool    extrapolate = !first_step && prm.solver.extrapolate_active_set;
+      const double  ratio       = extrapolate ? tau / previous_time_step : 0.;
+      const double *h = entries(enthalpy), *h_old = entries(old_enthalpy);
+      double       *state = entries(phase_state), *theta = entries(predicted_temperature);
+      for (unsigned int i = 0; i < n_owned; ++i)
+        {
+          const double predicted = h[i] + ratio * (h[i] - h_old[i]);
+          theta[i]               = owned_node_law(i).temperature(predicted);
+          if (extrapolate)
+            state[i] = owned_node_law(i).state_of_enthalpy(predicted);
+        }
+      if (extrapolate)
         phase_state_ghosted = phase_state;
-      }
+    }
     first_step         = false;
     previous_time_step = tau;
     time               = t;
@@ -630,8 +639,8 @@ namespace ContactStefan
   {
     if (!owned.is_contiguous())
       throw std::logic_error("the owned temperature DoFs are not one contiguous range");
-    first_owned = owned.n_elements() > 0 ? *owned.begin() : 0;
-    n_owned     = owned.n_elements();
+    first_owned                    = owned.n_elements() > 0 ? *owned.begin() : 0;
+    n_owned                        = owned.n_elements();
     const Epetra_BlockMap &ghosted = phase_state_ghosted.trilinos_vector().Map();
     const Epetra_BlockMap &local   = phase_state.trilinos_vector().Map();
     relevant_entry.clear();
@@ -669,7 +678,7 @@ namespace ContactStefan
   void ThermalField<dim>::set_nodal_state_from_enthalpy()
   {
     double       *theta = entries(temperature), *state = entries(phase_state);
-    const double *h     = entries(enthalpy);
+    const double *h = entries(enthalpy);
     for (unsigned int i = 0; i < n_owned; ++i)
       {
         theta[i] = owned_node_law(i).temperature(h[i]);
@@ -717,9 +726,9 @@ namespace ContactStefan
     // only the share of the melting body: each cell adds its vertex weights
     // times the node's fraction through its own body's last transition.
     Vector h_ghosted(owned, relevant, mpi_communicator);
-    h_ghosted        = enthalpy;
-    const double *h  = entries(h_ghosted);
-    double      area = 0;
+    h_ghosted          = enthalpy;
+    const double *h    = entries(h_ghosted);
+    double        area = 0;
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
@@ -730,8 +739,10 @@ namespace ContactStefan
           const auto  &m       = cell_mass[cell->active_cell_index()];
           const auto  &nodes   = cell_nodes[cell->active_cell_index()];
           for (unsigned int v = 0; v < nodes.size(); ++v)
-            area += m(v) * laws[law_of_node[nodes[v]]].fraction_through_temperature(
-                             melting, h[relevant_entry[nodes[v]]]);
+            area +=
+              m(v) *
+              laws[law_of_node[nodes[v]]].fraction_through_temperature(melting,
+                                                                       h[relevant_entry[nodes[v]]]);
         }
     return Utilities::MPI::sum(area, mpi_communicator);
   }

@@ -1,7 +1,7 @@
 // Unit test of EnthalpyLaw: H, its inverse beta, the phase states and their
 // linear pieces (what the active-set iteration uses), the primitive of beta (what
-// its line search uses), mixtures of laws, and rejection of invalid data.
-// Prints deterministic lines; returns 1 if any check fails.
+// its line search uses), the nodal Gauss-Seidel update (truncated Newton), mixtures of laws, and
+// rejection of invalid data. Prints deterministic lines; returns 1 if any check fails.
 #include <contact-stefan/enthalpy_law.h>
 
 #include <cmath>
@@ -63,6 +63,40 @@ namespace
     check(monotone, name + ": beta non-decreasing");
     check(primitive, name + ": d/dh beta_primitive = beta");
     check(states, name + ": states in range");
+
+    // The nodal Gauss-Seidel update: theta = solve_nodal(a, m, r) solves
+    // a theta + m H(theta) ∋ r, is non-decreasing in r, lands exactly on a
+    // transition temperature for every r in that plateau's band, and never
+    // rounds a branch value onto a transition temperature.
+    bool solves = true, nodal_monotone = true, plateau_exact = true, branch_strict = true;
+    for (const double a : {0., 1., 1e3})
+      for (const double m : {1., 0.01})
+        {
+          double previous = -HUGE_VAL;
+          for (double r = -8; r <= 8; r += 1e-3)
+            {
+              const double theta = law.solve_nodal(a, m, r);
+              const auto   range = law.enthalpy_range(theta);
+              const double slack = 1e-12 * (1 + std::abs(r) + a * std::abs(theta));
+              solves &= r >= a * theta + m * range.first - slack &&
+                        r <= a * theta + m * range.second + slack;
+              nodal_monotone &= theta >= previous;
+              previous = theta;
+              for (unsigned int j = 0; j < law.n_transitions(); ++j)
+                {
+                  const double T    = law.transition_temperature(j);
+                  const auto   band = law.enthalpy_range(T);
+                  if (r >= a * T + m * band.first && r <= a * T + m * band.second)
+                    plateau_exact &= theta == T;
+                  else
+                    branch_strict &= theta != T;
+                }
+            }
+        }
+    check(solves, name + ": solve_nodal solves a theta + m H(theta) = r");
+    check(nodal_monotone, name + ": solve_nodal non-decreasing in r");
+    check(plateau_exact, name + ": solve_nodal exactly on the plateau in its band");
+    check(branch_strict, name + ": solve_nodal strictly off the transitions outside the bands");
   }
 } // namespace
 

@@ -83,6 +83,14 @@ namespace ContactStefan
     // line search of the enthalpy step measures its functional with it.
     double beta_primitive(const double h) const;
 
+    // The temperature theta with  a theta + m H(theta) ∋ r  (a >= 0, m > 0): the
+    // exact minimiser of a theta^2/2 + m Phi(theta) - r theta with Phi' = H, i.e.
+    // one node's share of the enthalpy step's functional in Theta with its
+    // neighbours held fixed (the nonlinear Gauss-Seidel update). Unique because H
+    // is maximal monotone; exactly a transition temperature when r falls on its
+    // plateau, else strictly inside the range of a branch.
+    double solve_nodal(const double a, const double m, const double r) const;
+
     // The enthalpy on the branch that holds theta; at a transition temperature the
     // lower end of the plateau (the "solid" value).
     double enthalpy(const double theta) const;

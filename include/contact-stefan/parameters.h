@@ -286,8 +286,10 @@ namespace ContactStefan
       enum class EnthalpySolver
       {
         active_set,
+        truncated_newton,
         relaxation
       } enthalpy_solver;
+      unsigned int gauss_seidel_sweeps;
       double       active_set_step_tolerance;
       double       line_search_sufficient_decrease;
       double       line_search_min_step;

@@ -117,12 +117,12 @@ namespace ContactStefan
       std::vector<unsigned int> point_evaluation, node_evaluation;
     } error_geometry;
     std::vector<double> exact_values; // at the evaluation points, per step
-    void write_statistics_row(const unsigned int        step,
-                              const double              time,
-                              const EnthalpyStepReport &report,
-                              const ContactStepReport  &contact_report,
-                              const CouplingReport     &coupling_report,
-                              const double              wall_time) const;
+    void                write_statistics_row(const unsigned int        step,
+                                             const double              time,
+                                             const EnthalpyStepReport &report,
+                                             const ContactStepReport  &contact_report,
+                                             const CouplingReport     &coupling_report,
+                                             const double              wall_time) const;
     // Exact stress and contact pressure (any scene with mechanics), the
     // energy terms of the step and the opening of each contact group.
     void accumulate_mechanical_results(const double time, const ContactStepReport &contact_report);

@@ -222,7 +222,16 @@ namespace ContactStefan
     // One linear solve with every node on the linear piece of its current
     // phase state (phase_state_ghosted).
     unsigned int solve_for_pieces(Vector &h_new);
-    bool active_set_iteration(EnthalpyStepReport &report);
+    bool         active_set_iteration(EnthalpyStepReport &report);
+    // enthalpy_newton.cc: the truncated nonsmooth Newton method in Theta.
+    bool truncated_newton_iteration(EnthalpyStepReport &report);
+    // One forward nonlinear Gauss-Seidel sweep over the free owned nodes
+    // (ghost values held fixed); theta is owned, hanging nodes distributed.
+    void gauss_seidel_sweep(Vector &theta);
+    // Exact minimisation of the step functional on theta + alpha v, alpha in
+    // [0, 1]; theta moves there, nodes the minimiser stops at snapped onto
+    // their transition temperature. Returns alpha.
+    double       exact_line_search(Vector &theta, const Vector &v);
     unsigned int relaxation_fallback();
     double       compute_energy_balance(unsigned int &inconsistent_nodes) const;
 
@@ -264,6 +273,9 @@ namespace ContactStefan
     // coefficients of one iteration's system m_i d_i Theta_i + tau (A Theta)_i =
     // m_i g_i + tau F_i.
     Vector lumped_mass, heat_load, nodal_diagonal, nodal_rhs;
+    // The truncated Newton method's first iterate: Theta of the enthalpy
+    // extrapolated by begin_time_step().
+    Vector predicted_temperature;
     // The thermoelastic heat G of the step (condensed) and its cell parts G_K,
     // the absolute Theta_0 at the vertices, and whether the scene has the term.
     Vector                              coupling_heat;
@@ -308,10 +320,10 @@ namespace ContactStefan
     // Per owned cell (by active cell index): the relevant-node numbers k of its
     // vertices.
     std::vector<std::array<unsigned int, GeometryInfo<dim>::vertices_per_cell>> cell_nodes;
-    std::vector<unsigned int> owned_law;
-    std::vector<char>         owned_free;
-    void                      index_local_entries();
-    static double            *entries(Vector &v)
+    std::vector<unsigned int>                                                   owned_law;
+    std::vector<char>                                                           owned_free;
+    void           index_local_entries();
+    static double *entries(Vector &v)
     {
       return v.trilinos_vector()[0];
     }
