@@ -11,7 +11,7 @@ time and the relative space-time L2 error (both methods solve the same discrete
 problem, so the errors must agree). With --plot PATH it also draws solves per
 step against tau/h^2.
 
-    benchmarks/large_steps.py --markdown --plot doc/figures/large_steps.png
+    benchmarks/large_steps.py --markdown --plot doc/figures/performance-large-steps.png
 """
 import argparse
 import os
