@@ -71,6 +71,7 @@ namespace ContactStefan
             TrilinosWrappers::PreconditionAMG::AdditionalData data;
             data.elliptic                     = true;
             amg_built                         = false;
+            amg_stale                         = false;
             iterations_per_decade_after_build = 0;
             if (null_space_dimension == 0)
               amg.initialize(A, data);
@@ -115,9 +116,20 @@ namespace ContactStefan
         matrix_norm  = A.linfty_norm();
         return;
       }
-    if (matrix == &A && !use_direct && amg_built && !degraded)
+    using AMGUpdate = Parameters::Solver::AMGUpdate;
+    if (matrix == &A && !use_direct && amg_built && !degraded && prm.amg_update == AMGUpdate::reuse)
+      {
+        // The hierarchy of an earlier active set preconditions the new matrix
+        // (CG runs on the new one): a few rows differ.
+        check_finite_matrix(A);
+        amg_stale = true;
+        return;
+      }
+    if (matrix == &A && !use_direct && amg_built && !degraded &&
+        prm.amg_update == AMGUpdate::recompute)
       {
         check_finite_matrix(A);
+        amg_stale = true;
         // deal.II's PreconditionAMG::reinit() drops ML's return code: call ML
         // ourselves and build afresh if the recomputation failed.
         auto *ml = dynamic_cast<ML_Epetra::MultiLevelPreconditioner *>(
@@ -194,7 +206,24 @@ namespace ContactStefan
         const double     tolerance = relative_tolerance > 0 ? relative_tolerance : prm.cg_tolerance;
         SolverControl    control(prm.cg_max_iterations, tolerance * b.l2_norm());
         SolverCG<Vector> cg(control);
-        cg.solve(*matrix, x, b, amg);
+        const Vector     x_start(x);
+        try
+          {
+            cg.solve(*matrix, x, b, amg);
+          }
+        catch (const SolverControl::NoConvergence &)
+          {
+            // A hierarchy of an earlier matrix may precondition the new one
+            // badly (or indefinitely): once more with a fresh hierarchy.
+            if (!amg_stale)
+              throw;
+            if (verbosity >= 1)
+              pcout << "      " << name << ": CG failed with the kept AMG hierarchy, "
+                    << "building it afresh" << std::endl;
+            initialize(*matrix);
+            x = x_start;
+            cg.solve(*matrix, x, b, amg);
+          }
         // CG iterations per decade of residual reduction: comparable between
         // warm-started solves to different tolerances.
         const double decades =

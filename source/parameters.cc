@@ -1033,6 +1033,15 @@ namespace ContactStefan
                         "aggregates) is rebuilt from scratch when CG needs more than this "
                         "times (plus 0.5) the iterations per decade of residual reduction "
                         "of the first solve after the last build.");
+      prm.declare_entry("AMG update",
+                        "recompute",
+                        Patterns::Selection("reuse|recompute|rebuild"),
+                        "What happens to an AMG hierarchy when only the active set (contact "
+                        "or phase) changed the matrix: 'reuse' keeps it as the preconditioner "
+                        "of the new matrix, 'recompute' recomputes it on its aggregates (about "
+                        "half a build), 'rebuild' builds it afresh. Any of them is rebuilt "
+                        "when CG slows down by 'AMG rebuild ratio', and a CG solve that fails "
+                        "with a kept or recomputed hierarchy is repeated with a fresh one.");
       prm.declare_entry("Refactorisation backward error",
                         "1e-10",
                         Patterns::Double(0),
@@ -1136,8 +1145,14 @@ namespace ContactStefan
       require(Amesos().Query(direct_solver_type.c_str()),
               "Solver/Direct solver type",
               "'" + direct_solver_type + "' is not available in this Trilinos build");
-      cg_tolerance                   = get_finite(prm, "Solver/", "CG tolerance");
-      amg_rebuild_ratio              = get_finite(prm, "Solver/", "AMG rebuild ratio");
+      cg_tolerance      = get_finite(prm, "Solver/", "CG tolerance");
+      amg_rebuild_ratio = get_finite(prm, "Solver/", "AMG rebuild ratio");
+      {
+        const std::string update = prm.get("AMG update");
+        amg_update               = update == "reuse"     ? AMGUpdate::reuse :
+                                   update == "recompute" ? AMGUpdate::recompute :
+                                                           AMGUpdate::rebuild;
+      }
       refactorisation_backward_error = get_finite(prm, "Solver/", "Refactorisation backward error");
       cg_contact_set_tolerance =
         get_finite(prm, "Solver/", "CG tolerance while the contact set changes");

@@ -44,8 +44,9 @@ namespace ContactStefan
     // A's values changed in place (a new active set, same pattern): the direct
     // solver refactorises numerically on its kept symbolic analysis (the
     // fill-reducing ordering); an AMG hierarchy built on the same matrix object
-    // keeps its aggregates and recomputes its prolongators, coarse operators
-    // and smoothers from the new values (ML's reuse, PreconditionAMG::reinit).
+    // is, by 'Solver/AMG update', kept as it is, or keeps its aggregates and
+    // recomputes its prolongators, coarse operators and smoothers from the new
+    // values (ML's reuse), or is built afresh.
     // The hierarchy is rebuilt from scratch when the last CG solve needed more
     // than 'Solver/AMG rebuild ratio' times (plus 0.5) the iterations per decade of residual
     // reduction of the first solve after the last full build: ML keeps some estimates of the first
@@ -85,6 +86,9 @@ namespace ContactStefan
     double                            matrix_norm  = 0;
     TrilinosWrappers::PreconditionAMG amg;
     bool                              amg_built = false;
+    // Whether the hierarchy was built on other matrix values (update() kept or
+    // recomputed it): a CG failure then earns one retry with a fresh build.
+    bool amg_stale = false;
     // CG iterations per decade of residual reduction: of the first solve
     // after the last full AMG build (0: none yet) and of the last solve.
     double iterations_per_decade_after_build = 0, last_iterations_per_decade = 0;

@@ -280,6 +280,15 @@ namespace ContactStefan
       double       cg_tolerance;
       double       cg_contact_set_tolerance;
       double       amg_rebuild_ratio;
+      // What update() does to an AMG hierarchy when the matrix values change
+      // in place: keep it as it is, recompute it on its aggregates, or build
+      // it afresh.
+      enum class AMGUpdate
+      {
+        reuse,
+        recompute,
+        rebuild
+      } amg_update;
       double       refactorisation_backward_error;
       unsigned int cg_max_iterations;
       unsigned int max_active_set_iterations;
