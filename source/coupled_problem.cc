@@ -83,6 +83,47 @@ namespace ContactStefan
 
 
 
+  // The diagonal of the domain's bounding box (from the coarse vertices every
+  // rank holds; refinement does not move the boundary), computed once.
+  template <int dim>
+  double CoupledProblem<dim>::domain_diameter()
+  {
+    if (diameter < 0)
+      {
+        const std::vector<bool>       &used     = triangulation.get_used_vertices();
+        const std::vector<Point<dim>> &vertices = triangulation.get_vertices();
+        double                         upper[dim], lower[dim];
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            upper[d] = -std::numeric_limits<double>::max();
+            lower[d] = std::numeric_limits<double>::max();
+          }
+        for (unsigned int v = 0; v < vertices.size(); ++v)
+          if (used[v])
+            for (unsigned int d = 0; d < dim; ++d)
+              {
+                lower[d] = std::min(lower[d], vertices[v][d]);
+                upper[d] = std::max(upper[d], vertices[v][d]);
+              }
+        double extent[2 * dim];
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            extent[d]       = upper[d];
+            extent[dim + d] = -lower[d];
+          }
+        Utilities::MPI::max(ArrayView<const double>(extent, 2 * dim),
+                            triangulation.get_communicator(),
+                            ArrayView<double>(extent, 2 * dim));
+        double square = 0;
+        for (unsigned int d = 0; d < dim; ++d)
+          square += (extent[d] + extent[dim + d]) * (extent[d] + extent[dim + d]);
+        diameter = std::sqrt(square);
+      }
+    return diameter;
+  }
+
+
+
   template <int dim>
   void CoupledProblem<dim>::run()
   {
@@ -473,9 +514,14 @@ namespace ContactStefan
         const double  eps            = round_off_factor * std::numeric_limits<double>::epsilon();
         coupling_report.change_u     = max_difference(u, u_last);
         coupling_report.change_theta = max_difference(theta, theta_last);
+        // The round-off of u includes what the round-off of Theta does to the
+        // thermal load: where u is (nearly) zero, its own size is no scale.
+        const double u_round_off =
+          eps * (max_abs(u) +
+                 domain_diameter() * materials.max_thermal_strain_per_degree() * max_abs(theta));
         const bool converged =
           coupling_report.change_u <=
-            prm.coupling.fixed_point_tolerance * max_difference(u, u_start) + eps * max_abs(u) &&
+            prm.coupling.fixed_point_tolerance * max_difference(u, u_start) + u_round_off &&
           coupling_report.change_theta <=
             prm.coupling.fixed_point_tolerance * max_difference(theta, theta_start) +
               eps * max_abs(theta);

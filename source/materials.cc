@@ -308,6 +308,18 @@ namespace ContactStefan
 
 
 
+  double Materials::max_thermal_strain_per_degree() const
+  {
+    double strain = 0;
+    for (const auto &[id, m] : materials)
+      for (const ElasticModuli &moduli : m.phase_moduli)
+        if (moduli.beta.norm() > 0)
+          strain = std::max(strain, (invert(moduli.C) * moduli.beta).norm());
+    return strain;
+  }
+
+
+
   NeumannSolution neumann_solution(const AllParameters &prm)
   {
     const Material      m(prm.materials.at(prm.exact_solution.body));

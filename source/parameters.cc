@@ -1,4 +1,5 @@
 #include <deal.II/base/function_parser.h>
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/utilities.h>
 
 #include <contact-stefan/materials.h>
@@ -1018,10 +1019,15 @@ namespace ContactStefan
                         "at 8 450 DoFs, CG + AMG 2.7 times faster at 33 282, 8.2 times at "
                         "132 098.");
       prm.declare_entry("Direct solver type",
-                        "Amesos_Klu",
-                        Patterns::Selection("Amesos_Klu|Amesos_Mumps|Amesos_Superludist"),
-                        "Amesos back end of the direct solver (one this Trilinos was "
-                        "built with: Debian's has KLU and MUMPS; a missing one is refused).");
+                        "automatic",
+                        Patterns::Selection(
+                          "automatic|cholmod|Amesos_Klu|Amesos_Mumps|Amesos_Superludist"),
+                        "Back end of the direct solver: 'cholmod', SuiteSparse's sparse "
+                        "Cholesky factorisation (our systems are symmetric positive definite; "
+                        "one MPI rank only; it keeps its ordering and symbolic analysis while "
+                        "only the active set changes), or an Amesos one this Trilinos was "
+                        "built with (Debian's has KLU and MUMPS; a missing one is refused). "
+                        "'automatic': cholmod on one MPI rank, Amesos_Klu on several.");
       prm.declare_entry("CG tolerance",
                         "1e-12",
                         Patterns::Double(0),
@@ -1142,9 +1148,15 @@ namespace ContactStefan
                                                          LinearSolverType::cg_amg;
       automatic_direct_limit   = prm.get_integer("Automatic direct limit");
       direct_solver_type       = prm.get("Direct solver type");
-      require(Amesos().Query(direct_solver_type.c_str()),
-              "Solver/Direct solver type",
-              "'" + direct_solver_type + "' is not available in this Trilinos build");
+      if (direct_solver_type == "cholmod")
+        require(Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) == 1,
+                "Solver/Direct solver type",
+                "'cholmod' runs on one MPI rank only (this run has " +
+                  std::to_string(Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD)) + ")");
+      else if (direct_solver_type != "automatic")
+        require(Amesos().Query(direct_solver_type.c_str()),
+                "Solver/Direct solver type",
+                "'" + direct_solver_type + "' is not available in this Trilinos build");
       cg_tolerance      = get_finite(prm, "Solver/", "CG tolerance");
       amg_rebuild_ratio = get_finite(prm, "Solver/", "AMG rebuild ratio");
       {

@@ -92,11 +92,14 @@ namespace ContactStefan
     Timer                wall_clock;
 
     parallel::distributed::Triangulation<dim> triangulation;
-    const Materials                           materials;
-    SceneFunctions<dim>                       functions;
-    std::unique_ptr<Postprocessor<dim>>       postprocessor;
-    std::unique_ptr<ThermalField<dim>>        thermal;    // null: Physics/Thermal = false
-    std::unique_ptr<MechanicalField<dim>>     mechanical; // null: Physics/Mechanics = false
+    // The diagonal of the domain's bounding box (-1: not computed yet).
+    double                                diameter = -1;
+    double                                domain_diameter();
+    const Materials                       materials;
+    SceneFunctions<dim>                   functions;
+    std::unique_ptr<Postprocessor<dim>>   postprocessor;
+    std::unique_ptr<ThermalField<dim>>    thermal;    // null: Physics/Thermal = false
+    std::unique_ptr<MechanicalField<dim>> mechanical; // null: Physics/Mechanics = false
 
     double       time, time_step = 0;
     unsigned int step_number = 0;

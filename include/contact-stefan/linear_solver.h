@@ -79,6 +79,17 @@ namespace ContactStefan
     // (ordering) is kept by update() while only values change.
     std::unique_ptr<Epetra_LinearProblem> problem;
     std::unique_ptr<Amesos_BaseSolver>    direct;
+    // Or SuiteSparse's CHOLMOD (Direct solver type = cholmod, serial): the
+    // factor with its symbolic analysis, kept while the pattern is the same.
+    struct Cholmod;
+    std::shared_ptr<Cholmod> cholmod;
+    // Copy the matrix's lower triangle into CHOLMOD's column storage and
+    // factorise it numerically; with analyse, find the ordering and the
+    // symbolic factor first.
+    void cholmod_factorise(const bool analyse);
+    // The direct back end of this matrix: 'Solver/Direct solver type', with
+    // 'automatic' meaning cholmod on one MPI rank and Amesos_Klu on several.
+    std::string direct_type() const;
     // Whether the current factorisation is a refactorisation (pivots of an
     // earlier one; its solves are checked against 'Solver/Refactorisation
     // backward error') and the matrix's infinity norm then.

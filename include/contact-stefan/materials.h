@@ -87,6 +87,11 @@ namespace ContactStefan
     bool conductivity_depends_on_phase() const;
     bool elasticity_depends_on_phase() const;
     bool phase_change_present() const;
+    // The largest thermal strain per unit temperature, |C^{-1} : beta| over
+    // all bodies and phases (the expansion coefficient of an isotropic body,
+    // times sqrt 2 in the plane): how much a temperature error moves the
+    // displacement, per unit length.
+    double max_thermal_strain_per_degree() const;
 
   private:
     std::map<unsigned int, Material> materials;
