@@ -180,6 +180,73 @@ namespace ContactStefan
 
 
 
+  void EnthalpyLaw::add_line_terms(const double               theta,
+                                   const double               v,
+                                   const double               m,
+                                   double                    &value,
+                                   double                    &slope_sum,
+                                   std::vector<LineCrossing> &crossings) const
+  {
+    if (v == 0)
+      return;
+    const unsigned int n = n_transitions();
+    // The branch theta moves into.
+    unsigned int p = 0;
+    while (p < n && (v > 0 ? temperatures[p] <= theta : temperatures[p] < theta))
+      ++p;
+    value += m * v * (offsets[p] + capacities[p] * theta);
+    slope_sum += m * v * v * capacities[p];
+    // The transitions between theta and theta + v, in the order alpha meets
+    // them. Crossing one raises the derivative by m |v| L_j (H jumps by L_j the
+    // way v goes) and changes its slope by m v^2 (c_after - c_before).
+    const double end = theta + v;
+    if (v > 0)
+      for (unsigned int j = p; j < n && temperatures[j] <= end; ++j)
+        crossings.push_back({(temperatures[j] - theta) / v,
+                             m * v * latent_heats[j],
+                             m * v * v * (capacities[j + 1] - capacities[j])});
+    else
+      for (unsigned int j = p; j-- > 0 && temperatures[j] >= end;)
+        crossings.push_back({(temperatures[j] - theta) / v,
+                             -m * v * latent_heats[j],
+                             m * v * v * (capacities[j] - capacities[j + 1])});
+  }
+
+
+
+  std::pair<double, bool> minimise_on_segment(double                           value,
+                                              double                           slope,
+                                              const std::vector<LineCrossing> &crossings,
+                                              const double                     tolerance)
+  {
+    double at = 0;
+    for (std::size_t k = 0;;)
+      {
+        if (value >= 0) // not decreasing here: the minimum
+          return {at, false};
+        const double next = k < crossings.size() ? crossings[k].alpha : 1.;
+        if (slope > 0 && value + slope * (next - at) >= 0)
+          {
+            const double alpha = at - value / slope;
+            // The Newton point itself, up to round-off, when no crossing is left.
+            return {(k == crossings.size() && alpha > 1 - 1e-9) ? 1. : alpha, false};
+          }
+        if (k == crossings.size())
+          return {1., false};
+        value += slope * (next - at);
+        at = next;
+        for (; k < crossings.size() && crossings[k].alpha <= next * (1 + tolerance); ++k)
+          {
+            value += crossings[k].jump;
+            slope += crossings[k].slope;
+          }
+        if (value >= 0) // the minimiser is inside this crossing's jump
+          return {at, true};
+      }
+  }
+
+
+
   double EnthalpyLaw::slope(const unsigned int state) const
   {
     return is_plateau(state) ? 0. : capacities[state / 2];

@@ -98,46 +98,14 @@ namespace ContactStefan
                  *m = entries(lumped_mass), *h_old = entries(old_enthalpy),
                  *load = entries(step_load);
 
-    // A crossing: at alpha, dJ/dalpha jumps by `jump` and its slope changes by
-    // `slope`.
-    struct Crossing
-    {
-      double alpha, jump, slope;
-    };
-    std::vector<Crossing> crossings;
-    double                local[2] = {0, 0}; // dJ/dalpha and d2J/dalpha2 at 0+
+    std::vector<LineCrossing> crossings;
+    double                    local[2] = {0, 0}; // dJ/dalpha and d2J/dalpha2 at 0+
     for (unsigned int i = 0; i < n_owned; ++i)
       if (owned_free[i] && d[i] != 0)
         {
-          const EnthalpyLaw &l = owned_node_law(i);
-          // The branch theta_i moves into (a node exactly at T_j moves off it).
-          unsigned int p = 0;
-          while (p < l.n_transitions() && (d[i] > 0 ? l.transition_temperature(p) <= th[i] :
-                                                      l.transition_temperature(p) < th[i]))
-            ++p;
-          const double H = l.offset(2 * p) + l.slope(2 * p) * th[i];
-          local[0] += d[i] * (time_step * At[i] - m[i] * h_old[i] - load[i] + m[i] * H);
-          local[1] += d[i] * time_step * Av[i] + m[i] * d[i] * d[i] * l.slope(2 * p);
-          // The transitions between theta_i and theta_i + v_i, in the order
-          // alpha meets them.
-          const double end = th[i] + d[i];
-          if (d[i] > 0)
-            for (unsigned int j = p; j < l.n_transitions() && l.transition_temperature(j) <= end;
-                 ++j)
-              {
-                const auto [h_minus, h_plus] = l.enthalpy_range(l.transition_temperature(j));
-                crossings.push_back({(l.transition_temperature(j) - th[i]) / d[i],
-                                     m[i] * d[i] * (h_plus - h_minus),
-                                     m[i] * d[i] * d[i] * (l.slope(2 * j + 2) - l.slope(2 * j))});
-              }
-          else
-            for (unsigned int j = p; j-- > 0 && l.transition_temperature(j) >= end;)
-              {
-                const auto [h_minus, h_plus] = l.enthalpy_range(l.transition_temperature(j));
-                crossings.push_back({(l.transition_temperature(j) - th[i]) / d[i],
-                                     -m[i] * d[i] * (h_plus - h_minus),
-                                     m[i] * d[i] * d[i] * (l.slope(2 * j) - l.slope(2 * j + 2))});
-              }
+          local[0] += d[i] * (time_step * At[i] - m[i] * h_old[i] - load[i]);
+          local[1] += d[i] * time_step * Av[i];
+          owned_node_law(i).add_line_terms(th[i], d[i], m[i], local[0], local[1], crossings);
         }
     double global[2];
     Utilities::MPI::sum(ArrayView<const double>(local, 2),
@@ -147,7 +115,7 @@ namespace ContactStefan
     {
       std::vector<double> flat;
       flat.reserve(3 * crossings.size());
-      for (const Crossing &c : crossings)
+      for (const LineCrossing &c : crossings)
         flat.insert(flat.end(), {c.alpha, c.jump, c.slope});
       const std::vector<std::vector<double>> all =
         Utilities::MPI::all_gather(mpi_communicator, flat);
@@ -156,52 +124,16 @@ namespace ContactStefan
         for (std::size_t k = 0; k + 2 < part.size(); k += 3)
           crossings.push_back({part[k], part[k + 1], part[k + 2]});
     }
-    std::sort(crossings.begin(), crossings.end(), [](const Crossing &a, const Crossing &b) {
+    std::sort(crossings.begin(), crossings.end(), [](const LineCrossing &a, const LineCrossing &b) {
       return a.alpha < b.alpha || (a.alpha == b.alpha && a.jump < b.jump);
     });
 
-    // The walk along alpha, segment by segment. Crossings closer than the
-    // round-off of the linear solve are one crossing: the nodes of a column of a
-    // straight front must stop together (a node left 1e-12 off its plateau is
-    // put back on it by the next Gauss-Seidel sweep anyway).
-    const double tolerance = 1e-10;
-    double       value = global[0], slope = global[1], at = 0, alpha = 1;
-    bool         snap = false;
-    for (std::size_t k = 0;;)
-      {
-        if (value >= 0) // not a descent direction (or already at the minimum)
-          {
-            alpha = at;
-            break;
-          }
-        const double next = k < crossings.size() ? crossings[k].alpha : 1.;
-        if (slope > 0 && value + slope * (next - at) >= 0)
-          {
-            alpha = at - value / slope;
-            // The Newton point itself, up to round-off, when no crossing is left.
-            if (k == crossings.size() && alpha > 1 - 1e-9)
-              alpha = 1;
-            break;
-          }
-        if (k == crossings.size())
-          {
-            alpha = 1;
-            break;
-          }
-        value += slope * (next - at);
-        at = next;
-        for (; k < crossings.size() && crossings[k].alpha <= next * (1 + tolerance); ++k)
-          {
-            value += crossings[k].jump;
-            slope += crossings[k].slope;
-          }
-        if (value >= 0) // the minimiser is inside this crossing's jump
-          {
-            alpha = at;
-            snap  = true;
-            break;
-          }
-      }
+    // Crossings closer than the round-off of the linear solve are one
+    // crossing: the nodes of a column of a straight front must stop together (a
+    // node left 1e-12 off its plateau is put back on it by the next
+    // Gauss-Seidel sweep anyway).
+    const double tolerance   = 1e-10;
+    const auto [alpha, snap] = minimise_on_segment(global[0], global[1], crossings, tolerance);
 
     double *th_out = entries(theta);
     for (unsigned int i = 0; i < n_owned; ++i)

@@ -4,6 +4,7 @@
 // rejection of invalid data. Prints deterministic lines; returns 1 if any check fails.
 #include <contact-stefan/enthalpy_law.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -98,6 +99,80 @@ namespace
     check(plateau_exact, name + ": solve_nodal exactly on the plateau in its band");
     check(branch_strict, name + ": solve_nodal strictly off the transitions outside the bands");
   }
+
+  // The exact line search of the truncated Newton method on random problems:
+  // D(alpha) = p0 + q alpha + sum_i m_i v_i H_i(theta_i + alpha v_i) is the
+  // derivative of a convex function; minimise_on_segment must return its
+  // minimiser on [0, 1], checked by the sign of D just before and after it,
+  // and when it reports a stop inside a jump some node must sit on a
+  // transition temperature there.
+  void check_line_search(const std::vector<const EnthalpyLaw *> &laws, const std::string &name)
+  {
+    unsigned long state  = 12345;
+    const auto    random = [&state](const double lo, const double hi) {
+      state = state * 6364136223846793005UL + 1442695040888963407UL;
+      return lo + (hi - lo) * static_cast<double>(state >> 11) / 9007199254740992.;
+    };
+    bool optimal = true, snapped_on_transition = true, interior = true;
+    for (unsigned int trial = 0; trial < 400; ++trial)
+      {
+        struct Node
+        {
+          const EnthalpyLaw *law;
+          double             theta, v, m;
+        };
+        std::vector<Node> nodes(1 + trial % 7);
+        for (auto &n : nodes)
+          {
+            n.law   = laws[static_cast<unsigned int>(random(0, laws.size())) % laws.size()];
+            n.theta = random(-1.5, 1.5);
+            // Some nodes start exactly on a transition temperature.
+            if (random(0, 1) < 0.2)
+              n.theta = n.law->transition_temperature(0);
+            n.v = random(-2, 2);
+            n.m = random(0.1, 2);
+          }
+        const double              q     = random(0, 3);
+        const double              p0    = -random(0, 4); // descent at 0 (mostly)
+        double                    value = p0, slope = q;
+        std::vector<LineCrossing> crossings;
+        for (const auto &n : nodes)
+          n.law->add_line_terms(n.theta, n.v, n.m, value, slope, crossings);
+        std::sort(crossings.begin(), crossings.end(), [](const auto &a, const auto &b) {
+          return a.alpha < b.alpha;
+        });
+        const auto [alpha, snap] = minimise_on_segment(value, slope, crossings, 1e-10);
+        interior &= alpha >= 0 && alpha <= 1;
+        // D at alpha + delta (H single valued there for a generic delta).
+        const auto D = [&](const double a) {
+          double d = p0 + q * a;
+          for (const auto &n : nodes)
+            {
+              const auto range = n.law->enthalpy_range(n.theta + a * n.v);
+              d += n.m * n.v * 0.5 * (range.first + range.second);
+            }
+          return d;
+        };
+        const double delta = 1e-7, slack = 1e-5;
+        if (alpha > delta)
+          optimal &= D(alpha - delta) <= slack;
+        if (alpha < 1 - delta)
+          optimal &= D(alpha + delta) >= -slack;
+        if (snap)
+          {
+            bool on_transition = false;
+            for (const auto &n : nodes)
+              for (unsigned int j = 0; j < n.law->n_transitions(); ++j)
+                on_transition |=
+                  std::abs(n.theta + alpha * n.v - n.law->transition_temperature(j)) <=
+                  1e-9 * (1 + std::abs(n.law->transition_temperature(j)));
+            snapped_on_transition &= on_transition;
+          }
+      }
+    check(interior, name + ": line search alpha in [0, 1]");
+    check(optimal, name + ": line search stops where dJ/dalpha changes sign");
+    check(snapped_on_transition, name + ": a stop inside a jump is a node on a transition");
+  }
 } // namespace
 
 int main()
@@ -148,6 +223,18 @@ int main()
           two.fraction_through_temperature(0.3, 1.3) == 0,
         "two transitions: fraction through a temperature");
   check_consistency(two, "two transitions");
+  check_line_search({&a}, "one transition");
+  check_line_search({&a, &two}, "one and two transitions");
+  // A step that crosses no transition: alpha = -D(0)/D'(0).
+  {
+    // D(alpha) = -0.2 + 1.4 alpha + 0.2 (-0.5 + 0.2 alpha): zero at 0.3 / 1.44.
+    double                    value = -0.2, slope = 1.4;
+    std::vector<LineCrossing> none_crossed;
+    a.add_line_terms(-0.5, 0.2, 1., value, slope, none_crossed);
+    const auto result = minimise_on_segment(value, slope, none_crossed, 1e-10);
+    check(none_crossed.empty() && close(result.first, 0.3 / 1.44) && !result.second,
+          "line search without crossings: the zero of the linear derivative");
+  }
 
   // No transition: a plain linear law.
   const EnthalpyLaw none({}, {}, {2.});

@@ -30,6 +30,26 @@ namespace ContactStefan
     double offset;      // if not fixed
   };
 
+  // Where the derivative D(alpha) of a convex, piecewise quadratic function of
+  // alpha jumps up by `jump` and its slope changes by `slope` (a node crossing
+  // a transition temperature in the exact line search of the truncated Newton
+  // method).
+  struct LineCrossing
+  {
+    double alpha, jump, slope;
+  };
+
+  // The minimiser over [0, 1] of a convex function whose derivative is
+  // value + slope * alpha just after 0 and changes at the crossings (sorted by
+  // alpha, all in (0, 1]). Crossings within a relative distance tolerance of
+  // the first of a group count as one. Returns alpha and whether it stopped
+  // inside a jump (then the nodes of that crossing sit exactly on their
+  // transition temperature). A function not decreasing at 0 gives alpha = 0.
+  std::pair<double, bool> minimise_on_segment(double                           value,
+                                              double                           slope,
+                                              const std::vector<LineCrossing> &crossings,
+                                              const double                     tolerance);
+
   class EnthalpyLaw
   {
   public:
@@ -90,6 +110,18 @@ namespace ContactStefan
     // is maximal monotone; exactly a transition temperature when r falls on its
     // plateau, else strictly inside the range of a branch.
     double solve_nodal(const double a, const double m, const double r) const;
+
+    // One node's share of the line search along theta + alpha v of the step's
+    // functional in Theta (mass m): adds m v H(theta + 0 v) to value and
+    // m v^2 H'(theta + 0 v) to slope (one-sided in the direction of v: a node at
+    // a transition temperature moves off its plateau), and appends a crossing
+    // for each transition between theta and theta + v.
+    void add_line_terms(const double               theta,
+                        const double               v,
+                        const double               m,
+                        double                    &value,
+                        double                    &slope,
+                        std::vector<LineCrossing> &crossings) const;
 
     // The enthalpy on the branch that holds theta; at a transition temperature the
     // lower end of the plateau (the "solid" value).
