@@ -142,6 +142,17 @@ namespace ContactStefan
 
 
 
+  double EnthalpyLaw::distance_to_piece(const unsigned int state, const double h) const
+  {
+    const unsigned int k     = state / 2;
+    const double       lower = is_plateau(state) ? h_minus[k] : (k > 0 ? h_plus[k - 1] : -HUGE_VAL);
+    const double       upper =
+      is_plateau(state) ? h_plus[k] : (k < n_transitions() ? h_minus[k] : HUGE_VAL);
+    return std::max({0., lower - h, h - upper});
+  }
+
+
+
   double EnthalpyLaw::temperature(const double h) const
   {
     const unsigned int s = state_of_enthalpy(h);

@@ -20,7 +20,10 @@
 // & Kornhuber 2009) with the multigrid correction replaced by our linear solver:
 //   1. nonlinear Gauss-Seidel: each free node in turn moves to the exact
 //      minimiser of J in its own value (EnthalpyLaw::solve_nodal); this is what
-//      lets a node leave a plateau, and it never increases J;
+//      lets a node leave a plateau. Serially it never increases J; on several
+//      ranks each rank sweeps its own nodes with the ghost values held, which
+//      is Jacobi-like at the rank boundaries (the line search keeps the
+//      iteration a descent method all the same);
 //   2. truncated Newton: the nodes exactly at a transition temperature keep it,
 //      the others are linearised on their branch; one linear solve (the same
 //      solve_for_pieces() as the active-set method, so the same reuse of
@@ -32,9 +35,8 @@
 //      that crossing stop exactly on their plateau. The Newton step overheats the
 //      nodes ahead of the front; the line search stops the front where their
 //      latent heat balances the heat the step brings, however many cells that is.
-// The iteration ends, as the active-set one does, when the solve's result lies
-// on the pieces it was computed with (then it solves the step exactly) or no
-// longer moves the enthalpy beyond round-off. Should it reach the iteration
+// The iteration ends when the solve's result lies on the pieces it was
+// computed with, to round-off: then it solves the step. Should it reach the iteration
 // limit, the step falls back to the relaxation iteration.
 
 #include <contact-stefan/thermal_field.h>
@@ -161,7 +163,7 @@ namespace ContactStefan
   bool ThermalField<dim>::truncated_newton_iteration(EnthalpyStepReport &report)
   {
     Vector theta(owned, mpi_communicator), v(owned, mpi_communicator);
-    Vector h_new(owned, mpi_communicator), h_previous(owned, mpi_communicator);
+    Vector h_new(owned, mpi_communicator);
     double enthalpy_scale = 0;
     for (const auto &l : laws)
       {
@@ -175,7 +177,7 @@ namespace ContactStefan
     dirichlet_constraints.distribute(theta);
 
     double       *state = entries(phase_state), *th = entries(theta);
-    const double *hn = entries(h_new), *hp = entries(h_previous);
+    const double *hn   = entries(h_new);
     const char   *free = owned_free.data();
     for (unsigned int it = 1; it <= prm.solver.max_active_set_iterations; ++it)
       {
@@ -197,22 +199,27 @@ namespace ContactStefan
         report.plateau_nodes         = solve_for_pieces(h_new);
         report.active_set_iterations = it;
 
+        // The solve's result solves the step if every free node lies on the
+        // piece it was computed with; up to round-off, because where the
+        // solution sits exactly on a kink of H (an equilibrium at a transition
+        // temperature) neighbouring pieces give the same (Theta, h).
         unsigned int local_inconsistent = 0;
-        double       local_step = 0, local_size = 0;
+        double       local_distance = 0, local_size = 0;
         for (unsigned int i = 0; i < n_owned; ++i)
           if (free[i])
             {
-              local_inconsistent +=
-                (owned_node_law(i).state_of_enthalpy(hn[i]) != static_cast<unsigned int>(state[i]));
-              local_step = std::max(local_step, std::abs(hn[i] - hp[i]));
-              local_size = std::max(local_size, std::abs(hn[i]));
+              const EnthalpyLaw &l = owned_node_law(i);
+              const auto         s = static_cast<unsigned int>(state[i]);
+              local_inconsistent += (l.state_of_enthalpy(hn[i]) != s);
+              local_distance = std::max(local_distance, l.distance_to_piece(s, hn[i]));
+              local_size     = std::max(local_size, std::abs(hn[i]));
             }
         const bool consistent = Utilities::MPI::sum(local_inconsistent, mpi_communicator) == 0;
-        const bool negligible =
-          it > 1 && Utilities::MPI::max(local_step, mpi_communicator) <=
-                      prm.solver.active_set_step_tolerance *
-                        (Utilities::MPI::max(local_size, mpi_communicator) + enthalpy_scale);
-        if (consistent || negligible)
+        const bool consistent_to_round_off =
+          Utilities::MPI::max(local_distance, mpi_communicator) <=
+          prm.solver.active_set_step_tolerance *
+            (Utilities::MPI::max(local_size, mpi_communicator) + enthalpy_scale);
+        if (consistent || consistent_to_round_off)
           {
             // The solve's (Theta, h) is the step's solution.
             enthalpy           = h_new;
@@ -227,8 +234,6 @@ namespace ContactStefan
                     << " plateau nodes, converged" << std::endl;
             return true;
           }
-        h_previous = h_new;
-
         v = temperature;
         v -= theta;
         const double alpha = exact_line_search(theta, v);

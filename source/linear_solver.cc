@@ -96,6 +96,9 @@ namespace ContactStefan
             entries.emplace_back(c, values[k]);
         std::sort(entries.begin(), entries.end());
         start[r] = static_cast<int>(position);
+        // A pattern unlike the analysed one (the owner must call clear() before
+        // it reinitialises the matrix) is an internal error, not a buffer overrun.
+        AssertThrow(position + entries.size() <= cholmod->A->nzmax, ExcInternalError());
         for (const auto &[c, v] : entries)
           {
             row[position]   = c;
@@ -103,6 +106,7 @@ namespace ContactStefan
             ++position;
           }
       }
+    AssertThrow(analyse || position == cholmod->A->nzmax, ExcInternalError());
     start[n] = static_cast<int>(position);
     if (analyse)
       {
@@ -122,6 +126,19 @@ namespace ContactStefan
     if (cholmod->common.status < CHOLMOD_OK)
       throw std::runtime_error("cholmod could not factorise the " + name + " matrix (status " +
                                std::to_string(cholmod->common.status) + ")");
+    // The simplicial factorisation is LDL^T, which CHOLMOD completes for an
+    // indefinite matrix as long as no pivot vanishes. Our systems must be
+    // positive definite: check D (the first entry of each column of L; L_jj > 0
+    // too if CHOLMOD chose LL^T), so that any other matrix is reported, not
+    // solved without pivoting.
+    AssertThrow(!cholmod->L->is_super, ExcInternalError());
+    const auto *L_start = static_cast<const int *>(cholmod->L->p);
+    const auto *L_value = static_cast<const double *>(cholmod->L->x);
+    for (int j = 0; j < n; ++j)
+      if (!(L_value[L_start[j]] > 0))
+        throw std::runtime_error(
+          "the " + name + " system is not positive definite (cholmod: pivot " +
+          std::to_string(L_value[L_start[j]]) + " at row " + std::to_string(j) + ")");
   }
 
   LinearSolver::LinearSolver(const Parameters::Solver &parameters,

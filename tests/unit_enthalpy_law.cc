@@ -223,6 +223,10 @@ int main()
           two.fraction_through_temperature(0.3, 1.3) == 0,
         "two transitions: fraction through a temperature");
   check_consistency(two, "two transitions");
+  check(a.distance_to_piece(1, 0.5) == 0 && close(a.distance_to_piece(1, 1.25), 0.25) &&
+          close(a.distance_to_piece(0, 0.5), 0.5) && a.distance_to_piece(0, -7) == 0 &&
+          close(a.distance_to_piece(2, 0.75), 0.25) && a.distance_to_piece(2, 9) == 0,
+        "one transition: distance of h from a piece");
   check_line_search({&a}, "one transition");
   check_line_search({&a, &two}, "one and two transitions");
   // A step that crosses no transition: alpha = -D(0)/D'(0).

@@ -89,6 +89,10 @@ namespace ContactStefan
     // counts as the plateau).
     unsigned int state_of_temperature(const double theta) const;
 
+    // How far h lies outside the enthalpy interval of the given state (0 inside;
+    // a branch is the open interval between its plateaus).
+    double distance_to_piece(const unsigned int state, const double h) const;
+
     // Theta = beta(h): single valued.
     double temperature(const double h) const;
     // On a linear branch h = offset(state) + slope(state)*Theta; on a plateau slope
