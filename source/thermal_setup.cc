@@ -637,8 +637,15 @@ namespace ContactStefan
   template <int dim>
   void ThermalField<dim>::index_local_entries()
   {
-    if (!owned.is_contiguous())
-      throw std::logic_error("the owned temperature DoFs are not one contiguous range");
+    // Every check below is decided on all ranks together, so that a layout
+    // other than the assumed one stops the run with its message instead of
+    // leaving the other ranks waiting in the next collective call.
+    const auto require_everywhere = [this](const bool ok, const char *what) {
+      if (Utilities::MPI::min(ok ? 1u : 0u, mpi_communicator) == 0)
+        throw std::logic_error(what);
+    };
+    require_everywhere(owned.is_contiguous(),
+                       "the owned temperature DoFs are not one contiguous range");
     first_owned                    = owned.n_elements() > 0 ? *owned.begin() : 0;
     n_owned                        = owned.n_elements();
     const Epetra_BlockMap &ghosted = phase_state_ghosted.trilinos_vector().Map();
@@ -659,15 +666,16 @@ namespace ContactStefan
     const Epetra_Map &rows   = conductivity_matrix.trilinos_matrix().RowMap();
     const Epetra_Map &domain = conductivity_matrix.trilinos_matrix().DomainMap();
     owned_law.resize(n_owned);
+    bool in_order = true;
     for (unsigned int i = 0; i < n_owned; ++i)
       {
         const int dof = static_cast<int>(first_owned + i);
-        if (local.LID(dof) != static_cast<int>(i) || rows.LID(dof) != static_cast<int>(i) ||
-            domain.LID(dof) != static_cast<int>(i))
-          throw std::logic_error("the owned vector's entries or the matrix rows are not in DoF "
-                                 "order");
+        in_order &= local.LID(dof) == static_cast<int>(i) && rows.LID(dof) == static_cast<int>(i) &&
+                    domain.LID(dof) == static_cast<int>(i);
         owned_law[i] = law_of_node[relevant.index_within_set(first_owned + i)];
       }
+    require_everywhere(in_order,
+                       "the owned vector's entries or the matrix rows are not in DoF order");
   }
 
 

@@ -220,7 +220,9 @@ namespace ContactStefan
     // column map.
     void to_columns(const Epetra_Vector &values, std::vector<double> &result) const;
     // One linear solve with every node on the linear piece of its current
-    // phase state (phase_state_ghosted).
+    // phase state: the plateau constraints come from phase_state_ghosted, the
+    // nodal diagonal and right-hand side from phase_state, so every write to
+    // phase_state must be copied to phase_state_ghosted before the call.
     unsigned int solve_for_pieces(Vector &h_new);
     bool         active_set_iteration(EnthalpyStepReport &report);
     // enthalpy_newton.cc: the truncated nonsmooth Newton method in Theta.
