@@ -312,12 +312,21 @@ namespace ContactStefan
         const std::uint64_t operator_signature =
           Fingerprint::combine(Fingerprint::bits(time_step), conductivity_version);
         const bool keep = have_preconditioner && operator_signature == preconditioner_signature;
-        TimerOutput::Scope t(timer, "enthalpy step: factorise");
-        if (keep)
-          linear_solver.update(system_matrix);
+        // A set seen shortly before (the set without plateau nodes recurs
+        // each time a front passes a row of nodes): its kept factorisation.
+        if (keep && linear_solver.recall(signature))
+          {
+            TimerOutput::Scope t(timer, "enthalpy step: recall factorisation");
+          }
         else
-          linear_solver.initialize(system_matrix);
-        ++n_factorisations;
+          {
+            TimerOutput::Scope t(timer, "enthalpy step: factorise");
+            if (keep)
+              linear_solver.update(system_matrix, signature);
+            else
+              linear_solver.initialize(system_matrix, signature);
+            ++n_factorisations;
+          }
         have_factorisation       = true;
         factorisation_signature  = signature;
         have_preconditioner      = true;

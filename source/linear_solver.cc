@@ -25,6 +25,13 @@ namespace ContactStefan
     cholmod_common  common;
     cholmod_sparse *A = nullptr;
     cholmod_factor *L = nullptr;
+    // Where each stored entry of the matrix's rows (in their storage order)
+    // goes in A's values; -1: not in the lower triangle.
+    std::vector<int> position_of_entry;
+    // The key of L's matrix values (0: none), and earlier factors of the same
+    // symbolic analysis with their keys, the most recently used first.
+    std::uint64_t                                           key = 0;
+    std::vector<std::pair<std::uint64_t, cholmod_factor *>> kept;
     Cholmod()
     {
       cholmod_start(&common);
@@ -33,6 +40,8 @@ namespace ContactStefan
     {
       if (L != nullptr)
         cholmod_free_factor(&L, &common);
+      for (auto &entry : kept)
+        cholmod_free_factor(&entry.second, &common);
       if (A != nullptr)
         cholmod_free_sparse(&A, &common);
       cholmod_finish(&common);
@@ -79,35 +88,62 @@ namespace ContactStefan
         if (cholmod->A == nullptr)
           throw std::runtime_error("cholmod could not allocate the " + name + " matrix");
       }
-    auto                               *start = static_cast<int *>(cholmod->A->p);
-    auto                               *row   = static_cast<int *>(cholmod->A->i);
-    auto                               *value = static_cast<double *>(cholmod->A->x);
-    std::vector<std::pair<int, double>> entries;
-    std::size_t                         position = 0;
-    for (int r = 0; r < n; ++r)
+    auto *value = static_cast<double *>(cholmod->A->x);
+    if (!analyse)
       {
-        int     length;
-        double *values;
-        int    *columns;
-        M.ExtractMyRowView(r, length, values, columns);
-        entries.clear();
-        for (int k = 0; k < length; ++k)
-          if (const int c = M.ColMap().GID(columns[k]); c >= r)
-            entries.emplace_back(c, values[k]);
-        std::sort(entries.begin(), entries.end());
-        start[r] = static_cast<int>(position);
-        // A pattern unlike the analysed one (the owner must call clear() before
-        // it reinitialises the matrix) is an internal error, not a buffer overrun.
-        AssertThrow(position + entries.size() <= cholmod->A->nzmax, ExcInternalError());
-        for (const auto &[c, v] : entries)
+        // New values on the analysed pattern: a gather through the map built
+        // with the pattern (no index lookups, no sorting).
+        const int  *target = cholmod->position_of_entry.data();
+        std::size_t entry  = 0;
+        for (int r = 0; r < n; ++r)
           {
-            row[position]   = c;
-            value[position] = v;
-            ++position;
+            int     length;
+            double *values;
+            int    *columns;
+            M.ExtractMyRowView(r, length, values, columns);
+            // A pattern unlike the analysed one (the owner must call clear()
+            // before it reinitialises the matrix) is an internal error, not a
+            // buffer overrun.
+            AssertThrow(entry + length <= cholmod->position_of_entry.size(), ExcInternalError());
+            for (int k = 0; k < length; ++k, ++entry)
+              if (target[entry] >= 0)
+                value[target[entry]] = values[k];
           }
+        AssertThrow(entry == cholmod->position_of_entry.size(), ExcInternalError());
       }
-    AssertThrow(analyse || position == cholmod->A->nzmax, ExcInternalError());
-    start[n] = static_cast<int>(position);
+    else
+      {
+        auto                            *start = static_cast<int *>(cholmod->A->p);
+        auto                            *row   = static_cast<int *>(cholmod->A->i);
+        std::vector<std::pair<int, int>> entries; // (column, entry within the row)
+        std::size_t                      position = 0, first_entry = 0;
+        cholmod->position_of_entry.clear();
+        for (int r = 0; r < n; ++r)
+          {
+            int     length;
+            double *values;
+            int    *columns;
+            M.ExtractMyRowView(r, length, values, columns);
+            entries.clear();
+            for (int k = 0; k < length; ++k)
+              if (const int c = M.ColMap().GID(columns[k]); c >= r)
+                entries.emplace_back(c, k);
+            std::sort(entries.begin(), entries.end());
+            cholmod->position_of_entry.resize(first_entry + length, -1);
+            start[r] = static_cast<int>(position);
+            AssertThrow(position + entries.size() <= cholmod->A->nzmax, ExcInternalError());
+            for (const auto &[c, k] : entries)
+              {
+                row[position]                               = c;
+                value[position]                             = values[k];
+                cholmod->position_of_entry[first_entry + k] = static_cast<int>(position);
+                ++position;
+              }
+            first_entry += length;
+          }
+        AssertThrow(position == cholmod->A->nzmax, ExcInternalError());
+        start[n] = static_cast<int>(position);
+      }
     if (analyse)
       {
         // Simplicial, not supernodal: the supernodal factorisation calls the
@@ -164,7 +200,66 @@ namespace ContactStefan
 
 
 
-  void LinearSolver::initialize(const TrilinosWrappers::SparseMatrix &A)
+  std::unique_ptr<Amesos_BaseSolver> LinearSolver::new_direct_solver() const
+  {
+    Amesos                             factory;
+    std::unique_ptr<Amesos_BaseSolver> solver(factory.Create(direct_type().c_str(), *problem));
+    AssertThrow(solver, ExcMessage("no " + direct_type() + " in Amesos"));
+    // Later numeric factorisations of the same matrix object (update())
+    // keep the pivot sequence of this one: our systems are symmetric
+    // positive definite, which needs no pivoting (KLU's refactor).
+    Teuchos::ParameterList parameters;
+    parameters.set("Refactorize", true);
+    solver->SetParameters(parameters);
+    if (solver->SymbolicFactorization() != 0 || solver->NumericFactorization() != 0)
+      throw std::runtime_error("Amesos reported an error");
+    return solver;
+  }
+
+
+
+  bool LinearSolver::recall(const std::uint64_t key)
+  {
+    if (use_direct && direct && key != 0)
+      {
+        for (std::size_t i = 0; i < kept_direct.size(); ++i)
+          if (kept_direct[i].key == key)
+            {
+              KeptDirect recalled = std::move(kept_direct[i]);
+              kept_direct.erase(kept_direct.begin() + i);
+              kept_direct.insert(kept_direct.begin(),
+                                 KeptDirect{direct_key, refactorised, std::move(direct)});
+              direct_key   = recalled.key;
+              refactorised = recalled.refactorised;
+              direct       = std::move(recalled.solver);
+              matrix_norm  = matrix->linfty_norm();
+              return true;
+            }
+        return false;
+      }
+    if (!(use_direct && cholmod && key != 0))
+      return false;
+    auto &kept = cholmod->kept;
+    for (std::size_t i = 0; i < kept.size(); ++i)
+      if (kept[i].first == key)
+        {
+          // The current factor takes the recalled one's place, which moves to
+          // the front (most recently used).
+          std::pair<std::uint64_t, cholmod_factor *> recalled = kept[i];
+          kept.erase(kept.begin() + i);
+          kept.insert(kept.begin(), {cholmod->key, cholmod->L});
+          cholmod->key = recalled.first;
+          cholmod->L   = recalled.second;
+          // A's values are those of the current factor (the next update()
+          // refills them anyway).
+          return true;
+        }
+    return false;
+  }
+
+
+
+  void LinearSolver::initialize(const TrilinosWrappers::SparseMatrix &A, const std::uint64_t key)
   {
     matrix = &A;
     check_finite_matrix(A);
@@ -176,9 +271,11 @@ namespace ContactStefan
         if (use_direct && direct_type() == "cholmod")
           {
             direct.reset();
+            kept_direct.clear();
             problem.reset();
             refactorised = false;
             cholmod_factorise(true);
+            cholmod->key = key;
           }
         else if (use_direct)
           {
@@ -186,20 +283,12 @@ namespace ContactStefan
             // The solver first: its destructor may read the problem it was
             // built on (Amesos_Mumps does).
             direct.reset();
+            kept_direct.clear();
             refactorised = false;
             problem      = std::make_unique<Epetra_LinearProblem>();
             problem->SetOperator(const_cast<Epetra_CrsMatrix *>(&A.trilinos_matrix()));
-            Amesos factory;
-            direct.reset(factory.Create(direct_type().c_str(), *problem));
-            AssertThrow(direct, ExcMessage("no " + direct_type() + " in Amesos"));
-            // Later numeric factorisations of the same matrix object (update())
-            // keep the pivot sequence of this one: our systems are symmetric
-            // positive definite, which needs no pivoting (KLU's refactor).
-            Teuchos::ParameterList parameters;
-            parameters.set("Refactorize", true);
-            direct->SetParameters(parameters);
-            if (direct->SymbolicFactorization() != 0 || direct->NumericFactorization() != 0)
-              throw std::runtime_error("Amesos reported an error");
+            direct     = new_direct_solver();
+            direct_key = key;
           }
         else
           {
@@ -236,7 +325,7 @@ namespace ContactStefan
 
 
 
-  void LinearSolver::update(const TrilinosWrappers::SparseMatrix &A)
+  void LinearSolver::update(const TrilinosWrappers::SparseMatrix &A, const std::uint64_t key)
   {
     const bool degraded =
       iterations_per_decade_after_build > 0 &&
@@ -244,12 +333,71 @@ namespace ContactStefan
     if (matrix == &A && use_direct && cholmod)
       {
         check_finite_matrix(A);
+        // Keep the current factor (if it has a key) and factorise into the
+        // storage of the least recently used one once 'Kept factorisations'
+        // are kept: all share the one symbolic analysis.
+        auto &kept = cholmod->kept;
+        if (prm.kept_factorisations > 0 && cholmod->key != 0)
+          {
+            cholmod_factor *storage = nullptr;
+            if (kept.size() < prm.kept_factorisations)
+              {
+                storage = cholmod_copy_factor(cholmod->L, &cholmod->common);
+                if (storage == nullptr)
+                  throw std::runtime_error("cholmod could not copy a factor of the " + name +
+                                           " matrix (out of memory?)");
+              }
+            else
+              {
+                storage = kept.back().second;
+                kept.pop_back();
+              }
+            kept.insert(kept.begin(), {cholmod->key, cholmod->L});
+            cholmod->L = storage;
+          }
+        cholmod->key = 0;
         cholmod_factorise(false);
+        cholmod->key = key;
         return;
       }
     if (matrix == &A && use_direct && direct)
       {
         check_finite_matrix(A);
+        // As for cholmod: keep the current factorisation, and refactorise the
+        // least recently used solver (or a new one while fewer are kept).
+        if (prm.kept_factorisations > 0 && direct_key != 0)
+          {
+            std::unique_ptr<Amesos_BaseSolver> solver;
+            bool                               fresh = false;
+            if (kept_direct.size() < prm.kept_factorisations)
+              {
+                try
+                  {
+                    solver = new_direct_solver();
+                  }
+                catch (const std::exception &e)
+                  {
+                    throw std::runtime_error("the " + name + " system could not be factorised by " +
+                                             direct_type() + ": " + one_line(e.what()));
+                  }
+                fresh = true;
+              }
+            else
+              {
+                solver = std::move(kept_direct.back().solver);
+                kept_direct.pop_back();
+              }
+            kept_direct.insert(kept_direct.begin(),
+                               KeptDirect{direct_key, refactorised, std::move(direct)});
+            direct     = std::move(solver);
+            direct_key = key;
+            if (fresh)
+              {
+                refactorised = false;
+                return;
+              }
+          }
+        direct_key = key;
         if (direct->NumericFactorization() != 0)
           throw std::runtime_error("the " + name + " system could not be factorised by " +
                                    direct_type() + " (a singular matrix?)");
@@ -297,6 +445,7 @@ namespace ContactStefan
   {
     matrix = nullptr;
     direct.reset();
+    kept_direct.clear();
     problem.reset();
     cholmod.reset();
     amg.clear();
@@ -352,7 +501,7 @@ namespace ContactStefan
                   pcout << "      " << name << ": refactorisation inaccurate (residual "
                         << r.linfty_norm() << " of " << scale << "), factorising afresh"
                         << std::endl;
-                initialize(*matrix);
+                initialize(*matrix, direct_key);
                 problem->SetLHS(&x.trilinos_vector());
                 problem->SetRHS(const_cast<Epetra_MultiVector *>(&b.trilinos_vector()));
                 if (direct->Solve() != 0)

@@ -1028,6 +1028,14 @@ namespace ContactStefan
                         "only the active set changes), or an Amesos one this Trilinos was "
                         "built with (Debian's has KLU and MUMPS; a missing one is refused). "
                         "'automatic': cholmod on one MPI rank, Amesos_Klu on several.");
+      prm.declare_entry("Kept factorisations",
+                        "2",
+                        Patterns::Integer(0, 100),
+                        "The cholmod solver keeps this many factorisations of earlier "
+                        "active sets besides the current one (the least recently used is "
+                        "replaced): a set that recurs, as the set without plateau nodes does "
+                        "each time a melting front passes a row of nodes, is solved without "
+                        "factorising again. Each costs the memory of one factor. 0: keep none.");
       prm.declare_entry("CG tolerance",
                         "1e-12",
                         Patterns::Double(0),
@@ -1157,8 +1165,9 @@ namespace ContactStefan
         require(Amesos().Query(direct_solver_type.c_str()),
                 "Solver/Direct solver type",
                 "'" + direct_solver_type + "' is not available in this Trilinos build");
-      cg_tolerance      = get_finite(prm, "Solver/", "CG tolerance");
-      amg_rebuild_ratio = get_finite(prm, "Solver/", "AMG rebuild ratio");
+      kept_factorisations = prm.get_integer("Kept factorisations");
+      cg_tolerance        = get_finite(prm, "Solver/", "CG tolerance");
+      amg_rebuild_ratio   = get_finite(prm, "Solver/", "AMG rebuild ratio");
       {
         const std::string update = prm.get("AMG update");
         amg_update               = update == "reuse"     ? AMGUpdate::reuse :

@@ -361,8 +361,8 @@ namespace ContactStefan
       {
         const auto [ghosted, local] = g.nodes[n];
         const double value          = exact_values[g.node_evaluation[n]];
-        max_error = max_with_nan(max_error, std::abs(values[ghosted] - value));
-        max_value = std::max(max_value, std::abs(value));
+        max_error                   = max_with_nan(max_error, std::abs(values[ghosted] - value));
+        max_value                   = std::max(max_value, std::abs(value));
         signed_error += mass[local] * (values[ghosted] - value);
         total_mass += mass[local];
       }
@@ -421,7 +421,7 @@ namespace ContactStefan
           first = false;
           ++g.n_cells;
         }
-    const Epetra_BlockMap &owned_map = thermal->get_lumped_mass().trilinos_vector().Map();
+    const Epetra_BlockMap  &owned_map = thermal->get_lumped_mass().trilinos_vector().Map();
     std::vector<Point<dim>> node_points;
     for (const auto &[dof, point] : thermal->get_support_points())
       if (dof_handler.locally_owned_dofs().is_element(dof))
@@ -432,9 +432,9 @@ namespace ContactStefan
         }
     // The distinct evaluation points (exact equality: the quadrature points of
     // cells in one column of a rectangle have bitwise equal abscissae).
-    const bool                         x_only = functions.neumann() != nullptr;
-    std::map<double, unsigned int>     abscissa;
-    const auto                         index_of = [&](const Point<dim> &p) {
+    const bool                     x_only = functions.neumann() != nullptr;
+    std::map<double, unsigned int> abscissa;
+    const auto                     index_of = [&](const Point<dim> &p) {
       if (!x_only)
         {
           g.evaluation_points.push_back(p);

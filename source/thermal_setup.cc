@@ -15,6 +15,8 @@
 
 #include <contact-stefan/thermal_field.h>
 
+#include <set>
+
 namespace ContactStefan
 {
   template <int dim>
@@ -619,13 +621,22 @@ namespace ContactStefan
     // Hanging nodes first: a hanging node on a Dirichlet boundary is still
     // determined by its parents.
     dirichlet_constraints.merge(hanging_node_constraints);
-    for (const auto &[id, bc] : prm.thermal_boundaries)
-      if (bc.type == Parameters::ThermalBoundary::Type::temperature)
-        {
-          Function<dim> &value = functions.thermal_boundary(id);
-          value.set_time(time);
-          VectorTools::interpolate_boundary_values(dof_handler, id, value, dirichlet_constraints);
-        }
+    // What VectorTools::interpolate_boundary_values does (the first boundary
+    // wins at a shared vertex; Q1 support points are the vertices), on the
+    // boundary nodes found once per mesh (index_local_entries) instead of a
+    // pass over all cells every step.
+    for (const auto &[id, nodes] : dirichlet_nodes)
+      {
+        Function<dim> &value = functions.thermal_boundary(id);
+        value.set_time(time);
+        for (const auto &[dof, point] : nodes)
+          if (dirichlet_constraints.can_store_line(dof) &&
+              !dirichlet_constraints.is_constrained(dof))
+            {
+              dirichlet_constraints.add_line(dof);
+              dirichlet_constraints.set_inhomogeneity(dof, value.value(point));
+            }
+      }
     dirichlet_constraints.close();
     owned_free.assign(n_owned, 1);
     for (unsigned int i = 0; i < n_owned; ++i)
@@ -662,6 +673,43 @@ namespace ContactStefan
           for (unsigned int v = 0; v < dofs.size(); ++v)
             cell_nodes[cell->active_cell_index()][v] =
               static_cast<unsigned int>(relevant.index_within_set(dofs[v]));
+        }
+    melt_weights.clear();
+    {
+      std::map<unsigned int, unsigned int> weights_of_law;
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        if (cell->is_locally_owned())
+          {
+            const unsigned int l        = law_of_body.at(cell->material_id());
+            const auto         n_phases = laws[l].n_transitions();
+            if (n_phases == 0)
+              continue;
+            if (weights_of_law.count(l) == 0)
+              {
+                weights_of_law[l] = melt_weights.size();
+                melt_weights.emplace_back(laws[l].transition_temperature(n_phases - 1),
+                                          std::vector<double>(relevant.n_elements(), 0.));
+              }
+            auto       &w     = melt_weights[weights_of_law[l]].second;
+            const auto &m     = cell_mass[cell->active_cell_index()];
+            const auto &nodes = cell_nodes[cell->active_cell_index()];
+            for (unsigned int v = 0; v < nodes.size(); ++v)
+              w[nodes[v]] += m(v);
+          }
+    }
+    dirichlet_nodes.clear();
+    for (const auto &[id, bc] : prm.thermal_boundaries)
+      if (bc.type == Parameters::ThermalBoundary::Type::temperature)
+        {
+          auto                             &nodes = dirichlet_nodes.emplace_back(id, 0).second;
+          std::set<types::global_dof_index> seen;
+          for (const auto &cell : dof_handler.active_cell_iterators())
+            if (!cell->is_artificial())
+              for (const auto &face : cell->face_iterators())
+                if (face->at_boundary() && face->boundary_id() == id)
+                  for (unsigned int v = 0; v < face->n_vertices(); ++v)
+                    if (const auto dof = face->vertex_dof_index(v, 0); seen.insert(dof).second)
+                      nodes.emplace_back(dof, face->vertex(v));
         }
     const Epetra_Map &rows   = conductivity_matrix.trilinos_matrix().RowMap();
     const Epetra_Map &domain = conductivity_matrix.trilinos_matrix().DomainMap();
@@ -730,28 +778,19 @@ namespace ContactStefan
   template <int dim>
   double ThermalField<dim>::melt_area() const
   {
-    // Cell by cell, so that a node shared with a body that does not melt counts
-    // only the share of the melting body: each cell adds its vertex weights
-    // times the node's fraction through its own body's last transition.
+    // Per node, with the weights of index_local_entries(): a node shared
+    // with a body that does not melt counts only the melting body's share of
+    // its mass, and its fraction is through that body's last transition (of
+    // the node's own law).
     Vector h_ghosted(owned, relevant, mpi_communicator);
     h_ghosted          = enthalpy;
     const double *h    = entries(h_ghosted);
     double        area = 0;
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned())
-        {
-          const EnthalpyLaw &body_law = laws[law_of_body.at(cell->material_id())];
-          if (body_law.n_transitions() == 0)
-            continue;
-          const double melting = body_law.transition_temperature(body_law.n_transitions() - 1);
-          const auto  &m       = cell_mass[cell->active_cell_index()];
-          const auto  &nodes   = cell_nodes[cell->active_cell_index()];
-          for (unsigned int v = 0; v < nodes.size(); ++v)
-            area +=
-              m(v) *
-              laws[law_of_node[nodes[v]]].fraction_through_temperature(melting,
-                                                                       h[relevant_entry[nodes[v]]]);
-        }
+    for (const auto &[melting, w] : melt_weights)
+      for (std::size_t k = 0; k < w.size(); ++k)
+        if (w[k] != 0)
+          area +=
+            w[k] * laws[law_of_node[k]].fraction_through_temperature(melting, h[relevant_entry[k]]);
     return Utilities::MPI::sum(area, mpi_communicator);
   }
 

@@ -16,6 +16,7 @@
 #include <contact-stefan/common.h>
 #include <contact-stefan/parameters.h>
 
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -40,7 +41,7 @@ namespace ContactStefan
     void set_near_null_space(std::vector<std::vector<double>> modes);
     // Factorise A, or build the AMG hierarchy of A. A must stay alive; its
     // values may change in place only if update() follows before the next solve().
-    void initialize(const TrilinosWrappers::SparseMatrix &A);
+    void initialize(const TrilinosWrappers::SparseMatrix &A, const std::uint64_t key = 0);
     // A's values changed in place (a new active set, same pattern): the direct
     // solver refactorises numerically on its kept symbolic analysis (the
     // fill-reducing ordering); an AMG hierarchy built on the same matrix object
@@ -51,7 +52,15 @@ namespace ContactStefan
     // than 'Solver/AMG rebuild ratio' times (plus 0.5) the iterations per decade of residual
     // reduction of the first solve after the last full build: ML keeps some estimates of the first
     // build (the finest level's largest eigenvalue), which a moving front can outdate.
-    void update(const TrilinosWrappers::SparseMatrix &A);
+    // key (optional, nonzero) names the matrix values for recall(): the
+    // caller's fingerprint of everything they depend on.
+    void update(const TrilinosWrappers::SparseMatrix &A, const std::uint64_t key = 0);
+    // The matrix object of the last initialize() now holds the values that
+    // were named key in an earlier update() or initialize(): if the cholmod
+    // solver kept their factorisation ('Solver/Kept factorisations'), it
+    // becomes the current one and true is returned; otherwise nothing changes
+    // (update() must follow).
+    bool recall(const std::uint64_t key);
     // Whether the last initialize()/update() chose the direct solver (the
     // choice of 'automatic' depends on the size of the system).
     bool is_direct() const
@@ -79,6 +88,19 @@ namespace ContactStefan
     // (ordering) is kept by update() while only values change.
     std::unique_ptr<Epetra_LinearProblem> problem;
     std::unique_ptr<Amesos_BaseSolver>    direct;
+    // Earlier Amesos factorisations of the same matrix object for recall():
+    // (key, whether it reused a pivot order, solver), most recently used first;
+    // and those of the current one.
+    struct KeptDirect
+    {
+      std::uint64_t                      key;
+      bool                               refactorised;
+      std::unique_ptr<Amesos_BaseSolver> solver;
+    };
+    std::vector<KeptDirect> kept_direct;
+    std::uint64_t           direct_key = 0;
+    // A new Amesos solver on `problem` with its symbolic and numeric factorisation.
+    std::unique_ptr<Amesos_BaseSolver> new_direct_solver() const;
     // Or SuiteSparse's CHOLMOD (Direct solver type = cholmod, serial): the
     // factor with its symbolic analysis, kept while the pattern is the same.
     struct Cholmod;

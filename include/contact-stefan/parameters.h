@@ -277,6 +277,8 @@ namespace ContactStefan
       } linear_solver;
       unsigned int automatic_direct_limit; // automatic: direct below this many unknowns
       std::string  direct_solver_type;
+      // cholmod: factorisations of earlier matrices kept for recall(), by key.
+      unsigned int kept_factorisations;
       double       cg_tolerance;
       double       cg_contact_set_tolerance;
       double       amg_rebuild_ratio;

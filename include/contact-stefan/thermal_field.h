@@ -322,10 +322,19 @@ namespace ContactStefan
     // Per owned cell (by active cell index): the relevant-node numbers k of its
     // vertices.
     std::vector<std::array<unsigned int, GeometryInfo<dim>::vertices_per_cell>> cell_nodes;
-    std::vector<unsigned int>                                                   owned_law;
-    std::vector<char>                                                           owned_free;
-    void           index_local_entries();
-    static double *entries(Vector &v)
+    // The melt area's weights, per mesh: for each body law with a transition,
+    // its melting temperature and, per relevant node k, the lumped mass the
+    // node carries in the owned cells of bodies with that law.
+    std::vector<std::pair<double, std::vector<double>>> melt_weights;
+    // The nodes of each temperature boundary, per mesh: (id, [(DoF, vertex)]) in
+    // the order of the boundaries; the DoFs of the non-artificial cells' faces.
+    std::vector<
+      std::pair<types::boundary_id, std::vector<std::pair<types::global_dof_index, Point<dim>>>>>
+                              dirichlet_nodes;
+    std::vector<unsigned int> owned_law;
+    std::vector<char>         owned_free;
+    void                      index_local_entries();
+    static double            *entries(Vector &v)
     {
       return v.trilinos_vector()[0];
     }
