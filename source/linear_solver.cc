@@ -237,6 +237,24 @@ namespace ContactStefan
             }
         return false;
       }
+    if (!use_direct && amg_built && key != 0)
+      {
+        for (std::size_t i = 0; i < kept_amg.size(); ++i)
+          if (kept_amg[i].key == key)
+            {
+              KeptAMG recalled = std::move(kept_amg[i]);
+              kept_amg.erase(kept_amg.begin() + i);
+              kept_amg.insert(kept_amg.begin(),
+                              KeptAMG{amg_key, std::move(amg), iterations_per_decade_after_build});
+              amg_key                           = recalled.key;
+              amg                               = std::move(recalled.preconditioner);
+              iterations_per_decade_after_build = recalled.iterations_per_decade_after_build;
+              // Possibly a recomputed hierarchy: a CG failure earns a fresh build.
+              amg_stale = true;
+              return true;
+            }
+        return false;
+      }
     if (!(use_direct && cholmod && key != 0))
       return false;
     auto &kept = cholmod->kept;
@@ -292,26 +310,13 @@ namespace ContactStefan
           }
         else
           {
-            TrilinosWrappers::PreconditionAMG::AdditionalData data;
-            data.elliptic                     = true;
             amg_built                         = false;
             amg_stale                         = false;
             iterations_per_decade_after_build = 0;
-            if (null_space_dimension == 0)
-              amg.initialize(A, data);
-            else
-              {
-                // deal.II's parameter list for ML, with the null space replaced
-                // by the given vectors (deal.II 9.4 only builds constant modes).
-                Teuchos::ParameterList              parameters;
-                std::unique_ptr<Epetra_MultiVector> constant_modes;
-                data.set_parameters(parameters, constant_modes, A);
-                parameters.set("null space: type", "pre-computed");
-                parameters.set("null space: dimension", static_cast<int>(null_space_dimension));
-                parameters.set("null space: vectors", null_space.data());
-                amg.initialize(A, parameters);
-              }
+            kept_amg.clear();
+            build_amg(*amg, A);
             amg_built = true;
+            amg_key   = key;
           }
       }
     catch (const std::exception &e)
@@ -320,6 +325,29 @@ namespace ContactStefan
           "the " + name + " system could not be " +
           (use_direct ? "factorised by " + direct_type() : std::string("preconditioned by AMG")) +
           " (a singular or badly scaled matrix?): " + one_line(e.what()));
+      }
+  }
+
+
+
+  void LinearSolver::build_amg(TrilinosWrappers::PreconditionAMG    &preconditioner,
+                               const TrilinosWrappers::SparseMatrix &A)
+  {
+    TrilinosWrappers::PreconditionAMG::AdditionalData data;
+    data.elliptic = true;
+    if (null_space_dimension == 0)
+      preconditioner.initialize(A, data);
+    else
+      {
+        // deal.II's parameter list for ML, with the null space replaced
+        // by the given vectors (deal.II 9.4 only builds constant modes).
+        Teuchos::ParameterList              parameters;
+        std::unique_ptr<Epetra_MultiVector> constant_modes;
+        data.set_parameters(parameters, constant_modes, A);
+        parameters.set("null space: type", "pre-computed");
+        parameters.set("null space: dimension", static_cast<int>(null_space_dimension));
+        parameters.set("null space: vectors", null_space.data());
+        preconditioner.initialize(A, parameters);
       }
   }
 
@@ -415,6 +443,53 @@ namespace ContactStefan
         return;
       }
     if (matrix == &A && !use_direct && amg_built && !degraded &&
+        prm.amg_update == AMGUpdate::recompute && prm.kept_factorisations > 0 && amg_key != 0)
+      {
+        // Keep the current hierarchy for recall(); recompute the least
+        // recently used one on the new values (or build a new one while fewer
+        // are kept).
+        check_finite_matrix(A);
+        std::unique_ptr<TrilinosWrappers::PreconditionAMG> preconditioner;
+        double                                             after_build = 0;
+        bool                                               recomputed  = false;
+        if (kept_amg.size() >= prm.kept_factorisations)
+          {
+            preconditioner = std::move(kept_amg.back().preconditioner);
+            after_build    = kept_amg.back().iterations_per_decade_after_build;
+            kept_amg.pop_back();
+            auto *ml = dynamic_cast<ML_Epetra::MultiLevelPreconditioner *>(
+              const_cast<Epetra_Operator *>(&preconditioner->trilinos_operator()));
+            recomputed = ml != nullptr && ml->ReComputePreconditioner() == 0;
+          }
+        else
+          preconditioner = std::make_unique<TrilinosWrappers::PreconditionAMG>();
+        kept_amg.insert(kept_amg.begin(),
+                        KeptAMG{amg_key, std::move(amg), iterations_per_decade_after_build});
+        amg = std::move(preconditioner);
+        if (recomputed)
+          {
+            amg_stale                         = true;
+            iterations_per_decade_after_build = after_build;
+          }
+        else
+          {
+            try
+              {
+                build_amg(*amg, A);
+              }
+            catch (const std::exception &e)
+              {
+                throw std::runtime_error(
+                  "the " + name +
+                  " system could not be preconditioned by AMG: " + one_line(e.what()));
+              }
+            amg_stale                         = false;
+            iterations_per_decade_after_build = 0;
+          }
+        amg_key = key;
+        return;
+      }
+    if (matrix == &A && !use_direct && amg_built && !degraded &&
         prm.amg_update == AMGUpdate::recompute)
       {
         check_finite_matrix(A);
@@ -422,11 +497,11 @@ namespace ContactStefan
         // deal.II's PreconditionAMG::reinit() drops ML's return code: call ML
         // ourselves and build afresh if the recomputation failed.
         auto *ml = dynamic_cast<ML_Epetra::MultiLevelPreconditioner *>(
-          const_cast<Epetra_Operator *>(&amg.trilinos_operator()));
+          const_cast<Epetra_Operator *>(&amg->trilinos_operator()));
         if (ml != nullptr && ml->ReComputePreconditioner() == 0)
           return;
       }
-    initialize(A);
+    initialize(A, key);
   }
 
 
@@ -448,7 +523,8 @@ namespace ContactStefan
     kept_direct.clear();
     problem.reset();
     cholmod.reset();
-    amg.clear();
+    amg->clear();
+    kept_amg.clear();
     amg_built = false;
   }
 
@@ -517,7 +593,7 @@ namespace ContactStefan
         const Vector     x_start(x);
         try
           {
-            cg.solve(*matrix, x, b, amg);
+            cg.solve(*matrix, x, b, *amg);
           }
         catch (const SolverControl::NoConvergence &)
           {
@@ -528,9 +604,9 @@ namespace ContactStefan
             if (verbosity >= 1)
               pcout << "      " << name << ": CG failed with the kept AMG hierarchy, "
                     << "building it afresh" << std::endl;
-            initialize(*matrix);
+            initialize(*matrix, amg_key);
             x = x_start;
-            cg.solve(*matrix, x, b, amg);
+            cg.solve(*matrix, x, b, *amg);
           }
         // CG iterations per decade of residual reduction: comparable between
         // warm-started solves to different tolerances.

@@ -1031,11 +1031,13 @@ namespace ContactStefan
       prm.declare_entry("Kept factorisations",
                         "2",
                         Patterns::Integer(0, 100),
-                        "The cholmod solver keeps this many factorisations of earlier "
-                        "active sets besides the current one (the least recently used is "
-                        "replaced): a set that recurs, as the set without plateau nodes does "
-                        "each time a melting front passes a row of nodes, is solved without "
-                        "factorising again. Each costs the memory of one factor. 0: keep none.");
+                        "The enthalpy step keeps this many factorisations (direct solvers) "
+                        "or AMG hierarchies ('AMG update = recompute') of earlier active sets "
+                        "besides the current one, the least recently used being replaced: a "
+                        "set that recurs, as the set without plateau nodes does each time a "
+                        "melting front passes a row of nodes, is solved without factorising "
+                        "or recomputing again. Each costs the memory of one factor or "
+                        "hierarchy. 0: keep none.");
       prm.declare_entry("CG tolerance",
                         "1e-12",
                         Patterns::Double(0),

@@ -115,10 +115,25 @@ namespace ContactStefan
     // Whether the current factorisation is a refactorisation (pivots of an
     // earlier one; its solves are checked against 'Solver/Refactorisation
     // backward error') and the matrix's infinity norm then.
-    bool                              refactorised = false;
-    double                            matrix_norm  = 0;
-    TrilinosWrappers::PreconditionAMG amg;
-    bool                              amg_built = false;
+    bool                                               refactorised = false;
+    double                                             matrix_norm  = 0;
+    std::unique_ptr<TrilinosWrappers::PreconditionAMG> amg =
+      std::make_unique<TrilinosWrappers::PreconditionAMG>();
+    // Build a hierarchy of A afresh into `preconditioner`.
+    void build_amg(TrilinosWrappers::PreconditionAMG    &preconditioner,
+                   const TrilinosWrappers::SparseMatrix &A);
+    // With 'AMG update = recompute', hierarchies of earlier matrix values of
+    // the same matrix object for recall(), most recently used first, like the
+    // kept factorisations; amg_key names the current one's values.
+    struct KeptAMG
+    {
+      std::uint64_t                                      key;
+      std::unique_ptr<TrilinosWrappers::PreconditionAMG> preconditioner;
+      double                                             iterations_per_decade_after_build;
+    };
+    std::vector<KeptAMG> kept_amg;
+    std::uint64_t        amg_key   = 0;
+    bool                 amg_built = false;
     // Whether the hierarchy was built on other matrix values (update() kept or
     // recomputed it): a CG failure then earns one retry with a fresh build.
     bool amg_stale = false;
