@@ -177,18 +177,14 @@ namespace ContactStefan
           std::to_string(L_value[L_start[j]]) + " at row " + std::to_string(j) + ")");
   }
 
-  LinearSolver::LinearSolver(const Parameters::Solver           &parameters,
-                             const unsigned int                  verbosity,
-                             const ConditionalOStream           &pcout,
-                             const std::string                  &name,
-                             const Parameters::Solver::AMGUpdate automatic_amg_update)
+  LinearSolver::LinearSolver(const Parameters::Solver &parameters,
+                             const unsigned int        verbosity,
+                             const ConditionalOStream &pcout,
+                             const std::string        &name)
     : prm(parameters)
     , verbosity(verbosity)
     , pcout(pcout)
     , name(name)
-    , amg_update(parameters.amg_update == Parameters::Solver::AMGUpdate::automatic ?
-                   automatic_amg_update :
-                   parameters.amg_update)
   {}
 
 
@@ -438,7 +434,7 @@ namespace ContactStefan
         return;
       }
     using AMGUpdate = Parameters::Solver::AMGUpdate;
-    if (matrix == &A && !use_direct && amg_built && !degraded && amg_update == AMGUpdate::reuse)
+    if (matrix == &A && !use_direct && amg_built && !degraded && prm.amg_update == AMGUpdate::reuse)
       {
         // The hierarchy of an earlier active set preconditions the new matrix
         // (CG runs on the new one): a few rows differ.
@@ -447,7 +443,7 @@ namespace ContactStefan
         return;
       }
     if (matrix == &A && !use_direct && amg_built && !degraded &&
-        amg_update == AMGUpdate::recompute && prm.kept_factorisations > 0 && amg_key != 0)
+        prm.amg_update == AMGUpdate::recompute && prm.kept_factorisations > 0 && amg_key != 0)
       {
         // Keep the current hierarchy for recall(); recompute the least
         // recently used one on the new values (or build a new one while fewer
@@ -493,7 +489,8 @@ namespace ContactStefan
         amg_key = key;
         return;
       }
-    if (matrix == &A && !use_direct && amg_built && !degraded && amg_update == AMGUpdate::recompute)
+    if (matrix == &A && !use_direct && amg_built && !degraded &&
+        prm.amg_update == AMGUpdate::recompute)
       {
         check_finite_matrix(A);
         amg_stale = true;

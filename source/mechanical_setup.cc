@@ -100,13 +100,7 @@ namespace ContactStefan
     , timer(timer)
     , pcout(pcout)
     , dof_handler(triangulation)
-    // A contact set changes boundary rows only: the first hierarchy serves
-    // every set (Solver/AMG update = automatic).
-    , linear_solver(prm.solver,
-                    prm.output.verbosity,
-                    pcout,
-                    "elasticity",
-                    Parameters::Solver::AMGUpdate::reuse)
+    , linear_solver(prm.solver, prm.output.verbosity, pcout, "elasticity")
     , coupled(prm.coupling_active())
     , thermal_stress(prm.thermal_stress_active())
     , time(prm.time.start_time)

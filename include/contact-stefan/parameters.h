@@ -284,10 +284,9 @@ namespace ContactStefan
       double       amg_rebuild_ratio;
       // What update() does to an AMG hierarchy when the matrix values change
       // in place: keep it as it is, recompute it on its aggregates, or build
-      // it afresh; automatic: each system's measured choice (LinearSolver).
+      // it afresh.
       enum class AMGUpdate
       {
-        automatic,
         reuse,
         recompute,
         rebuild
