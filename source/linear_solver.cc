@@ -250,7 +250,8 @@ namespace ContactStefan
               amg                               = std::move(recalled.preconditioner);
               iterations_per_decade_after_build = recalled.iterations_per_decade_after_build;
               // Possibly a recomputed hierarchy: a CG failure earns a fresh build.
-              amg_stale = true;
+              amg_stale           = true;
+              amg_for_this_matrix = true;
               return true;
             }
         return false;
@@ -315,8 +316,9 @@ namespace ContactStefan
             iterations_per_decade_after_build = 0;
             kept_amg.clear();
             build_amg(*amg, A);
-            amg_built = true;
-            amg_key   = key;
+            amg_built           = true;
+            amg_for_this_matrix = true;
+            amg_key             = key;
           }
       }
     catch (const std::exception &e)
@@ -434,13 +436,27 @@ namespace ContactStefan
         return;
       }
     using AMGUpdate = Parameters::Solver::AMGUpdate;
-    if (matrix == &A && !use_direct && amg_built && !degraded && prm.amg_update == AMGUpdate::reuse)
+    if (matrix == &A && !use_direct && amg_built && !degraded &&
+        prm.amg_update == AMGUpdate::reuse && iterations_per_decade_after_build > 0)
       {
         // The hierarchy of an earlier active set preconditions the new matrix
         // (CG runs on the new one): a few rows differ.
         check_finite_matrix(A);
-        amg_stale = true;
+        amg_stale           = true;
+        amg_for_this_matrix = false;
         return;
+      }
+    if (matrix == &A && !use_direct && amg_built && !degraded && prm.amg_update == AMGUpdate::reuse)
+      {
+        // No solve has yet measured how fast CG runs with a hierarchy made for
+        // its matrix, so reuse could not be judged: recompute this once.
+        check_finite_matrix(A);
+        amg_stale           = true;
+        amg_for_this_matrix = true;
+        auto *ml            = dynamic_cast<ML_Epetra::MultiLevelPreconditioner *>(
+          const_cast<Epetra_Operator *>(&amg->trilinos_operator()));
+        if (ml != nullptr && ml->ReComputePreconditioner() == 0)
+          return;
       }
     if (matrix == &A && !use_direct && amg_built && !degraded &&
         prm.amg_update == AMGUpdate::recompute && prm.kept_factorisations > 0 && amg_key != 0)
@@ -486,14 +502,16 @@ namespace ContactStefan
             amg_stale                         = false;
             iterations_per_decade_after_build = 0;
           }
-        amg_key = key;
+        amg_key             = key;
+        amg_for_this_matrix = true;
         return;
       }
     if (matrix == &A && !use_direct && amg_built && !degraded &&
         prm.amg_update == AMGUpdate::recompute)
       {
         check_finite_matrix(A);
-        amg_stale = true;
+        amg_stale           = true;
+        amg_for_this_matrix = true;
         // deal.II's PreconditionAMG::reinit() drops ML's return code: call ML
         // ourselves and build afresh if the recomputation failed.
         auto *ml = dynamic_cast<ML_Epetra::MultiLevelPreconditioner *>(
@@ -617,7 +635,9 @@ namespace ContactStefan
         if (decades >= 0.5)
           {
             last_iterations_per_decade = control.last_step() / decades;
-            if (iterations_per_decade_after_build == 0)
+            // The baseline of the rebuild check: a solve whose hierarchy was
+            // built or recomputed for its own matrix (not a reused one).
+            if (iterations_per_decade_after_build == 0 && amg_for_this_matrix)
               iterations_per_decade_after_build = last_iterations_per_decade;
           }
         if (verbosity >= 2)

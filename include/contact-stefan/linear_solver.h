@@ -137,6 +137,9 @@ namespace ContactStefan
     // Whether the hierarchy was built on other matrix values (update() kept or
     // recomputed it): a CG failure then earns one retry with a fresh build.
     bool amg_stale = false;
+    // Whether the hierarchy was built or recomputed for the current matrix
+    // values ('AMG update = reuse' keeps one made for earlier values).
+    bool amg_for_this_matrix = true;
     // CG iterations per decade of residual reduction: of the first solve
     // after the last full AMG build (0: none yet) and of the last solve.
     double iterations_per_decade_after_build = 0, last_iterations_per_decade = 0;
