@@ -177,14 +177,18 @@ namespace ContactStefan
           std::to_string(L_value[L_start[j]]) + " at row " + std::to_string(j) + ")");
   }
 
-  LinearSolver::LinearSolver(const Parameters::Solver &parameters,
-                             const unsigned int        verbosity,
-                             const ConditionalOStream &pcout,
-                             const std::string        &name)
+  LinearSolver::LinearSolver(const Parameters::Solver           &parameters,
+                             const unsigned int                  verbosity,
+                             const ConditionalOStream           &pcout,
+                             const std::string                  &name,
+                             const Parameters::Solver::AMGUpdate automatic_amg_update)
     : prm(parameters)
     , verbosity(verbosity)
     , pcout(pcout)
     , name(name)
+    , amg_update(parameters.amg_update == Parameters::Solver::AMGUpdate::automatic ?
+                   automatic_amg_update :
+                   parameters.amg_update)
   {}
 
 
@@ -436,8 +440,8 @@ namespace ContactStefan
         return;
       }
     using AMGUpdate = Parameters::Solver::AMGUpdate;
-    if (matrix == &A && !use_direct && amg_built && !degraded &&
-        prm.amg_update == AMGUpdate::reuse && iterations_per_decade_after_build > 0)
+    if (matrix == &A && !use_direct && amg_built && !degraded && amg_update == AMGUpdate::reuse &&
+        iterations_per_decade_after_build > 0)
       {
         // The hierarchy of an earlier active set preconditions the new matrix
         // (CG runs on the new one): a few rows differ.
@@ -446,7 +450,7 @@ namespace ContactStefan
         amg_for_this_matrix = false;
         return;
       }
-    if (matrix == &A && !use_direct && amg_built && !degraded && prm.amg_update == AMGUpdate::reuse)
+    if (matrix == &A && !use_direct && amg_built && !degraded && amg_update == AMGUpdate::reuse)
       {
         // No solve has yet measured how fast CG runs with a hierarchy made for
         // its matrix, so reuse could not be judged: recompute this once.
@@ -459,7 +463,7 @@ namespace ContactStefan
           return;
       }
     if (matrix == &A && !use_direct && amg_built && !degraded &&
-        prm.amg_update == AMGUpdate::recompute && prm.kept_factorisations > 0 && amg_key != 0)
+        amg_update == AMGUpdate::recompute && prm.kept_factorisations > 0 && amg_key != 0)
       {
         // Keep the current hierarchy for recall(); recompute the least
         // recently used one on the new values (or build a new one while fewer
@@ -506,8 +510,7 @@ namespace ContactStefan
         amg_for_this_matrix = true;
         return;
       }
-    if (matrix == &A && !use_direct && amg_built && !degraded &&
-        prm.amg_update == AMGUpdate::recompute)
+    if (matrix == &A && !use_direct && amg_built && !degraded && amg_update == AMGUpdate::recompute)
       {
         check_finite_matrix(A);
         amg_stale           = true;

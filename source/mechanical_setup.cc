@@ -100,7 +100,13 @@ namespace ContactStefan
     , timer(timer)
     , pcout(pcout)
     , dof_handler(triangulation)
-    , linear_solver(prm.solver, prm.output.verbosity, pcout, "elasticity")
+    // A contact set changes boundary rows only: the first hierarchy serves
+    // every set (Solver/AMG update = automatic).
+    , linear_solver(prm.solver,
+                    prm.output.verbosity,
+                    pcout,
+                    "elasticity",
+                    Parameters::Solver::AMGUpdate::reuse)
     , coupled(prm.coupling_active())
     , thermal_stress(prm.thermal_stress_active())
     , time(prm.time.start_time)

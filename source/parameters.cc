@@ -1032,7 +1032,8 @@ namespace ContactStefan
                         "2",
                         Patterns::Integer(0, 100),
                         "The enthalpy step keeps this many factorisations (direct solvers) "
-                        "or AMG hierarchies ('AMG update = recompute') of earlier active sets "
+                        "or AMG hierarchies (with 'AMG update' = recompute, the enthalpy system's "
+                        "automatic choice) of earlier active sets "
                         "besides the current one, the least recently used being replaced: a "
                         "set that recurs, as the set without plateau nodes does each time a "
                         "melting front passes a row of nodes, is solved without factorising "
@@ -1050,14 +1051,19 @@ namespace ContactStefan
                         "times (plus 0.5) the iterations per decade of residual reduction "
                         "of the first solve after the last build.");
       prm.declare_entry("AMG update",
-                        "recompute",
-                        Patterns::Selection("reuse|recompute|rebuild"),
+                        "automatic",
+                        Patterns::Selection("automatic|reuse|recompute|rebuild"),
                         "What happens to an AMG hierarchy when only the active set (contact "
                         "or phase) changed the matrix: 'reuse' keeps it as the preconditioner "
                         "of the new matrix, 'recompute' recomputes it on its aggregates (about "
                         "half a build), 'rebuild' builds it afresh. Any of them is rebuilt "
                         "when CG slows down by 'AMG rebuild ratio', and a CG solve that fails "
-                        "with a kept or recomputed hierarchy is repeated with a fresh one.");
+                        "with a kept or recomputed hierarchy is repeated with a fresh one. "
+                        "'automatic': 'reuse' for the elasticity system (a contact set "
+                        "changes boundary rows only: 24 % faster on the contact block at "
+                        "N = 256, same CG time) and 'recompute' for the enthalpy system (a "
+                        "phase front changes interior rows: 'reuse' was 12 % slower on the "
+                        "Stefan strip at nx = 800); see doc/performance.md.");
       prm.declare_entry("Refactorisation backward error",
                         "1e-10",
                         Patterns::Double(0),
@@ -1172,7 +1178,8 @@ namespace ContactStefan
       amg_rebuild_ratio   = get_finite(prm, "Solver/", "AMG rebuild ratio");
       {
         const std::string update = prm.get("AMG update");
-        amg_update               = update == "reuse"     ? AMGUpdate::reuse :
+        amg_update               = update == "automatic" ? AMGUpdate::automatic :
+                                   update == "reuse"     ? AMGUpdate::reuse :
                                    update == "recompute" ? AMGUpdate::recompute :
                                                            AMGUpdate::rebuild;
       }

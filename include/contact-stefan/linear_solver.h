@@ -29,11 +29,14 @@ namespace ContactStefan
   class LinearSolver
   {
   public:
-    // name: which system, for messages ("enthalpy", "elasticity").
-    LinearSolver(const Parameters::Solver &parameters,
-                 const unsigned int        verbosity,
-                 const ConditionalOStream &pcout,
-                 const std::string        &name);
+    // name: which system, for messages ("enthalpy", "elasticity");
+    // automatic_amg_update: what 'Solver/AMG update = automatic' means for it.
+    LinearSolver(const Parameters::Solver           &parameters,
+                 const unsigned int                  verbosity,
+                 const ConditionalOStream           &pcout,
+                 const std::string                  &name,
+                 const Parameters::Solver::AMGUpdate automatic_amg_update =
+                   Parameters::Solver::AMGUpdate::recompute);
 
     // The near-null space the AMG hierarchy is built for: vectors over the
     // locally owned rows in their order (elasticity: the rigid-body modes; ML's
@@ -78,10 +81,12 @@ namespace ContactStefan
   private:
     void check_finite_matrix(const TrilinosWrappers::SparseMatrix &A) const;
 
-    const Parameters::Solver             &prm;
-    const unsigned int                    verbosity;
-    const ConditionalOStream             &pcout;
-    const std::string                     name;
+    const Parameters::Solver &prm;
+    const unsigned int        verbosity;
+    const ConditionalOStream &pcout;
+    const std::string         name;
+    // 'Solver/AMG update' with automatic resolved for this system.
+    const Parameters::Solver::AMGUpdate   amg_update;
     const TrilinosWrappers::SparseMatrix *matrix     = nullptr;
     bool                                  use_direct = true; // of the last initialize()
     // The direct path: Amesos on the matrix object; its symbolic analysis

@@ -284,9 +284,10 @@ namespace ContactStefan
       double       amg_rebuild_ratio;
       // What update() does to an AMG hierarchy when the matrix values change
       // in place: keep it as it is, recompute it on its aggregates, or build
-      // it afresh.
+      // it afresh; automatic: each system's measured choice (LinearSolver).
       enum class AMGUpdate
       {
+        automatic,
         reuse,
         recompute,
         rebuild
