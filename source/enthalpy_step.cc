@@ -314,11 +314,15 @@ namespace ContactStefan
         const bool keep = have_preconditioner && operator_signature == preconditioner_signature;
         // A set seen shortly before (the set without plateau nodes recurs
         // each time a front passes a row of nodes): its kept factorisation.
-        if (keep && linear_solver.recall(signature))
+        // The section times the look-up (a hit swaps pointers; a miss costs
+        // a comparison of keys) and counts the attempts.
+        bool recalled = false;
+        if (keep)
           {
             TimerOutput::Scope t(timer, "enthalpy step: recall factorisation");
+            recalled = linear_solver.recall(signature);
           }
-        else
+        if (!recalled)
           {
             TimerOutput::Scope t(timer, "enthalpy step: factorise");
             if (keep)

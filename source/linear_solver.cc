@@ -231,8 +231,10 @@ namespace ContactStefan
             {
               KeptDirect recalled = std::move(kept_direct[i]);
               kept_direct.erase(kept_direct.begin() + i);
-              kept_direct.insert(kept_direct.begin(),
-                                 KeptDirect{direct_key, refactorised, std::move(direct)});
+              // A factorisation without a key could never be recalled: drop it.
+              if (direct_key != 0)
+                kept_direct.insert(kept_direct.begin(),
+                                   KeptDirect{direct_key, refactorised, std::move(direct)});
               direct_key   = recalled.key;
               refactorised = recalled.refactorised;
               direct       = std::move(recalled.solver);
@@ -248,8 +250,11 @@ namespace ContactStefan
             {
               KeptAMG recalled = std::move(kept_amg[i]);
               kept_amg.erase(kept_amg.begin() + i);
-              kept_amg.insert(kept_amg.begin(),
-                              KeptAMG{amg_key, std::move(amg), iterations_per_decade_after_build});
+              if (amg_key != 0)
+                kept_amg.insert(kept_amg.begin(),
+                                KeptAMG{amg_key,
+                                        std::move(amg),
+                                        iterations_per_decade_after_build});
               amg_key                           = recalled.key;
               amg                               = std::move(recalled.preconditioner);
               iterations_per_decade_after_build = recalled.iterations_per_decade_after_build;
@@ -270,7 +275,10 @@ namespace ContactStefan
           // the front (most recently used).
           std::pair<std::uint64_t, cholmod_factor *> recalled = kept[i];
           kept.erase(kept.begin() + i);
-          kept.insert(kept.begin(), {cholmod->key, cholmod->L});
+          if (cholmod->key != 0)
+            kept.insert(kept.begin(), {cholmod->key, cholmod->L});
+          else if (cholmod->L != nullptr)
+            cholmod_free_factor(&cholmod->L, &cholmod->common);
           cholmod->key = recalled.first;
           cholmod->L   = recalled.second;
           // A's values are those of the current factor (the next update()
@@ -423,18 +431,21 @@ namespace ContactStefan
               }
             kept_direct.insert(kept_direct.begin(),
                                KeptDirect{direct_key, refactorised, std::move(direct)});
-            direct     = std::move(solver);
-            direct_key = key;
+            direct = std::move(solver);
             if (fresh)
               {
+                direct_key   = key;
                 refactorised = false;
                 return;
               }
           }
-        direct_key = key;
+        // The key names the values only once they are factorised: a failed
+        // factorisation must not be recalled under it.
+        direct_key = 0;
         if (direct->NumericFactorization() != 0)
           throw std::runtime_error("the " + name + " system could not be factorised by " +
                                    direct_type() + " (a singular matrix?)");
+        direct_key   = key;
         refactorised = true;
         matrix_norm  = A.linfty_norm();
         return;

@@ -59,10 +59,12 @@ namespace ContactStefan
     // caller's fingerprint of everything they depend on.
     void update(const TrilinosWrappers::SparseMatrix &A, const std::uint64_t key = 0);
     // The matrix object of the last initialize() now holds the values that
-    // were named key in an earlier update() or initialize(): if the cholmod
-    // solver kept their factorisation ('Solver/Kept factorisations'), it
-    // becomes the current one and true is returned; otherwise nothing changes
-    // (update() must follow).
+    // were named key in an earlier update() or initialize(): if their
+    // factorisation (CHOLMOD or Amesos) or AMG hierarchy was kept ('Solver/Kept
+    // factorisations'), it becomes the current one and true is returned;
+    // otherwise nothing changes (update() must follow). Each kept Amesos
+    // solver holds a full factor (KLU on several ranks: a gathered copy on
+    // rank 0), so memory grows with the number kept.
     bool recall(const std::uint64_t key);
     // Whether the last initialize()/update() chose the direct solver (the
     // choice of 'automatic' depends on the size of the system).
