@@ -34,6 +34,39 @@
 
 namespace ContactStefan
 {
+  namespace
+  {
+    // to = from for two matrices on the same sparsity pattern (to was made
+    // with reinit(from) or from the same pattern): a copy of the value arrays,
+    // or an entry-wise sum into the zeroed matrix where the storage differs.
+    void copy_matrix_values(const TrilinosWrappers::SparseMatrix &from,
+                            TrilinosWrappers::SparseMatrix       &to)
+    {
+      auto   &a         = const_cast<Epetra_CrsMatrix &>(from.trilinos_matrix());
+      auto   &b         = const_cast<Epetra_CrsMatrix &>(to.trilinos_matrix());
+      int    *offsets_a = nullptr, *indices_a = nullptr, *offsets_b = nullptr, *indices_b = nullptr;
+      double *values_a = nullptr, *values_b = nullptr;
+      const int n = a.NumMyRows();
+      if (a.StorageOptimized() && b.StorageOptimized() && n == b.NumMyRows() &&
+          a.NumMyNonzeros() == b.NumMyNonzeros() && a.RowMap().SameAs(b.RowMap()) &&
+          a.ColMap().SameAs(b.ColMap()) &&
+          a.ExtractCrsDataPointers(offsets_a, indices_a, values_a) == 0 &&
+          b.ExtractCrsDataPointers(offsets_b, indices_b, values_b) == 0 &&
+          std::equal(offsets_a, offsets_a + n + 1, offsets_b) &&
+          std::equal(indices_a, indices_a + a.NumMyNonzeros(), indices_b))
+        std::copy(values_a, values_a + a.NumMyNonzeros(), values_b);
+      else
+        {
+          // Not copy_from(): it may replace the Epetra matrix that a
+          // preconditioner or direct solver still refers to.
+          to = 0;
+          to.add(1., from);
+        }
+    }
+  } // namespace
+
+
+
   // The gap g of every obstacle and interface node at the current time.
   template <int dim>
   void MechanicalField<dim>::update_condition_gaps()
@@ -189,37 +222,92 @@ namespace ContactStefan
   // The system with the current constraints: K and the right-hand side, or the
   // right-hand side alone (K unchanged: same stiffness, same constraint
   // pattern; the inhomogeneities still go in through the cell matrices).
+  //
+  // K is the bulk matrix (the cells away from the contact boundaries, which no
+  // active set changes) plus the cells near a contact condition, condensed
+  // with the current constraints: a contact iteration touches a few hundred
+  // cells instead of all. The right-hand side always comes from the
+  // vector-only condensation, so that every solve of an active set sees the
+  // same vector to the last bit, whether its matrix was re-assembled or not;
+  // a cell without load, thermal stress or constrained DoF adds nothing and is
+  // skipped.
   template <int dim>
   void MechanicalField<dim>::assemble_system(const bool with_matrix)
   {
-    TimerOutput::Scope t(timer,
+    TimerOutput::Scope                   t(timer,
                          with_matrix ? "contact step: assemble" :
-                                       "contact step: assemble right-hand side");
+                                                         "contact step: assemble right-hand side");
+    std::vector<types::global_dof_index> dofs;
     if (with_matrix)
-      system_matrix = 0;
-    system_rhs        = 0;
-    const bool loaded = functions.mechanical_load_present();
+      {
+        const std::uint64_t signature = Fingerprint::combine(
+          Fingerprint::constraints(fixed_constraints, owned, false, mpi_communicator),
+          stiffness_version);
+        if (!have_bulk || signature != bulk_signature)
+          assemble_bulk_matrix(signature);
+        // Zeroing first also clears the entries of other ranks' rows kept
+        // since the last compress(), which the value copy does not touch.
+        system_matrix = 0;
+        copy_matrix_values(bulk_matrix, system_matrix);
+        for (const auto &cell : dof_handler.active_cell_iterators())
+          if (cell->is_locally_owned() && cell_near_contact[cell->active_cell_index()])
+            {
+              dofs.resize(cell->get_fe().n_dofs_per_cell());
+              cell->get_dof_indices(dofs);
+              constraints.distribute_local_to_global(cell_stiffness[cell->active_cell_index()],
+                                                     dofs,
+                                                     system_matrix);
+            }
+        system_matrix.compress(VectorOperation::add);
+      }
+    system_rhs                    = 0;
+    const bool             loaded = functions.mechanical_load_present();
+    dealii::Vector<double> rhs;
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
-          const unsigned int                   n = cell->get_fe().n_dofs_per_cell();
-          std::vector<types::global_dof_index> dofs(n);
+          const unsigned int index = cell->active_cell_index();
+          if (!loaded && !thermal_stress && !cell_near_contact[index] &&
+              !cell_fixed_constrained[index])
+            continue;
+          const unsigned int n = cell->get_fe().n_dofs_per_cell();
+          dofs.resize(n);
           cell->get_dof_indices(dofs);
-          const unsigned int     index = cell->active_cell_index();
-          dealii::Vector<double> rhs(n);
+          rhs.reinit(n);
           if (loaded)
             rhs = cell_load[index];
           if (thermal_stress)
             rhs += cell_thermal_load[index];
-          if (with_matrix)
-            constraints.distribute_local_to_global(
-              cell_stiffness[index], rhs, dofs, system_matrix, system_rhs);
-          else
-            constraints.distribute_local_to_global(rhs, dofs, system_rhs, cell_stiffness[index]);
+          constraints.distribute_local_to_global(rhs, dofs, system_rhs, cell_stiffness[index]);
         }
-    if (with_matrix)
-      system_matrix.compress(VectorOperation::add);
     system_rhs.compress(VectorOperation::add);
+  }
+
+
+
+  template <int dim>
+  void MechanicalField<dim>::assemble_bulk_matrix(const std::uint64_t signature)
+  {
+    if (bulk_matrix.m() != system_matrix.m() || !have_bulk)
+      bulk_matrix.reinit(system_matrix);
+    bulk_matrix = 0;
+    cell_fixed_constrained.assign(triangulation.n_active_cells(), false);
+    std::vector<types::global_dof_index> dofs;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const unsigned int index = cell->active_cell_index();
+          dofs.resize(cell->get_fe().n_dofs_per_cell());
+          cell->get_dof_indices(dofs);
+          for (const auto dof : dofs)
+            if (fixed_constraints.is_constrained(dof))
+              cell_fixed_constrained[index] = true;
+          if (!cell_near_contact[index])
+            fixed_constraints.distribute_local_to_global(cell_stiffness[index], dofs, bulk_matrix);
+        }
+    bulk_matrix.compress(VectorOperation::add);
+    bulk_signature = signature;
+    have_bulk      = true;
   }
 
 
@@ -513,8 +601,7 @@ namespace ContactStefan
     Vector            residual(owned, mpi_communicator);
     complementarity_scale = 1;
     std::map<std::uint64_t, unsigned int> seen_sets; // hash of an active set -> visits
-    const bool                            has_contact              = !contact_groups.empty();
-    bool                                  rhs_from_vector_assembly = false;
+    const bool                            has_contact = !contact_groups.empty();
     // Whether the active set has settled (CG then solves to its full tolerance).
     bool         settled           = false;
     unsigned int tightening_solves = 0;
@@ -533,9 +620,8 @@ namespace ContactStefan
           Fingerprint::combine(constraints_hash(false), stiffness_version);
         const bool same_matrix = have_matrix && signature == matrix_signature;
         assemble_system(!same_matrix);
-        rhs_from_vector_assembly = same_matrix;
-        have_matrix              = true;
-        matrix_signature         = signature;
+        have_matrix      = true;
+        matrix_signature = signature;
         // Stationary data: the same matrix, right-hand side, inhomogeneities and
         // gaps as the last converged solve, from its converged active set, give
         // its solution again; nothing is solved.
@@ -677,10 +763,6 @@ namespace ContactStefan
                   << "; complementarity constant divided by 10" << std::endl;
           }
       }
-    // The right-hand side as the vector-only assembly of the next step computes
-    // it (the assembly with the matrix sums the same terms in another order).
-    if (!rhs_from_vector_assembly)
-      assemble_system(false);
     solved_rhs       = system_rhs;
     solved_signature = Fingerprint::combine(constraints_hash(true), gaps_hash());
     have_solution    = true;

@@ -31,6 +31,7 @@
 #include <map>
 #include <set>
 #include <tuple>
+#include <unordered_set>
 
 namespace ContactStefan
 {
@@ -177,10 +178,11 @@ namespace ContactStefan
         {
           cell_moduli[cell->active_cell_index()] =
             materials[cell->material_id()].phase_moduli.front();
-          cell_thermal_load[cell->active_cell_index()].reinit(cell->get_fe().n_dofs_per_cell());
+          if (coupled)
+            cell_thermal_load[cell->active_cell_index()].reinit(cell->get_fe().n_dofs_per_cell());
         }
     ++stiffness_version;
-    have_matrix = have_factorisation = have_solution = false;
+    have_matrix = have_factorisation = have_solution = have_bulk = false;
 
     make_body_frames();
     assemble_cell_stiffness();
@@ -256,12 +258,40 @@ namespace ContactStefan
         for (const auto dof : all)
           condition_dofs[dof].insert(condition_dofs[dof].end(), all.begin(), all.end());
       }
-    DynamicSparsityPattern dsp(relevant);
+    // The DoFs of conditions that an active set can change (obstacles, and
+    // interfaces unless tied): a cell whose closure reaches one is re-assembled
+    // in each contact iteration, the others go into the bulk matrix (below,
+    // once the contact lines of other ranks are known).
+    const bool tied = prm.contact.interfaces == Parameters::Contact::Interfaces::tied;
+    std::unordered_set<types::global_dof_index> contact_dofs;
+    for (const auto &c : normal_conditions)
+      if (c.kind == NormalCondition::Kind::obstacle ||
+          (c.kind == NormalCondition::Kind::interface && !tied))
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            contact_dofs.insert(c.dofs_k[d]);
+            if (c.has_partner)
+              contact_dofs.insert(c.dofs_l[d]);
+          }
+    cell_near_contact.assign(triangulation.n_active_cells(), false);
+    DynamicSparsityPattern               dsp(relevant);
+    std::vector<types::global_dof_index> dofs;
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
-          std::vector<types::global_dof_index> dofs(cell->get_fe().n_dofs_per_cell());
+          dofs.resize(cell->get_fe().n_dofs_per_cell());
           cell->get_dof_indices(dofs);
+          // Most cells have no constrained or conditioned DoF: their closure is
+          // their own DoFs.
+          if (std::none_of(dofs.begin(), dofs.end(), [&](const types::global_dof_index dof) {
+                return fixed_constraints.is_constrained(dof) || condition_dofs.count(dof) > 0;
+              }))
+            {
+              for (const auto row : dofs)
+                if (relevant.is_element(row))
+                  dsp.add_entries(row, dofs.begin(), dofs.end(), false);
+              continue;
+            }
           std::set<types::global_dof_index>    closure(dofs.begin(), dofs.end());
           std::vector<types::global_dof_index> work(dofs.begin(), dofs.end());
           while (!work.empty())
@@ -292,7 +322,33 @@ namespace ContactStefan
     unsigned int skipped     = 0;
     build_contact_constraints(skipped);
     imposable_per_group = placed_per_group;
-    const bool tied     = prm.contact.interfaces == Parameters::Contact::Interfaces::tied;
+    // With every node active the constraints also hold the contact lines of
+    // conditions that other ranks found (a hanging node of an owned cell can
+    // hang on a contact node of another rank's cell): their DoFs count too.
+    for (const auto &line : constraints.get_lines())
+      if (!fixed_constraints.is_constrained(line.index))
+        {
+          contact_dofs.insert(line.index);
+          for (const auto &entry : line.entries)
+            contact_dofs.insert(entry.first);
+        }
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          dofs.resize(cell->get_fe().n_dofs_per_cell());
+          cell->get_dof_indices(dofs);
+          // The fixed constraints are closed: the DoFs their lines name are
+          // not constrained by them, so one level of entries is the closure.
+          bool near = false;
+          for (const auto dof : dofs)
+            {
+              near = near || contact_dofs.count(dof) > 0;
+              if (const auto *entries = fixed_constraints.get_constraint_entries(dof))
+                for (const auto &entry : *entries)
+                  near = near || contact_dofs.count(entry.first) > 0;
+            }
+          cell_near_contact[cell->active_cell_index()] = near;
+        }
     std::vector<NormalCondition> kept, left_out;
     unsigned int                 dropped = 0;
     for (const auto &c : normal_conditions)
@@ -503,13 +559,20 @@ namespace ContactStefan
     const FEValues<dim> &fe_values = gauss_values.get_present_fe_values();
     LocalMatrix         &K         = cell_stiffness[c];
     K.reinit(n, n);
+    // The strains of the shape functions at a quadrature point, once each
+    // (the view computes them from the shape gradients on every call).
+    std::vector<SymmetricTensor<2, dim>> strain(n);
     for (unsigned int q = 0; q < fe_values.n_quadrature_points; ++q)
-      for (unsigned int i = 0; i < n; ++i)
-        {
-          const SymmetricTensor<2, dim> sigma_i = moduli.C * fe_values[u].symmetric_gradient(i, q);
-          for (unsigned int j = 0; j < n; ++j)
-            K(i, j) += sigma_i * fe_values[u].symmetric_gradient(j, q) * fe_values.JxW(q);
-        }
+      {
+        for (unsigned int j = 0; j < n; ++j)
+          strain[j] = fe_values[u].symmetric_gradient(j, q);
+        for (unsigned int i = 0; i < n; ++i)
+          {
+            const SymmetricTensor<2, dim> sigma_i = moduli.C * strain[i];
+            for (unsigned int j = 0; j < n; ++j)
+              K(i, j) += sigma_i * strain[j] * fe_values.JxW(q);
+          }
+      }
     if (!coupled)
       return;
     // B_K(i, v) = w_v beta_K : e(phi_i)(x_v), the trapezoidal rule: the same

@@ -277,6 +277,22 @@ namespace ContactStefan
     // an entry; rebuilt with the fixed constraints.
     std::unordered_map<types::global_dof_index, std::vector<types::global_dof_index>> named_by;
     TrilinosWrappers::SparseMatrix                                                    system_matrix;
+    // The part of K that no active set changes: the cells whose DoFs (closed
+    // under the fixed constraints) carry no contact condition, condensed with
+    // the fixed constraints. Each active-set iteration copies its values and
+    // adds the few cells along the contact boundaries (assemble_system).
+    // bulk_signature: the stiffness version and fixed-constraint pattern it
+    // was assembled for.
+    TrilinosWrappers::SparseMatrix bulk_matrix;
+    std::uint64_t                  bulk_signature = 0;
+    bool                           have_bulk      = false;
+    // Per active cell index: whether the cell's DoF closure carries a contact
+    // condition (make_sparsity_pattern), and whether one of its DoFs is
+    // constrained by the fixed constraints (its right-hand side then carries
+    // inhomogeneities even without a load).
+    std::vector<bool> cell_near_contact, cell_fixed_constrained;
+    // Assemble bulk_matrix for the current stiffness and fixed constraints.
+    void         assemble_bulk_matrix(const std::uint64_t signature);
     Vector       system_rhs, load, stiffness_diagonal;
     LinearSolver linear_solver;
 
