@@ -181,7 +181,8 @@ namespace ContactStefan
                              const unsigned int                  verbosity,
                              const ConditionalOStream           &pcout,
                              const std::string                  &name,
-                             const Parameters::Solver::AMGUpdate automatic_amg_update)
+                             const Parameters::Solver::AMGUpdate automatic_amg_update,
+                             const double                        aggregation_threshold)
     : prm(parameters)
     , verbosity(verbosity)
     , pcout(pcout)
@@ -189,6 +190,7 @@ namespace ContactStefan
     , amg_update(parameters.amg_update == Parameters::Solver::AMGUpdate::automatic ?
                    automatic_amg_update :
                    parameters.amg_update)
+    , aggregation_threshold(aggregation_threshold)
   {}
 
 
@@ -348,7 +350,8 @@ namespace ContactStefan
                                const TrilinosWrappers::SparseMatrix &A)
   {
     TrilinosWrappers::PreconditionAMG::AdditionalData data;
-    data.elliptic = true;
+    data.elliptic              = true;
+    data.aggregation_threshold = aggregation_threshold;
     if (null_space_dimension == 0)
       preconditioner.initialize(A, data);
     else

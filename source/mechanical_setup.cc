@@ -107,7 +107,8 @@ namespace ContactStefan
                     prm.output.verbosity,
                     pcout,
                     "elasticity",
-                    Parameters::Solver::AMGUpdate::reuse)
+                    Parameters::Solver::AMGUpdate::reuse,
+                    prm.solver.elasticity_amg_threshold)
     , coupled(prm.coupling_active())
     , thermal_stress(prm.thermal_stress_active())
     , time(prm.time.start_time)

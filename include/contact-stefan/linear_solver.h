@@ -36,7 +36,8 @@ namespace ContactStefan
                  const ConditionalOStream           &pcout,
                  const std::string                  &name,
                  const Parameters::Solver::AMGUpdate automatic_amg_update =
-                   Parameters::Solver::AMGUpdate::recompute);
+                   Parameters::Solver::AMGUpdate::recompute,
+                 const double aggregation_threshold = 1e-4);
 
     // The near-null space the AMG hierarchy is built for: vectors over the
     // locally owned rows in their order (elasticity: the rigid-body modes; ML's
@@ -88,7 +89,9 @@ namespace ContactStefan
     const ConditionalOStream &pcout;
     const std::string         name;
     // 'Solver/AMG update' with automatic resolved for this system.
-    const Parameters::Solver::AMGUpdate   amg_update;
+    const Parameters::Solver::AMGUpdate amg_update;
+    // ML's 'aggregation: threshold' for this system.
+    const double                          aggregation_threshold;
     const TrilinosWrappers::SparseMatrix *matrix     = nullptr;
     bool                                  use_direct = true; // of the last initialize()
     // The direct path: Amesos on the matrix object; its symbolic analysis
