@@ -36,32 +36,42 @@ namespace ContactStefan
 {
   namespace
   {
-    // to = from for two matrices on the same sparsity pattern (to was made
-    // with reinit(from) or from the same pattern): a copy of the value arrays,
-    // or an entry-wise sum into the zeroed matrix where the storage differs.
-    void copy_matrix_values(const TrilinosWrappers::SparseMatrix &from,
-                            TrilinosWrappers::SparseMatrix       &to)
+    // Whether a and b store the same entries in the same order (same maps,
+    // same row offsets and local column indices, optimised storage).
+    bool same_storage(const TrilinosWrappers::SparseMatrix &a_,
+                      const TrilinosWrappers::SparseMatrix &b_)
     {
-      auto   &a         = const_cast<Epetra_CrsMatrix &>(from.trilinos_matrix());
-      auto   &b         = const_cast<Epetra_CrsMatrix &>(to.trilinos_matrix());
+      auto   &a         = const_cast<Epetra_CrsMatrix &>(a_.trilinos_matrix());
+      auto   &b         = const_cast<Epetra_CrsMatrix &>(b_.trilinos_matrix());
       int    *offsets_a = nullptr, *indices_a = nullptr, *offsets_b = nullptr, *indices_b = nullptr;
       double *values_a = nullptr, *values_b = nullptr;
       const int n = a.NumMyRows();
-      if (a.StorageOptimized() && b.StorageOptimized() && n == b.NumMyRows() &&
-          a.NumMyNonzeros() == b.NumMyNonzeros() && a.RowMap().SameAs(b.RowMap()) &&
-          a.ColMap().SameAs(b.ColMap()) &&
-          a.ExtractCrsDataPointers(offsets_a, indices_a, values_a) == 0 &&
-          b.ExtractCrsDataPointers(offsets_b, indices_b, values_b) == 0 &&
-          std::equal(offsets_a, offsets_a + n + 1, offsets_b) &&
-          std::equal(indices_a, indices_a + a.NumMyNonzeros(), indices_b))
-        std::copy(values_a, values_a + a.NumMyNonzeros(), values_b);
-      else
+      return a.StorageOptimized() && b.StorageOptimized() && n == b.NumMyRows() &&
+             a.NumMyNonzeros() == b.NumMyNonzeros() && a.RowMap().SameAs(b.RowMap()) &&
+             a.ColMap().SameAs(b.ColMap()) &&
+             a.ExtractCrsDataPointers(offsets_a, indices_a, values_a) == 0 &&
+             b.ExtractCrsDataPointers(offsets_b, indices_b, values_b) == 0 &&
+             std::equal(offsets_a, offsets_a + n + 1, offsets_b) &&
+             std::equal(indices_a, indices_a + a.NumMyNonzeros(), indices_b);
+    }
+
+    // to = from for two matrices on the same sparsity pattern: with the same
+    // storage (same_storage()) a copy of the value array, otherwise an
+    // entry-wise sum into the zeroed matrix. Not copy_from(): it may replace
+    // the Epetra matrix that a preconditioner or direct solver still refers to.
+    void copy_matrix_values(const TrilinosWrappers::SparseMatrix &from,
+                            TrilinosWrappers::SparseMatrix       &to,
+                            const bool                            storage_matches)
+    {
+      to = 0;
+      if (storage_matches)
         {
-          // Not copy_from(): it may replace the Epetra matrix that a
-          // preconditioner or direct solver still refers to.
-          to = 0;
-          to.add(1., from);
+          const auto &a = from.trilinos_matrix();
+          auto       &b = const_cast<Epetra_CrsMatrix &>(to.trilinos_matrix());
+          std::copy(a[0], a[0] + a.NumMyNonzeros(), b[0]);
         }
+      else
+        to.add(1., from);
     }
   } // namespace
 
@@ -245,10 +255,9 @@ namespace ContactStefan
           stiffness_version);
         if (!have_bulk || signature != bulk_signature)
           assemble_bulk_matrix(signature);
-        // Zeroing first also clears the entries of other ranks' rows kept
-        // since the last compress(), which the value copy does not touch.
-        system_matrix = 0;
-        copy_matrix_values(bulk_matrix, system_matrix);
+        // The copy zeroes system_matrix first: that also clears the entries of
+        // other ranks' rows kept since the last compress().
+        copy_matrix_values(bulk_matrix, system_matrix, bulk_storage_matches);
         for (const auto &cell : dof_handler.active_cell_iterators())
           if (cell->is_locally_owned() && cell_near_contact[cell->active_cell_index()])
             {
@@ -288,8 +297,12 @@ namespace ContactStefan
   template <int dim>
   void MechanicalField<dim>::assemble_bulk_matrix(const std::uint64_t signature)
   {
-    if (bulk_matrix.m() != system_matrix.m() || !have_bulk)
-      bulk_matrix.reinit(system_matrix);
+    // have_bulk is false after each new sparsity pattern (setup_dofs()).
+    if (!have_bulk)
+      {
+        bulk_matrix.reinit(system_matrix);
+        bulk_storage_matches = same_storage(bulk_matrix, system_matrix);
+      }
     bulk_matrix = 0;
     cell_fixed_constrained.assign(triangulation.n_active_cells(), false);
     std::vector<types::global_dof_index> dofs;

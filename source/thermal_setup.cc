@@ -35,7 +35,13 @@ namespace ContactStefan
     , pcout(pcout)
     , fe(1)
     , dof_handler(triangulation)
-    , linear_solver(prm.solver, prm.output.verbosity, pcout, "enthalpy")
+    // A phase front changes interior rows: recompute (Solver/AMG update = automatic).
+    , linear_solver(prm.solver,
+                    prm.output.verbosity,
+                    pcout,
+                    "enthalpy",
+                    Parameters::Solver::AMGUpdate::recompute,
+                    prm.solver.enthalpy_amg_threshold)
     , heating(prm.thermoelastic_heating_active())
     , time(prm.time.start_time)
   {

@@ -35,9 +35,8 @@ namespace ContactStefan
                  const unsigned int                  verbosity,
                  const ConditionalOStream           &pcout,
                  const std::string                  &name,
-                 const Parameters::Solver::AMGUpdate automatic_amg_update =
-                   Parameters::Solver::AMGUpdate::recompute,
-                 const double aggregation_threshold = 1e-4);
+                 const Parameters::Solver::AMGUpdate automatic_amg_update,
+                 const double                        aggregation_threshold);
 
     // The near-null space the AMG hierarchy is built for: vectors over the
     // locally owned rows in their order (elasticity: the rigid-body modes; ML's

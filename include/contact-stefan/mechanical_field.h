@@ -286,6 +286,9 @@ namespace ContactStefan
     TrilinosWrappers::SparseMatrix bulk_matrix;
     std::uint64_t                  bulk_signature = 0;
     bool                           have_bulk      = false;
+    // Whether bulk_matrix and system_matrix store their entries in the same
+    // order (checked when bulk_matrix is made): the copy is then one array copy.
+    bool bulk_storage_matches = false;
     // Per active cell index: whether the cell's DoF closure carries a contact
     // condition (make_sparsity_pattern), and whether one of its DoFs is
     // constrained by the fixed constraints (its right-hand side then carries

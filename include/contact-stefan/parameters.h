@@ -282,9 +282,8 @@ namespace ContactStefan
       double       cg_tolerance;
       double       cg_contact_set_tolerance;
       double       amg_rebuild_ratio;
-      // ML's aggregation threshold for the elasticity system (the enthalpy
-      // system keeps deal.II's 1e-4).
-      double elasticity_amg_threshold;
+      // ML's aggregation threshold for each system's AMG.
+      double elasticity_amg_threshold, enthalpy_amg_threshold;
       // What update() does to an AMG hierarchy when the matrix values change
       // in place: keep it as it is, recompute it on its aggregates, or build
       // it afresh; automatic: each system's measured choice (LinearSolver).
