@@ -261,7 +261,7 @@ namespace ContactStefan
   // node has its enthalpy: from its piece where it is free, from the residual of
   // its row where its temperature was fixed, from the temperature on Dirichlet nodes.
   template <int dim>
-  unsigned int ThermalField<dim>::solve_for_pieces(Vector &h_new)
+  unsigned int ThermalField<dim>::solve_for_pieces(Vector &h_new, const double tolerance)
   {
     constraints.clear();
     constraints.reinit(relevant);
@@ -302,8 +302,14 @@ namespace ContactStefan
       Fingerprint::combine(Fingerprint::constraints(constraints, owned, false, mpi_communicator),
                            Fingerprint::vector(nodal_diagonal)),
       Fingerprint::combine(Fingerprint::bits(time_step), conductivity_version));
+    const bool assemble  = !(have_factorisation && signature == matrix_signature);
     const bool factorise = !(have_factorisation && signature == factorisation_signature);
-    assemble_system(factorise);
+    assemble_system(assemble);
+    matrix_signature = signature;
+    if (!factorise && assemble)
+      // Back to the values the current hierarchy was made for, after
+      // solves that borrowed it (a no-op otherwise).
+      linear_solver.recall(signature);
     if (factorise)
       {
         // The AMG hierarchy (iterative path) is built once per tau and
@@ -322,7 +328,12 @@ namespace ContactStefan
             TimerOutput::Scope t(timer, "enthalpy step: recall factorisation");
             recalled = linear_solver.recall(signature);
           }
-        if (!recalled)
+        // A loose solve (the set is still changing) borrows the current AMG
+        // hierarchy instead of recomputing it for values that will
+        // probably not be solved for again.
+        const bool borrowed = !recalled && keep && tolerance > 0 &&
+                              linear_solver.borrow_preconditioner(system_matrix, signature);
+        if (!recalled && !borrowed)
           {
             TimerOutput::Scope t(timer, "enthalpy step: factorise");
             if (keep)
@@ -331,14 +342,15 @@ namespace ContactStefan
               linear_solver.initialize(system_matrix, signature);
             ++n_factorisations;
           }
-        have_factorisation       = true;
-        factorisation_signature  = signature;
+        have_factorisation = true;
+        if (!borrowed)
+          factorisation_signature = signature;
         have_preconditioner      = true;
         preconditioner_signature = operator_signature;
       }
     {
       TimerOutput::Scope t(timer, "enthalpy step: linear solve");
-      linear_solver.solve(temperature, system_rhs);
+      linear_solver.solve(temperature, system_rhs, tolerance);
       constraints.distribute(temperature);
     }
     temperature_ghosted = temperature;
@@ -539,9 +551,18 @@ namespace ContactStefan
     const double *hn = entries(h_new), *theta = entries(temperature), *m = entries(lumped_mass);
     const char   *free = owned_free.data();
 
+    // While the set changes, the solves need only a loose tolerance (they
+    // decide the next set, not the result): from the second iteration on, CG
+    // solves to 'CG tolerance while the enthalpy set changes' on the AMG
+    // hierarchy it has, and the set it settles on is confirmed by a solve to
+    // 'CG tolerance'. A set that recurs while the solves are loose switches
+    // to tight solves (no cycling on inexact data).
+    const double               loose_tolerance = prm.solver.cg_enthalpy_set_tolerance;
+    bool                       loose           = false;
+    std::vector<std::uint64_t> loose_sets;
     for (unsigned int it = 1; it <= prm.solver.max_active_set_iterations; ++it)
       {
-        report.plateau_nodes         = solve_for_pieces(h_new);
+        report.plateau_nodes = solve_for_pieces(h_new, loose ? loose_tolerance : 0.);
         report.active_set_iterations = it;
 
         // A target whose every free node lies on the piece it was computed with
@@ -637,8 +658,22 @@ namespace ContactStefan
           pcout << "      active set " << it << ": " << report.plateau_nodes
                 << " plateau nodes, step " << alpha << ", " << n_changes << " state changes"
                 << std::endl;
+        const bool was_loose = loose;
         if ((n_changes == 0 && alpha == 1) || step_negligible)
-          return true;
+          {
+            if (!was_loose)
+              return true;
+            loose = false; // confirm the set with a tight solve
+            continue;
+          }
+        if (loose_tolerance > 0 && !linear_solver.is_direct())
+          {
+            const std::uint64_t set = Fingerprint::vector(phase_state);
+            loose = std::find(loose_sets.begin(), loose_sets.end(), set) == loose_sets.end();
+            loose_sets.push_back(set);
+            if (!was_loose && it > 1)
+              loose = false; // once tight because of a recurring set, stay tight
+          }
       }
     return false;
   }

@@ -182,7 +182,8 @@ namespace ContactStefan
                              const ConditionalOStream           &pcout,
                              const std::string                  &name,
                              const Parameters::Solver::AMGUpdate automatic_amg_update,
-                             const double                        aggregation_threshold)
+                             const double                        aggregation_threshold,
+                             const unsigned int                  smoother_sweeps)
     : prm(parameters)
     , verbosity(verbosity)
     , pcout(pcout)
@@ -191,6 +192,7 @@ namespace ContactStefan
                    automatic_amg_update :
                    parameters.amg_update)
     , aggregation_threshold(aggregation_threshold)
+    , smoother_sweeps(smoother_sweeps)
   {}
 
 
@@ -224,8 +226,30 @@ namespace ContactStefan
 
 
 
+  bool LinearSolver::borrow_preconditioner(const TrilinosWrappers::SparseMatrix &A,
+                                           const std::uint64_t                   key)
+  {
+    if (matrix != &A || use_direct || !amg_built)
+      return false;
+    check_finite_matrix(A);
+    amg_stale           = true;
+    amg_for_this_matrix = false;
+    borrowed            = true;
+    borrowed_key        = key;
+    return true;
+  }
+
+
+
   bool LinearSolver::recall(const std::uint64_t key)
   {
+    if (borrowed && amg_key == key)
+      {
+        // The borrowed hierarchy is the one made for these values.
+        borrowed            = false;
+        amg_for_this_matrix = true;
+        return true;
+      }
     if (use_direct && direct && key != 0)
       {
         for (std::size_t i = 0; i < kept_direct.size(); ++i)
@@ -257,6 +281,7 @@ namespace ContactStefan
                                 KeptAMG{amg_key,
                                         std::move(amg),
                                         iterations_per_decade_after_build});
+              borrowed                          = false;
               amg_key                           = recalled.key;
               amg                               = std::move(recalled.preconditioner);
               iterations_per_decade_after_build = recalled.iterations_per_decade_after_build;
@@ -294,7 +319,8 @@ namespace ContactStefan
 
   void LinearSolver::initialize(const TrilinosWrappers::SparseMatrix &A, const std::uint64_t key)
   {
-    matrix = &A;
+    matrix   = &A;
+    borrowed = false;
     check_finite_matrix(A);
     use_direct =
       prm.linear_solver == LinearSolverType::direct ||
@@ -352,6 +378,7 @@ namespace ContactStefan
     TrilinosWrappers::PreconditionAMG::AdditionalData data;
     data.elliptic              = true;
     data.aggregation_threshold = aggregation_threshold;
+    data.smoother_sweeps       = smoother_sweeps;
     if (null_space_dimension == 0)
       preconditioner.initialize(A, data);
     else
@@ -372,6 +399,7 @@ namespace ContactStefan
 
   void LinearSolver::update(const TrilinosWrappers::SparseMatrix &A, const std::uint64_t key)
   {
+    borrowed = false;
     const bool degraded =
       iterations_per_decade_after_build > 0 &&
       last_iterations_per_decade > prm.amg_rebuild_ratio * iterations_per_decade_after_build + 0.5;
@@ -639,7 +667,7 @@ namespace ContactStefan
             if (verbosity >= 1)
               pcout << "      " << name << ": CG failed with the kept AMG hierarchy, "
                     << "building it afresh" << std::endl;
-            initialize(*matrix, amg_key);
+            initialize(*matrix, borrowed ? borrowed_key : amg_key);
             x = x_start;
             cg.solve(*matrix, x, b, *amg);
           }
@@ -649,7 +677,7 @@ namespace ContactStefan
           control.last_value() > 0 && control.initial_value() > control.last_value() ?
             std::log10(control.initial_value() / control.last_value()) :
             0.;
-        if (decades >= 0.5)
+        if (decades >= 0.5 && !borrowed)
           {
             last_iterations_per_decade = control.last_step() / decades;
             // The baseline of the rebuild check: a solve whose hierarchy was

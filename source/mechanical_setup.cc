@@ -108,7 +108,8 @@ namespace ContactStefan
                     pcout,
                     "elasticity",
                     Parameters::Solver::AMGUpdate::reuse,
-                    prm.solver.elasticity_amg_threshold)
+                    prm.solver.elasticity_amg_threshold,
+                    prm.solver.elasticity_amg_sweeps)
     , coupled(prm.coupling_active())
     , thermal_stress(prm.thermal_stress_active())
     , time(prm.time.start_time)

@@ -41,7 +41,8 @@ namespace ContactStefan
                     pcout,
                     "enthalpy",
                     Parameters::Solver::AMGUpdate::recompute,
-                    prm.solver.enthalpy_amg_threshold)
+                    prm.solver.enthalpy_amg_threshold,
+                    prm.solver.enthalpy_amg_sweeps)
     , heating(prm.thermoelastic_heating_active())
     , time(prm.time.start_time)
   {

@@ -30,13 +30,15 @@ namespace ContactStefan
   {
   public:
     // name: which system, for messages ("enthalpy", "elasticity");
-    // automatic_amg_update: what 'Solver/AMG update = automatic' means for it.
+    // automatic_amg_update: what 'Solver/AMG update = automatic' means for it;
+    // aggregation_threshold, smoother_sweeps: its ML settings.
     LinearSolver(const Parameters::Solver           &parameters,
                  const unsigned int                  verbosity,
                  const ConditionalOStream           &pcout,
                  const std::string                  &name,
                  const Parameters::Solver::AMGUpdate automatic_amg_update,
-                 const double                        aggregation_threshold);
+                 const double                        aggregation_threshold,
+                 const unsigned int                  smoother_sweeps);
 
     // The near-null space the AMG hierarchy is built for: vectors over the
     // locally owned rows in their order (elasticity: the rigid-body modes; ML's
@@ -66,6 +68,15 @@ namespace ContactStefan
     // solver holds a full factor (KLU on several ranks: a gathered copy on
     // rank 0), so memory grows with the number kept.
     bool recall(const std::uint64_t key);
+    // A's values changed in place, and the solves until the next update(),
+    // initialize() or recall() only need a loose tolerance (an active-set
+    // iteration whose set still changes): on the iterative path the current
+    // AMG hierarchy, made for earlier values, preconditions CG on the new ones
+    // without being recomputed, and true is returned. Such solves do not
+    // count for the rebuild check; a CG failure builds a hierarchy afresh
+    // (named key). On the direct path nothing can be skipped: false, and the
+    // caller must update().
+    bool borrow_preconditioner(const TrilinosWrappers::SparseMatrix &A, const std::uint64_t key);
     // Whether the last initialize()/update() chose the direct solver (the
     // choice of 'automatic' depends on the size of the system).
     bool is_direct() const
@@ -91,6 +102,8 @@ namespace ContactStefan
     const Parameters::Solver::AMGUpdate amg_update;
     // ML's 'aggregation: threshold' for this system.
     const double                          aggregation_threshold;
+    // ML's 'smoother: sweeps' for this system.
+    const unsigned int smoother_sweeps;
     const TrilinosWrappers::SparseMatrix *matrix     = nullptr;
     bool                                  use_direct = true; // of the last initialize()
     // The direct path: Amesos on the matrix object; its symbolic analysis
@@ -149,6 +162,10 @@ namespace ContactStefan
     // Whether the hierarchy was built or recomputed for the current matrix
     // values ('AMG update = reuse' keeps one made for earlier values).
     bool amg_for_this_matrix = true;
+    // Whether the current hierarchy was borrowed (borrow_preconditioner()) for
+    // the matrix values named borrowed_key.
+    bool          borrowed     = false;
+    std::uint64_t borrowed_key = 0;
     // CG iterations per decade of residual reduction: of the first solve
     // after the last full AMG build (0: none yet) and of the last solve.
     double iterations_per_decade_after_build = 0, last_iterations_per_decade = 0;

@@ -281,9 +281,13 @@ namespace ContactStefan
       unsigned int kept_factorisations;
       double       cg_tolerance;
       double       cg_contact_set_tolerance;
+      // The enthalpy step's CG tolerance while its set changes (0: tight).
+      double       cg_enthalpy_set_tolerance;
       double       amg_rebuild_ratio;
       // ML's aggregation threshold for each system's AMG.
       double elasticity_amg_threshold, enthalpy_amg_threshold;
+      // ML's smoother sweeps (Chebyshev degree) for each system's AMG.
+      unsigned int elasticity_amg_sweeps, enthalpy_amg_sweeps;
       // What update() does to an AMG hierarchy when the matrix values change
       // in place: keep it as it is, recompute it on its aggregates, or build
       // it afresh; automatic: each system's measured choice (LinearSolver).

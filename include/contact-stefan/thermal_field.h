@@ -223,7 +223,7 @@ namespace ContactStefan
     // phase state: the plateau constraints come from phase_state_ghosted, the
     // nodal diagonal and right-hand side from phase_state, so every write to
     // phase_state must be copied to phase_state_ghosted before the call.
-    unsigned int solve_for_pieces(Vector &h_new);
+    unsigned int solve_for_pieces(Vector &h_new, const double tolerance = 0);
     bool         active_set_iteration(EnthalpyStepReport &report);
     // enthalpy_newton.cc: the truncated nonsmooth Newton method in Theta.
     bool truncated_newton_iteration(EnthalpyStepReport &report);
@@ -291,6 +291,9 @@ namespace ContactStefan
     unsigned int  conductivity_version    = 0;
     bool          have_factorisation      = false;
     std::uint64_t factorisation_signature = 0;
+    // The values the system matrix holds (after solves that borrowed the AMG
+    // hierarchy, not those of factorisation_signature).
+    std::uint64_t matrix_signature = 0;
     // The operator (tau, conductivity) the AMG hierarchy was built for.
     bool          have_preconditioner      = false;
     std::uint64_t preconditioner_signature = 0;
