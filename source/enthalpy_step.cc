@@ -303,13 +303,14 @@ namespace ContactStefan
                            Fingerprint::vector(nodal_diagonal)),
       Fingerprint::combine(Fingerprint::bits(time_step), conductivity_version));
     const bool assemble  = !(have_factorisation && signature == matrix_signature);
-    const bool factorise = !(have_factorisation && signature == factorisation_signature);
+    bool       factorise = !(have_factorisation && signature == factorisation_signature);
     assemble_system(assemble);
     matrix_signature = signature;
-    if (!factorise && assemble)
-      // Back to the values the current hierarchy was made for, after
-      // solves that borrowed it (a no-op otherwise).
-      linear_solver.recall(signature);
+    // Back to the values the current hierarchy was made for, after solves that
+    // borrowed it: it serves them again, unless the linear solver has since
+    // built another one (a CG failure): then set up as for new values.
+    if (!factorise && assemble && !linear_solver.recall(signature))
+      factorise = true;
     if (factorise)
       {
         // The AMG hierarchy (iterative path) is built once per tau and
@@ -671,8 +672,10 @@ namespace ContactStefan
             const std::uint64_t set = Fingerprint::vector(phase_state);
             loose = std::find(loose_sets.begin(), loose_sets.end(), set) == loose_sets.end();
             loose_sets.push_back(set);
+            // Once tight after the first iteration (a recurring set, or a
+            // settled set that its confirming solve moved), stay tight.
             if (!was_loose && it > 1)
-              loose = false; // once tight because of a recurring set, stay tight
+              loose = false;
           }
       }
     return false;

@@ -235,7 +235,7 @@ namespace ContactStefan
     amg_stale           = true;
     amg_for_this_matrix = false;
     borrowed            = true;
-    borrowed_key        = key;
+    values_key          = key;
     return true;
   }
 
@@ -243,11 +243,12 @@ namespace ContactStefan
 
   bool LinearSolver::recall(const std::uint64_t key)
   {
-    if (borrowed && amg_key == key)
+    if (borrowed && amg_key == key && key != 0)
       {
         // The borrowed hierarchy is the one made for these values.
         borrowed            = false;
         amg_for_this_matrix = true;
+        values_key          = key;
         return true;
       }
     if (use_direct && direct && key != 0)
@@ -282,6 +283,7 @@ namespace ContactStefan
                                         std::move(amg),
                                         iterations_per_decade_after_build});
               borrowed                          = false;
+              values_key                        = recalled.key;
               amg_key                           = recalled.key;
               amg                               = std::move(recalled.preconditioner);
               iterations_per_decade_after_build = recalled.iterations_per_decade_after_build;
@@ -319,8 +321,9 @@ namespace ContactStefan
 
   void LinearSolver::initialize(const TrilinosWrappers::SparseMatrix &A, const std::uint64_t key)
   {
-    matrix   = &A;
-    borrowed = false;
+    matrix     = &A;
+    borrowed   = false;
+    values_key = key;
     check_finite_matrix(A);
     use_direct =
       prm.linear_solver == LinearSolverType::direct ||
@@ -399,7 +402,8 @@ namespace ContactStefan
 
   void LinearSolver::update(const TrilinosWrappers::SparseMatrix &A, const std::uint64_t key)
   {
-    borrowed = false;
+    borrowed   = false;
+    values_key = key;
     const bool degraded =
       iterations_per_decade_after_build > 0 &&
       last_iterations_per_decade > prm.amg_rebuild_ratio * iterations_per_decade_after_build + 0.5;
@@ -502,7 +506,10 @@ namespace ContactStefan
         auto *ml            = dynamic_cast<ML_Epetra::MultiLevelPreconditioner *>(
           const_cast<Epetra_Operator *>(&amg->trilinos_operator()));
         if (ml != nullptr && ml->ReComputePreconditioner() == 0)
-          return;
+          {
+            amg_key = key; // now made for these values
+            return;
+          }
       }
     if (matrix == &A && !use_direct && amg_built && !degraded &&
         amg_update == AMGUpdate::recompute && prm.kept_factorisations > 0 && amg_key != 0)
@@ -562,7 +569,10 @@ namespace ContactStefan
         auto *ml = dynamic_cast<ML_Epetra::MultiLevelPreconditioner *>(
           const_cast<Epetra_Operator *>(&amg->trilinos_operator()));
         if (ml != nullptr && ml->ReComputePreconditioner() == 0)
-          return;
+          {
+            amg_key = key; // now made for these values
+            return;
+          }
       }
     initialize(A, key);
   }
@@ -667,7 +677,7 @@ namespace ContactStefan
             if (verbosity >= 1)
               pcout << "      " << name << ": CG failed with the kept AMG hierarchy, "
                     << "building it afresh" << std::endl;
-            initialize(*matrix, borrowed ? borrowed_key : amg_key);
+            initialize(*matrix, values_key);
             x = x_start;
             cg.solve(*matrix, x, b, *amg);
           }

@@ -137,9 +137,14 @@ namespace ContactStefan
     // The owned entries of a vector, bit for bit. Collective.
     inline std::uint64_t vector(const Vector &v)
     {
-      std::uint64_t local = 0;
+      // The k-th owned element is the k-th local entry (deal.II builds the
+      // Epetra map from the index set in its order): no per-entry index
+      // look-ups through Trilinos.
+      std::uint64_t       local  = 0;
+      const double *const values = v.trilinos_vector()[0];
+      std::size_t         k      = 0;
       for (const auto i : v.locally_owned_elements())
-        local += mix(mix(i + 3) + bits(v[i]));
+        local += mix(mix(i + 3) + bits(values[k++]));
       return Utilities::MPI::sum(local, v.get_mpi_communicator());
     }
   } // namespace Fingerprint

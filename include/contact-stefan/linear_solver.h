@@ -74,8 +74,9 @@ namespace ContactStefan
     // AMG hierarchy, made for earlier values, preconditions CG on the new ones
     // without being recomputed, and true is returned. Such solves do not
     // count for the rebuild check; a CG failure builds a hierarchy afresh
-    // (named key). On the direct path nothing can be skipped: false, and the
-    // caller must update().
+    // for them. On the direct path nothing can be skipped: false, and the
+    // caller must update(). recall(key) of the hierarchy's own values ends
+    // the borrowing.
     bool borrow_preconditioner(const TrilinosWrappers::SparseMatrix &A, const std::uint64_t key);
     // Whether the last initialize()/update() chose the direct solver (the
     // choice of 'automatic' depends on the size of the system).
@@ -163,9 +164,12 @@ namespace ContactStefan
     // values ('AMG update = reuse' keeps one made for earlier values).
     bool amg_for_this_matrix = true;
     // Whether the current hierarchy was borrowed (borrow_preconditioner()) for
-    // the matrix values named borrowed_key.
-    bool          borrowed     = false;
-    std::uint64_t borrowed_key = 0;
+    // other matrix values than its own (amg_key).
+    bool borrowed = false;
+    // The key of the values the matrix holds (of the last initialize(),
+    // update(), borrow_preconditioner() or successful recall()): a hierarchy
+    // built afresh after a CG failure is made for them.
+    std::uint64_t values_key = 0;
     // CG iterations per decade of residual reduction: of the first solve
     // after the last full AMG build (0: none yet) and of the last solve.
     double iterations_per_decade_after_build = 0, last_iterations_per_decade = 0;
