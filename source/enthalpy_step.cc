@@ -70,38 +70,6 @@ namespace ContactStefan
               constraints.get_inhomogeneity(dof) :
               std::numeric_limits<double>::quiet_NaN();
         }
-      if (!assemble_matrix)
-        {
-          // The right-hand side alone (the matrix holds these constraints
-          // already): the prescribed columns' share is one product by A, the
-          // prescribed values with zeros elsewhere, instead of a pass over
-          // every entry.
-          Epetra_Vector prescribed(A.DomainMap()), product(A.RangeMap()), diagonal(A.RowMap());
-          for (int r = 0; r < A.DomainMap().NumMyElements(); ++r)
-            prescribed[r] = std::isnan(owned_values[r]) ? 0. : owned_values[r];
-          AssertThrow(A.Multiply(false, prescribed, product) == 0, ExcInternalError());
-          AssertThrow(A.ExtractDiagonalCopy(diagonal) == 0, ExcInternalError());
-          const double *load = entries(step_load), *m = entries(lumped_mass),
-                       *nodal = entries(nodal_rhs);
-          double *rhs_entries = entries(system_rhs);
-          for (int r = 0; r < static_cast<int>(n_owned); ++r)
-            {
-              const types::global_dof_index dof     = first_owned + r;
-              const bool                    hanging = hanging_node_constraints.is_constrained(dof);
-              if (!hanging && !std::isnan(owned_values[r]))
-                {
-                  // As below: the row of a prescribed node.
-                  const double scale = time_step * diagonal[r] > 0 ?
-                                         time_step * diagonal[r] :
-                                         m[r] * owned_node_law(r).max_heat_capacity();
-                  rhs_entries[r] = (scale > 0 ? scale : 1.) * owned_values[r];
-                }
-              else
-                rhs_entries[r] =
-                  (hanging ? 0. : load[r] + m[r] * nodal[r]) - time_step * product[r];
-            }
-          return;
-        }
       to_columns(owned_values, fixed_column_value);
     }
     // Row r is owned node r (index_local_entries() checks it).
