@@ -114,20 +114,6 @@ namespace ContactStefan
 
 
 
-  unsigned int EnthalpyLaw::state_of_enthalpy(const double h) const
-  {
-    for (unsigned int j = 0; j < n_transitions(); ++j)
-      {
-        if (h < h_minus[j])
-          return 2 * j;
-        if (h <= h_plus[j])
-          return 2 * j + 1;
-      }
-    return 2 * n_transitions();
-  }
-
-
-
   unsigned int EnthalpyLaw::state_of_temperature(const double theta) const
   {
     for (unsigned int j = 0; j < n_transitions(); ++j)
@@ -149,16 +135,6 @@ namespace ContactStefan
     const double       upper =
       is_plateau(state) ? h_plus[k] : (k < n_transitions() ? h_minus[k] : HUGE_VAL);
     return std::max({0., lower - h, h - upper});
-  }
-
-
-
-  double EnthalpyLaw::temperature(const double h) const
-  {
-    const unsigned int s = state_of_enthalpy(h);
-    if (is_plateau(s))
-      return temperatures[s / 2];
-    return (h - offsets[s / 2]) / capacities[s / 2];
   }
 
 
@@ -277,15 +253,6 @@ namespace ContactStefan
     if (!is_plateau(state))
       throw std::logic_error("plateau_temperature() called for a linear-branch state");
     return temperatures[state / 2];
-  }
-
-
-
-  LinearPiece EnthalpyLaw::piece(const unsigned int state) const
-  {
-    if (is_plateau(state))
-      return {true, temperatures[state / 2], 0., 0.};
-    return {false, 0., capacities[state / 2], offsets[state / 2]};
   }
 
 

@@ -553,13 +553,16 @@ namespace ContactStefan
     const char   *free = owned_free.data();
 
     // While the set changes, the solves need only a loose tolerance (they
-    // decide the next set, not the result): from the second iteration on, CG
+    // decide the next set, not the result): after the first iteration, CG
     // solves to 'CG tolerance while the enthalpy set changes' on the AMG
     // hierarchy it has, and the set it settles on is confirmed by a solve to
     // 'CG tolerance'. A set that recurs while the solves are loose switches
     // to tight solves (no cycling on inexact data).
-    const double               loose_tolerance = prm.solver.cg_enthalpy_set_tolerance;
-    bool                       loose           = false;
+    // The first solve is loose too where the warm start moved nodes to
+    // another piece: that guess of a front reaching new nodes is often wrong
+    // (the heat runs ahead while no node absorbs latent heat).
+    const double loose_tolerance = prm.solver.cg_enthalpy_set_tolerance;
+    bool loose = predicted_set_changed && loose_tolerance > 0 && !linear_solver.is_direct();
     std::vector<std::uint64_t> loose_sets;
     for (unsigned int it = 1; it <= prm.solver.max_active_set_iterations; ++it)
       {

@@ -1112,9 +1112,10 @@ namespace ContactStefan
                         "1e-4",
                         Patterns::Double(0),
                         "Relative residual reduction of CG in the enthalpy step's "
-                        "active-set iterations after the first, while the set of "
-                        "plateau nodes still changes: such a solve only decides the "
-                        "next set, so it runs on the AMG hierarchy at hand instead of "
+                        "active-set iterations while the set of plateau nodes still "
+                        "changes (after the first, or from the first where the warm "
+                        "start moved nodes to another piece): such a solve only decides "
+                        "the next set, so it runs on the AMG hierarchy at hand instead of "
                         "one recomputed for its matrix. The set it settles on is then "
                         "solved to 'CG tolerance' and checked again; a set that recurs "
                         "switches to tight solves. On the Stefan strip at nx = 800: 222 "

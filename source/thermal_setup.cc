@@ -459,15 +459,23 @@ namespace ContactStefan
       const double  ratio       = extrapolate ? tau / previous_time_step : 0.;
       const double *h = entries(enthalpy), *h_old = entries(old_enthalpy);
       double       *state = entries(phase_state), *theta = entries(predicted_temperature);
+      unsigned int local_changes = 0;
       for (unsigned int i = 0; i < n_owned; ++i)
         {
           const double predicted = h[i] + ratio * (h[i] - h_old[i]);
           theta[i]               = owned_node_law(i).temperature(predicted);
           if (extrapolate)
-            state[i] = owned_node_law(i).state_of_enthalpy(predicted);
+            {
+              const double s = owned_node_law(i).state_of_enthalpy(predicted);
+              local_changes += (owned_free[i] && s != state[i]);
+              state[i] = s;
+            }
         }
       if (extrapolate)
         phase_state_ghosted = phase_state;
+      // A front predicted to reach new nodes: the first solve of the step only
+      // tests that guess (active_set_iteration()).
+      predicted_set_changed = Utilities::MPI::sum(local_changes, mpi_communicator) > 0;
     }
     first_step         = false;
     previous_time_step = tau;

@@ -84,7 +84,19 @@ namespace ContactStefan
 
     // The piece of the graph that contains enthalpy h. Plateaus are closed
     // intervals, branches the open ones between them.
-    unsigned int state_of_enthalpy(const double h) const;
+    // (Inline, like temperature() and piece(): the per-node loops of the
+    // enthalpy step call them for every node in every iteration.)
+    unsigned int state_of_enthalpy(const double h) const
+    {
+      for (unsigned int j = 0; j < n_transitions(); ++j)
+        {
+          if (h < h_minus[j])
+            return 2 * j;
+          if (h <= h_plus[j])
+            return 2 * j + 1;
+        }
+      return 2 * n_transitions();
+    }
     // The piece that contains temperature theta (a transition temperature itself
     // counts as the plateau).
     unsigned int state_of_temperature(const double theta) const;
@@ -94,13 +106,24 @@ namespace ContactStefan
     double distance_to_piece(const unsigned int state, const double h) const;
 
     // Theta = beta(h): single valued.
-    double temperature(const double h) const;
+    double temperature(const double h) const
+    {
+      const unsigned int s = state_of_enthalpy(h);
+      if (is_plateau(s))
+        return temperatures[s / 2];
+      return (h - offsets[s / 2]) / capacities[s / 2];
+    }
     // On a linear branch h = offset(state) + slope(state)*Theta; on a plateau slope
     // is zero and offset is meaningless (use plateau_temperature).
     double      slope(const unsigned int state) const;
     double      offset(const unsigned int state) const;
     double      plateau_temperature(const unsigned int state) const;
-    LinearPiece piece(const unsigned int state) const;
+    LinearPiece piece(const unsigned int state) const
+    {
+      if (is_plateau(state))
+        return {true, temperatures[state / 2], 0., 0.};
+      return {false, 0., capacities[state / 2], offsets[state / 2]};
+    }
 
     // Psi(h) = integral of beta from the bottom of the first plateau (from 0 for
     // a law without transitions) to h: convex, C^1, piecewise quadratic. The

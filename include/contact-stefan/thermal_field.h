@@ -353,6 +353,8 @@ namespace ContactStefan
     unsigned int n_setups = 0;
     double       time = 0, time_step = 0, previous_time_step = 0;
     bool         first_step = true; // no previous step to extrapolate from
+    // Whether the warm start of this step moved a node to another piece.
+    bool predicted_set_changed = false;
 
     // Output fields, alive until the next add_output().
     mutable Vector output_phase_index, output_liquid_fraction;
