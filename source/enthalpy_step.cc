@@ -562,7 +562,10 @@ namespace ContactStefan
     // another piece: that guess of a front reaching new nodes is often wrong
     // (the heat runs ahead while no node absorbs latent heat).
     const double loose_tolerance = prm.solver.cg_enthalpy_set_tolerance;
-    bool loose = predicted_set_changed && loose_tolerance > 0 && !linear_solver.is_direct();
+    // (Decided from the system's size, not from the solver's last set-up:
+    // a run resumed from a checkpoint has none yet and must take the same path.)
+    const bool iterative = !linear_solver.direct_for(dof_handler.n_dofs());
+    bool       loose     = predicted_set_changed && loose_tolerance > 0 && iterative;
     std::vector<std::uint64_t> loose_sets;
     for (unsigned int it = 1; it <= prm.solver.max_active_set_iterations; ++it)
       {
@@ -670,7 +673,7 @@ namespace ContactStefan
             loose = false; // confirm the set with a tight solve
             continue;
           }
-        if (loose_tolerance > 0 && !linear_solver.is_direct())
+        if (loose_tolerance > 0 && iterative)
           {
             const std::uint64_t set = Fingerprint::vector(phase_state);
             loose = std::find(loose_sets.begin(), loose_sets.end(), set) == loose_sets.end();

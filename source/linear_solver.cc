@@ -226,6 +226,15 @@ namespace ContactStefan
 
 
 
+  bool LinearSolver::direct_for(const types::global_dof_index n_unknowns) const
+  {
+    return prm.linear_solver == LinearSolverType::direct ||
+           (prm.linear_solver == LinearSolverType::automatic &&
+            n_unknowns < prm.automatic_direct_limit);
+  }
+
+
+
   bool LinearSolver::borrow_preconditioner(const TrilinosWrappers::SparseMatrix &A,
                                            const std::uint64_t                   key)
   {
@@ -325,9 +334,7 @@ namespace ContactStefan
     borrowed   = false;
     values_key = key;
     check_finite_matrix(A);
-    use_direct =
-      prm.linear_solver == LinearSolverType::direct ||
-      (prm.linear_solver == LinearSolverType::automatic && A.m() < prm.automatic_direct_limit);
+    use_direct = direct_for(A.m());
     try
       {
         if (use_direct && direct_type() == "cholmod")

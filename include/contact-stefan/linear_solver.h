@@ -78,6 +78,10 @@ namespace ContactStefan
     // caller must update(). recall(key) of the hierarchy's own values ends
     // the borrowing.
     bool borrow_preconditioner(const TrilinosWrappers::SparseMatrix &A, const std::uint64_t key);
+    // Whether a system of n_unknowns is solved directly ('Solver/Linear
+    // solver'; automatic: below 'Automatic direct limit'). The choice
+    // initialize() makes, known before it (and after clear()).
+    bool direct_for(const types::global_dof_index n_unknowns) const;
     // Whether the last initialize()/update() chose the direct solver (the
     // choice of 'automatic' depends on the size of the system).
     bool is_direct() const
