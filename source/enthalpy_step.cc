@@ -566,9 +566,13 @@ namespace ContactStefan
     // a run resumed from a checkpoint has none yet and must take the same path.)
     const bool iterative = !linear_solver.direct_for(dof_handler.n_dofs());
     bool       loose     = predicted_set_changed && loose_tolerance > 0 && iterative;
+    // Later passes of a fixed-point coupling loop start from this pass's set.
+    predicted_set_changed = false;
     std::vector<std::uint64_t> loose_sets;
     for (unsigned int it = 1; it <= prm.solver.max_active_set_iterations; ++it)
       {
+        // The last allowed iteration is tight, so that it can end the step.
+        loose                = loose && it < prm.solver.max_active_set_iterations;
         report.plateau_nodes = solve_for_pieces(h_new, loose ? loose_tolerance : 0.);
         report.active_set_iterations = it;
 
