@@ -677,15 +677,14 @@ namespace ContactStefan
             loose = false; // confirm the set with a tight solve
             continue;
           }
-        if (loose_tolerance > 0 && iterative)
+        // The next solve is loose while the set is new. Once tight after the
+        // first iteration (a recurring set, or a settled set that its
+        // confirming solve moved), the iteration stays tight.
+        if (loose_tolerance > 0 && iterative && (was_loose || it == 1))
           {
             const std::uint64_t set = Fingerprint::vector(phase_state);
             loose = std::find(loose_sets.begin(), loose_sets.end(), set) == loose_sets.end();
             loose_sets.push_back(set);
-            // Once tight after the first iteration (a recurring set, or a
-            // settled set that its confirming solve moved), stay tight.
-            if (!was_loose && it > 1)
-              loose = false;
           }
       }
     return false;

@@ -466,8 +466,8 @@ namespace ContactStefan
           theta[i]               = owned_node_law(i).temperature(predicted);
           if (extrapolate)
             {
-              const double s = owned_node_law(i).state_of_enthalpy(predicted);
-              local_changes += (owned_free[i] && s != state[i]);
+              const unsigned int s = owned_node_law(i).state_of_enthalpy(predicted);
+              local_changes += (owned_free[i] && s != static_cast<unsigned int>(state[i]));
               state[i] = s;
             }
         }
