@@ -42,6 +42,11 @@ namespace ContactStefan
 {
   namespace fs = std::filesystem;
 
+  // The first line of a checkpoint's state.txt. Raised whenever what it
+  // serialises changes (2: the linear solver statistics of the contact
+  // reports), so that an older checkpoint is refused by name, not misread.
+  const std::string checkpoint_format = "contact-stefan checkpoint 2";
+
   void kill_if_asked(const char *variable, const unsigned int step)
   {
     const char *value = std::getenv(variable);
@@ -194,7 +199,7 @@ namespace ContactStefan
       {
         std::ofstream                 out(next + "/state.txt");
         boost::archive::text_oarchive archive(out);
-        const std::string             format  = "contact-stefan checkpoint 1";
+        const std::string             format  = checkpoint_format;
         const unsigned int            n_ranks = Utilities::MPI::n_mpi_processes(comm);
         std::vector<double> levels = thermal ? thermal->time_levels() : std::vector<double>();
         archive << format << fields_fingerprint() << n_ranks << time << time_step << step_number
@@ -267,7 +272,11 @@ namespace ContactStefan
           std::string                   format, fields;
           unsigned int                  n_ranks = 0;
           archive >> format;
-          if (format != "contact-stefan checkpoint 1")
+          if (format.rfind("contact-stefan checkpoint ", 0) == 0 && format != checkpoint_format)
+            throw std::runtime_error("written in the format '" + format +
+                                     "' of another version of contact-stefan, this one reads '" +
+                                     checkpoint_format + "'");
+          if (format != checkpoint_format)
             throw std::runtime_error("not a contact-stefan checkpoint");
           archive >> fields;
           if (fields != fields_fingerprint())

@@ -334,10 +334,11 @@ namespace ContactStefan
         // (same stiffness): LinearSolver::update keeps its aggregates.
         TimerOutput::Scope t(timer, "contact step: factorise");
         if (preconditioner_stiffness_version == stiffness_version)
-          linear_solver.update(system_matrix);
+          linear_solver.update(system_matrix, 0, set_changes_since_factorisation);
         else
           linear_solver.initialize(system_matrix);
         preconditioner_stiffness_version = stiffness_version;
+        set_changes_since_factorisation  = 0;
       }
     TimerOutput::Scope t(timer, "contact step: linear solve");
     linear_solver.solve(displacement,
@@ -653,6 +654,7 @@ namespace ContactStefan
                 report.reused     = true;
                 report.iterations = report.changes = report.c_reductions = report.factorisations =
                   0;
+                report.linear = linear_solver.take_statistics();
                 return report;
               }
           }
@@ -709,6 +711,10 @@ namespace ContactStefan
         const unsigned int changes = Utilities::MPI::sum(local_changes, mpi_communicator);
         report.active_nodes        = Utilities::MPI::sum(local_active, mpi_communicator);
         report.changes += changes;
+        set_changes_since_factorisation =
+          set_changes_since_factorisation > LinearSolver::unknown_changes - changes ?
+            LinearSolver::unknown_changes :
+            set_changes_since_factorisation + changes;
         const std::uint64_t set_hash = Utilities::MPI::sum(local_hash, mpi_communicator);
 
         if (prm.output.verbosity >= 1)
@@ -779,6 +785,7 @@ namespace ContactStefan
     solved_rhs       = system_rhs;
     solved_signature = Fingerprint::combine(constraints_hash(true), gaps_hash());
     have_solution    = true;
+    report.linear    = linear_solver.take_statistics();
     last_report      = report;
     return report;
   }
@@ -804,7 +811,8 @@ namespace ContactStefan
     functions.check_finite_values(mpi_communicator);
     Vector residual(owned, mpi_communicator);
     apply_stiffness(displacement_ghosted, residual, true);
-    complementarity_scale = 1;
+    complementarity_scale           = 1;
+    set_changes_since_factorisation = LinearSolver::unknown_changes;
     // Twice: the multipliers at a vertex with several contact conditions are
     // separated with the other active conditions, so the set found in the first
     // pass (from none) is the input of the second.

@@ -365,7 +365,10 @@ namespace ContactStefan
             break;
           execute_and_repair(false);
         }
-        initial_contact = set_initial_state();
+        // The statistics of the linear solves count every round's.
+        const LinearSolverStatistics linear = initial_contact.linear;
+        initial_contact                     = set_initial_state();
+        initial_contact.linear += linear;
         pcout << "Initial adaptation " << round + 1 << ": " << triangulation.n_global_active_cells()
               << " cells" << std::endl;
       }
@@ -495,7 +498,8 @@ namespace ContactStefan
     const Vector u_start(mechanical->get_displacement()), theta_start(thermal->get_temperature());
     Vector       u_last(u_start), theta_last(theta_start);
     unsigned int contact_iterations = 0, active_set_iterations = 0;
-    unsigned int contact_factorisations = 0, enthalpy_factorisations = 0;
+    unsigned int           contact_factorisations = 0, enthalpy_factorisations = 0;
+    LinearSolverStatistics contact_linear;
     for (unsigned int it = 1;; ++it)
       {
         exchange_temperature();
@@ -505,6 +509,7 @@ namespace ContactStefan
         contact_iterations += contact_report.iterations;
         active_set_iterations += thermal_report.active_set_iterations;
         contact_factorisations += contact_report.factorisations;
+        contact_linear += contact_report.linear;
         enthalpy_factorisations += thermal_report.factorisations;
         coupling_report.iterations = it;
         if (!fixed_point)
@@ -544,6 +549,7 @@ namespace ContactStefan
     // The step's work: all passes together.
     contact_report.iterations            = contact_iterations;
     contact_report.factorisations        = contact_factorisations;
+    contact_report.linear                = contact_linear;
     thermal_report.active_set_iterations = active_set_iterations;
     thermal_report.factorisations        = enthalpy_factorisations;
   }

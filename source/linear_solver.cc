@@ -183,7 +183,8 @@ namespace ContactStefan
                              const std::string                  &name,
                              const Parameters::Solver::AMGUpdate automatic_amg_update,
                              const double                        aggregation_threshold,
-                             const unsigned int                  smoother_sweeps)
+                             const unsigned int                  smoother_sweeps,
+                             const unsigned int                  reuse_limit)
     : prm(parameters)
     , verbosity(verbosity)
     , pcout(pcout)
@@ -193,6 +194,7 @@ namespace ContactStefan
                    parameters.amg_update)
     , aggregation_threshold(aggregation_threshold)
     , smoother_sweeps(smoother_sweeps)
+    , reuse_limit(reuse_limit)
   {}
 
 
@@ -330,9 +332,10 @@ namespace ContactStefan
 
   void LinearSolver::initialize(const TrilinosWrappers::SparseMatrix &A, const std::uint64_t key)
   {
-    matrix     = &A;
-    borrowed   = false;
-    values_key = key;
+    matrix                  = &A;
+    borrowed                = false;
+    values_key              = key;
+    rows_changed_since_made = 0;
     check_finite_matrix(A);
     use_direct = direct_for(A.m());
     try
@@ -385,6 +388,7 @@ namespace ContactStefan
   void LinearSolver::build_amg(TrilinosWrappers::PreconditionAMG    &preconditioner,
                                const TrilinosWrappers::SparseMatrix &A)
   {
+    ++statistics.amg_builds;
     TrilinosWrappers::PreconditionAMG::AdditionalData data;
     data.elliptic              = true;
     data.aggregation_threshold = aggregation_threshold;
@@ -407,13 +411,25 @@ namespace ContactStefan
 
 
 
-  void LinearSolver::update(const TrilinosWrappers::SparseMatrix &A, const std::uint64_t key)
+  void LinearSolver::update(const TrilinosWrappers::SparseMatrix &A,
+                            const std::uint64_t                   key,
+                            const unsigned int                    changed_rows)
   {
     borrowed   = false;
     values_key = key;
     const bool degraded =
       iterations_per_decade_after_build > 0 &&
       last_iterations_per_decade > prm.amg_rebuild_ratio * iterations_per_decade_after_build + 0.5;
+    // Rows changed since the hierarchy was made for its values: the extra CG
+    // iterations of keeping it grow with their number (a rank-m change of the
+    // matrix moves at most m eigenvalues of the preconditioned operator), so
+    // a limit that does not depend on the mesh keeps them bounded under
+    // refinement, where a fixed fraction of the contact nodes would not.
+    rows_changed_since_made =
+      changed_rows == unknown_changes || rows_changed_since_made > unknown_changes - changed_rows ?
+        unknown_changes :
+        rows_changed_since_made + changed_rows;
+    const bool over_reuse_limit = reuse_limit > 0 && rows_changed_since_made > reuse_limit;
     if (matrix == &A && use_direct && cholmod)
       {
         check_finite_matrix(A);
@@ -494,7 +510,7 @@ namespace ContactStefan
       }
     using AMGUpdate = Parameters::Solver::AMGUpdate;
     if (matrix == &A && !use_direct && amg_built && !degraded && amg_update == AMGUpdate::reuse &&
-        iterations_per_decade_after_build > 0)
+        iterations_per_decade_after_build > 0 && !over_reuse_limit)
       {
         // The hierarchy of an earlier active set preconditions the new matrix
         // (CG runs on the new one): a few rows differ.
@@ -506,15 +522,17 @@ namespace ContactStefan
     if (matrix == &A && !use_direct && amg_built && !degraded && amg_update == AMGUpdate::reuse)
       {
         // No solve has yet measured how fast CG runs with a hierarchy made for
-        // its matrix, so reuse could not be judged: recompute this once.
+        // its matrix, so reuse could not be judged, or more rows changed than
+        // the reuse limit: recompute it for these values on its aggregates.
         check_finite_matrix(A);
         amg_stale           = true;
         amg_for_this_matrix = true;
-        auto *ml            = dynamic_cast<ML_Epetra::MultiLevelPreconditioner *>(
-          const_cast<Epetra_Operator *>(&amg->trilinos_operator()));
-        if (ml != nullptr && ml->ReComputePreconditioner() == 0)
+        if (recompute_amg(*amg))
           {
-            amg_key = key; // now made for these values
+            amg_key                 = key; // now made for these values
+            rows_changed_since_made = 0;
+            if (verbosity >= 2)
+              pcout << "      AMG (" << name << "): recomputed on its aggregates" << std::endl;
             return;
           }
       }
@@ -533,9 +551,7 @@ namespace ContactStefan
             preconditioner = std::move(kept_amg.back().preconditioner);
             after_build    = kept_amg.back().iterations_per_decade_after_build;
             kept_amg.pop_back();
-            auto *ml = dynamic_cast<ML_Epetra::MultiLevelPreconditioner *>(
-              const_cast<Epetra_Operator *>(&preconditioner->trilinos_operator()));
-            recomputed = ml != nullptr && ml->ReComputePreconditioner() == 0;
+            recomputed = recompute_amg(*preconditioner);
           }
         else
           preconditioner = std::make_unique<TrilinosWrappers::PreconditionAMG>();
@@ -571,17 +587,36 @@ namespace ContactStefan
         check_finite_matrix(A);
         amg_stale           = true;
         amg_for_this_matrix = true;
-        // deal.II's PreconditionAMG::reinit() drops ML's return code: call ML
-        // ourselves and build afresh if the recomputation failed.
-        auto *ml = dynamic_cast<ML_Epetra::MultiLevelPreconditioner *>(
-          const_cast<Epetra_Operator *>(&amg->trilinos_operator()));
-        if (ml != nullptr && ml->ReComputePreconditioner() == 0)
+        // Built afresh if the recomputation failed.
+        if (recompute_amg(*amg))
           {
             amg_key = key; // now made for these values
             return;
           }
       }
     initialize(A, key);
+  }
+
+
+
+  bool LinearSolver::recompute_amg(TrilinosWrappers::PreconditionAMG &preconditioner)
+  {
+    // deal.II's PreconditionAMG::reinit() drops ML's return code: call ML
+    // directly.
+    auto *ml = dynamic_cast<ML_Epetra::MultiLevelPreconditioner *>(
+      const_cast<Epetra_Operator *>(&preconditioner.trilinos_operator()));
+    const bool recomputed = ml != nullptr && ml->ReComputePreconditioner() == 0;
+    statistics.amg_recomputations += recomputed;
+    return recomputed;
+  }
+
+
+
+  LinearSolverStatistics LinearSolver::take_statistics()
+  {
+    const LinearSolverStatistics taken = statistics;
+    statistics                         = LinearSolverStatistics();
+    return taken;
   }
 
 
@@ -671,6 +706,8 @@ namespace ContactStefan
         SolverControl    control(prm.cg_max_iterations, tolerance * b.l2_norm());
         SolverCG<Vector> cg(control);
         const Vector     x_start(x);
+        // This call's iterations, a failed attempt's included.
+        unsigned int iterations = 0;
         try
           {
             cg.solve(*matrix, x, b, *amg);
@@ -684,10 +721,15 @@ namespace ContactStefan
             if (verbosity >= 1)
               pcout << "      " << name << ": CG failed with the kept AMG hierarchy, "
                     << "building it afresh" << std::endl;
+            iterations += control.last_step();
             initialize(*matrix, values_key);
             x = x_start;
             cg.solve(*matrix, x, b, *amg);
           }
+        iterations += control.last_step();
+        ++statistics.cg_solves;
+        statistics.cg_iterations += iterations;
+        statistics.max_cg_iterations = std::max(statistics.max_cg_iterations, iterations);
         // CG iterations per decade of residual reduction: comparable between
         // warm-started solves to different tolerances.
         const double decades =

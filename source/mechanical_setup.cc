@@ -109,7 +109,8 @@ namespace ContactStefan
                     "elasticity",
                     Parameters::Solver::AMGUpdate::reuse,
                     prm.solver.elasticity_amg_threshold,
-                    prm.solver.elasticity_amg_sweeps)
+                    prm.solver.elasticity_amg_sweeps,
+                    prm.solver.elasticity_amg_reuse_limit)
     , coupled(prm.coupling_active())
     , thermal_stress(prm.thermal_stress_active())
     , time(prm.time.start_time)
@@ -464,6 +465,7 @@ namespace ContactStefan
 
     update_condition_gaps();
     functions.check_finite_values(mpi_communicator);
+    set_changes_since_factorisation = LinearSolver::unknown_changes;
     for (Vector *v : {&obstacle_active, &interface_active})
       *v = 0.;
     for (const auto &c : normal_conditions)

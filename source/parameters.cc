@@ -1070,6 +1070,18 @@ namespace ContactStefan
                         "ML's 'smoother: sweeps' for the elasticity system: the degree of "
                         "the Chebyshev smoother before and after each coarse correction "
                         "(deal.II's default).");
+      prm.declare_entry("Elasticity AMG reuse limit",
+                        "16",
+                        Patterns::Integer(0),
+                        "With 'AMG update' = reuse for the elasticity system (and automatic): "
+                        "the number of contact-set changes (conditions entering or leaving "
+                        "the active set) an AMG hierarchy is kept across before it is "
+                        "recomputed on its aggregates for the current set. A hierarchy kept "
+                        "across m changed rows costs CG a number of extra iterations that "
+                        "grows with m, not with the mesh: a limit independent of the mesh "
+                        "keeps CG iterations per solve bounded as it is refined, where the "
+                        "first set change after a cold start changes half the contact "
+                        "nodes (doc/performance.md). 0: no limit.");
       prm.declare_entry("Enthalpy AMG smoother sweeps",
                         "1",
                         Patterns::Integer(1, 10),
@@ -1221,6 +1233,7 @@ namespace ContactStefan
       elasticity_amg_threshold = get_finite(prm, "Solver/", "Elasticity AMG aggregation threshold");
       enthalpy_amg_threshold   = get_finite(prm, "Solver/", "Enthalpy AMG aggregation threshold");
       elasticity_amg_sweeps    = prm.get_integer("Elasticity AMG smoother sweeps");
+      elasticity_amg_reuse_limit = prm.get_integer("Elasticity AMG reuse limit");
       enthalpy_amg_sweeps      = prm.get_integer("Enthalpy AMG smoother sweeps");
       {
         const std::string update = prm.get("AMG update");

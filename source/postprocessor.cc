@@ -84,6 +84,7 @@ namespace ContactStefan
     if (mechanical)
       {
         accumulate_mechanical_results(time, initial_contact);
+        elasticity_linear += initial_contact.linear;
         total_contact_work = 0; // work is counted from the initial equilibrium on
       }
     write_statistics_row(
@@ -110,6 +111,7 @@ namespace ContactStefan
     if (mechanical)
       {
         contact_factorisations += contact_report.factorisations;
+        elasticity_linear += contact_report.linear;
         max_active_nodes = std::max(max_active_nodes, contact_report.active_nodes);
         reused_contact_steps += contact_report.reused;
         accumulate_mechanical_results(time, contact_report);
@@ -764,6 +766,20 @@ namespace ContactStefan
     add_result("min contact pressure at active nodes", last_contact_report.min_active_pressure);
     add_result("contact matrix factorisations", contact_factorisations);
     add_result("contact solves skipped (unchanged data)", reused_contact_steps);
+    // The iterative path's work. It depends on the preconditioner's settings
+    // and on the partition (ML aggregates per rank), not only on the problem:
+    // the regression tests bound these lines ('... solver: ') instead of
+    // comparing them with a reference.
+    if (elasticity_linear.cg_solves > 0)
+      {
+        add_result("elasticity solver: CG solves", elasticity_linear.cg_solves);
+        add_result("elasticity solver: max CG iterations per solve",
+                   elasticity_linear.max_cg_iterations);
+        add_result("elasticity solver: mean CG iterations per solve",
+                   double(elasticity_linear.cg_iterations) / elasticity_linear.cg_solves);
+        add_result("elasticity solver: AMG builds", elasticity_linear.amg_builds);
+        add_result("elasticity solver: AMG recomputations", elasticity_linear.amg_recomputations);
+      }
     add_result("elastic energy", elastic_energy);
     add_result("total contact work", total_contact_work);
     for (const auto &[group, t] : opening_time)

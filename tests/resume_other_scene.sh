@@ -1,16 +1,18 @@
 #!/bin/bash
-# resume_other_scene.sh BINARY SCENE_A SCENE_B EXPECTED [--fresh-run-between]
-#                       [SET:... ...]
+# resume_other_scene.sh BINARY SCENE_A SCENE_B EXPECTED
+#                       [--fresh-run-between | --older-format] [SET:... ...]
 # SCENE_A runs with checkpoints; SCENE_B (with the SET: entries applied) resumes
 # from its checkpoint and must be refused in one line containing EXPECTED,
 # naming Checkpoint/Resume, before any work: another scene (or the same one
 # with other parameters) would misread the attached vectors or continue
 # another history. With --fresh-run-between, SCENE_B first runs from the start
-# in the same directory (which must remove SCENE_A's checkpoints).
+# in the same directory (which must remove SCENE_A's checkpoints). With
+# --older-format, the checkpoint claims the format of an earlier version.
 binary=$1 scene_a=$2 scene_b=$3 expected=$4
 shift 4
-between=0
+between=0 older=0
 if [ "${1:-}" = --fresh-run-between ]; then between=1; shift; fi
+if [ "${1:-}" = --older-format ]; then older=1; shift; fi
 dir=$(mktemp -d) && cd "$dir" || exit 1
 trap 'rm -rf "$dir"' EXIT
 cp "$scene_a" a.prm
@@ -18,6 +20,12 @@ printf 'subsection Checkpoint\n set Interval (steps) = 5\nend\nsubsection Output
   "$dir/out" >> a.prm
 "$binary" a.prm > /dev/null 2>&1 || { echo "the first scene failed"; exit 1; }
 [ -f "$dir/out/checkpoint/state.txt" ] || { echo "the first scene wrote no checkpoint"; exit 1; }
+if [ $older = 1 ]; then
+  grep -q 'contact-stefan checkpoint [0-9]' "$dir/out/checkpoint/state.txt" ||
+    { echo "no format line in the checkpoint"; exit 1; }
+  sed -i 's/contact-stefan checkpoint [0-9]*/contact-stefan checkpoint 1/' \
+    "$dir/out/checkpoint/state.txt"
+fi
 cp "$scene_b" b.prm
 extra=$("$(dirname "$0")/apply_settings.sh" b.prm "$@") || exit 1
 [ -z "$extra" ] || { echo "unexpected arguments: $extra"; exit 1; }

@@ -11,6 +11,9 @@
 # statistics table without its wall_time column), compares that with REFERENCE
 # by numdiff, and checks each REQUIREMENT of the form 'RESULT name<value' or
 # 'RESULT name>value' against the exact-solution numbers of this run.
+# The linear solvers' work ('RESULT ... solver: ...', CG iterations and AMG
+# set-ups) depends on the preconditioner's settings and the partition, which
+# variants sharing a reference differ in: it is checked by requirements only.
 # With UPDATE_REFERENCE=1 the reference is rewritten instead (after the
 # requirements pass): references are produced by the code, never by hand.
 set -u
@@ -59,13 +62,14 @@ fi
          for (i = 1; i <= NF; ++i) if (i in keep) line = line (line == "" ? "" : " ") $i
          print line }' \
       "$directory/$statistics"
-} > "$out"
+} > "$out.all"
+grep -v '^RESULT [a-z]* solver: ' "$out.all" > "$out"
 
 failed=0
 for requirement in "${requirements[@]}"; do
   if [[ "$requirement" =~ ^RESULT\ (.*)([\<\>])(.*)$ ]]; then
     key=${BASH_REMATCH[1]} op=${BASH_REMATCH[2]} bound=${BASH_REMATCH[3]}
-    value=$(sed -n "s/^RESULT $key = //p" "$out")
+    value=$(sed -n "s/^RESULT $key = //p" "$out.all")
     if [ -z "$value" ]; then
       echo "requirement '$requirement': no RESULT line '$key'"; failed=1; continue
     fi

@@ -16,6 +16,7 @@
 #include <contact-stefan/common.h>
 #include <contact-stefan/parameters.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -26,19 +27,54 @@
 
 namespace ContactStefan
 {
+  // What a linear solver did on its iterative path (CG + AMG) over some span
+  // of work: reported per contact step and summed over the run.
+  struct LinearSolverStatistics
+  {
+    unsigned int cg_solves          = 0;
+    unsigned int cg_iterations      = 0; // summed over the solves
+    unsigned int max_cg_iterations  = 0; // of one solve
+    unsigned int amg_builds         = 0; // hierarchies built afresh
+    unsigned int amg_recomputations = 0; // recomputed on kept aggregates
+
+    LinearSolverStatistics &operator+=(const LinearSolverStatistics &other)
+    {
+      cg_solves += other.cg_solves;
+      cg_iterations += other.cg_iterations;
+      max_cg_iterations = std::max(max_cg_iterations, other.max_cg_iterations);
+      amg_builds += other.amg_builds;
+      amg_recomputations += other.amg_recomputations;
+      return *this;
+    }
+
+    // For checkpoints (boost serialization).
+    template <class Archive>
+    void serialize(Archive &ar, const unsigned int)
+    {
+      ar &cg_solves &cg_iterations &max_cg_iterations &amg_builds &amg_recomputations;
+    }
+  };
+
   class LinearSolver
   {
   public:
     // name: which system, for messages ("enthalpy", "elasticity");
     // automatic_amg_update: what 'Solver/AMG update = automatic' means for it;
-    // aggregation_threshold, smoother_sweeps: its ML settings.
+    // aggregation_threshold, smoother_sweeps: its ML settings;
+    // reuse_limit: with 'AMG update = reuse', the changed rows (as counted by
+    // the callers of update()) a hierarchy is kept across before it is
+    // recomputed for the current values (0: no limit).
     LinearSolver(const Parameters::Solver           &parameters,
                  const unsigned int                  verbosity,
                  const ConditionalOStream           &pcout,
                  const std::string                  &name,
                  const Parameters::Solver::AMGUpdate automatic_amg_update,
                  const double                        aggregation_threshold,
-                 const unsigned int                  smoother_sweeps);
+                 const unsigned int                  smoother_sweeps,
+                 const unsigned int                  reuse_limit = 0);
+
+    // update()'s changed_rows when the caller cannot count them.
+    static constexpr unsigned int unknown_changes = static_cast<unsigned int>(-1);
 
     // The near-null space the AMG hierarchy is built for: vectors over the
     // locally owned rows in their order (elasticity: the rigid-body modes; ML's
@@ -59,7 +95,15 @@ namespace ContactStefan
     // build (the finest level's largest eigenvalue), which a moving front can outdate.
     // key (optional, nonzero) names the matrix values for recall(): the
     // caller's fingerprint of everything they depend on.
-    void update(const TrilinosWrappers::SparseMatrix &A, const std::uint64_t key = 0);
+    // changed_rows: how many rows (active-set conditions) changed since the
+    // last initialize() or update(); with 'AMG update = reuse' and a reuse
+    // limit, a hierarchy kept across more changed rows than the limit since it
+    // was made for its values is recomputed for the new ones (unknown_changes
+    // counts as over the limit). A kept hierarchy costs CG extra iterations
+    // that grow with the number of changed rows, not with the mesh.
+    void update(const TrilinosWrappers::SparseMatrix &A,
+                const std::uint64_t                   key          = 0,
+                const unsigned int                    changed_rows = unknown_changes);
     // The matrix object of the last initialize() now holds the values that
     // were named key in an earlier update() or initialize(): if their
     // factorisation (CHOLMOD or Amesos) or AMG hierarchy was kept ('Solver/Kept
@@ -95,6 +139,8 @@ namespace ContactStefan
     // Forget the matrix (its owner is about to reinit or destroy it): a solve()
     // before the next initialize() is then an error, not a use of freed memory.
     void clear();
+    // What the iterative path did since the last call (and start counting anew).
+    LinearSolverStatistics take_statistics();
 
   private:
     void check_finite_matrix(const TrilinosWrappers::SparseMatrix &A) const;
@@ -109,6 +155,14 @@ namespace ContactStefan
     const double                          aggregation_threshold;
     // ML's 'smoother: sweeps' for this system.
     const unsigned int smoother_sweeps;
+    // The reuse limit (0: none) and the rows changed since the current
+    // hierarchy was built or recomputed for its values (saturating).
+    const unsigned int reuse_limit;
+    unsigned int       rows_changed_since_made = 0;
+    // Counted since the last take_statistics().
+    LinearSolverStatistics statistics;
+    // ML's reuse on the current hierarchy for A's new values; true if it worked.
+    bool recompute_amg(TrilinosWrappers::PreconditionAMG &preconditioner);
     const TrilinosWrappers::SparseMatrix *matrix     = nullptr;
     bool                                  use_direct = true; // of the last initialize()
     // The direct path: Amesos on the matrix object; its symbolic analysis

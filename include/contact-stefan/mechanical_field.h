@@ -76,13 +76,15 @@ namespace ContactStefan
     double       min_active_pressure = 0; // over the nodes in contact (0 if none)
     // Total compressive normal force per obstacle boundary / interface.
     std::map<std::string, double> forces;
+    // What the elasticity system's CG + AMG did (nothing on the direct path).
+    LinearSolverStatistics linear;
 
     // For checkpoints (boost serialization).
     template <class Archive>
     void serialize(Archive &ar, const unsigned int)
     {
       ar &iterations &active_nodes &changes &c_reductions &factorisations &reused &max_pressure
-        &min_active_pressure &forces;
+        &min_active_pressure &forces &linear;
     }
   };
 
@@ -324,6 +326,9 @@ namespace ContactStefan
     unsigned int stiffness_version = 0;
     // The stiffness the linear solver's preconditioner was built for.
     unsigned int      preconditioner_stiffness_version = static_cast<unsigned int>(-1);
+    // Contact-set changes since the linear solver last saw the matrix (its
+    // AMG reuse limit counts them); unknown after a set was made afresh.
+    unsigned int set_changes_since_factorisation = LinearSolver::unknown_changes;
     bool              have_matrix = false, have_factorisation = false, have_solution = false;
     std::uint64_t     matrix_signature = 0, factorisation_signature = 0;
     std::uint64_t     solved_signature = 0;

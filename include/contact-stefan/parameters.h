@@ -288,6 +288,9 @@ namespace ContactStefan
       double elasticity_amg_threshold, enthalpy_amg_threshold;
       // ML's smoother sweeps (Chebyshev degree) for each system's AMG.
       unsigned int elasticity_amg_sweeps, enthalpy_amg_sweeps;
+      // Contact-set changes an elasticity AMG hierarchy is kept across before
+      // it is recomputed on its aggregates (0: no limit).
+      unsigned int elasticity_amg_reuse_limit;
       // What update() does to an AMG hierarchy when the matrix values change
       // in place: keep it as it is, recompute it on its aggregates, or build
       // it afresh; automatic: each system's measured choice (LinearSolver).

@@ -84,7 +84,8 @@ namespace ContactStefan
                       &total_contact_work &elastic_energy &max_relative_stress_error
                         &max_pressure_error &max_exact_pressure &loaded_force_history &opening_time
                           &largest_force &n_adaptations &max_refinement_change
-                            &max_coarsening_change &pending_change &dof_time_integral &start_time;
+                            &max_coarsening_change &pending_change &dof_time_integral &start_time
+                              &elasticity_linear;
     }
     // The RESULT lines.
     void print_results(const unsigned int n_steps, const double time) const;
@@ -163,6 +164,8 @@ namespace ContactStefan
     // Coupling and energy bookkeeping.
     unsigned int total_coupling_iterations = 0, max_coupling_iterations = 0;
     unsigned int reassembled_cells = 0, contact_factorisations = 0, enthalpy_factorisations = 0;
+    // The elasticity system's CG + AMG work over the run.
+    LinearSolverStatistics elasticity_linear;
     unsigned int reused_contact_steps = 0, max_active_nodes = 0;
     double       total_thermoelastic_heat = 0, total_contact_work = 0, elastic_energy = 0;
     // Exact stress: the largest L2 error over the steps relative to
