@@ -22,8 +22,15 @@ refactorisations and recomputations after an active-set change, plus an
 average solve; for the contact block the "step" is the whole run), and the
 cost exponent (time per step against DoFs).
 
+Runs whose elasticity system is solved by CG + AMG also get a table of CG
+iterations per solve (largest and mean, with the growth per doubling of N) and
+AMG set-ups, from the run's 'RESULT elasticity solver: ...' lines; --set
+'Solver/Linear solver=cg-amg' forces that path at every N.
+
     benchmarks/performance.py --problem stefan --levels 4
     benchmarks/performance.py --problem contact --levels 4 --markdown --plot doc/figures/perf
+    benchmarks/performance.py --problem contact --levels 6 --no-fenicsx \
+        --set "Solver/Linear solver=cg-amg"
 
 FEniCSx runs when /usr/bin/python3 can import dolfinx (Debian:
 python3-dolfinx-real); --no-fenicsx skips it. Time benchmarks on a quiet
@@ -74,9 +81,23 @@ def run(cmd, what):
     return parse(out.stdout)
 
 
-def run_ours(binary, problem, level, np_, workdir):
+def append_setting(text, setting):
+    """Append 'Sub/section/Entry=value' as a subsection block (ParameterHandler
+    lets a later block set an entry again)."""
+    path, sep, value = setting.partition("=")
+    parts = [p.strip() for p in path.split("/")]
+    if not sep or len(parts) < 2 or not all(parts):
+        sys.exit(f"performance.py: --set '{setting}' is not 'Subsection/Entry=value'")
+    block = "".join(f"subsection {p}\n" for p in parts[:-1])
+    block += f"  set {parts[-1]} = {value.strip()}\n" + "end\n" * (len(parts) - 1)
+    return text + "\n" + block
+
+
+def run_ours(binary, problem, level, np_, workdir, settings=()):
     with open(SCENES[problem]) as f:
         text = f.read()
+    for setting in settings:
+        text = append_setting(text, setting)
     if problem == "contact":
         n = 32 * 2**level
         text = set_entry(text, "Subdivisions", f"{n}, {n}")
@@ -224,12 +245,73 @@ def report(problem, ours, theirs, markdown):
         row.append(f"{(r['wall time'] / steps) / one_solve:.2f}" if one_solve > 0 else "-")
         rows.append(row)
     table(headers, rows, markdown)
+    cg_table(problem, ours, markdown)
     if len(ours) > 2:
         per_step = [r["wall time"] / max(r.get("time steps", 1), 1) for r in ours]
         exponent = least_squares_rate([dofs(r) for r in ours], per_step)
         print(f"cost exponent (time per step ~ DoFs^p, least squares over the ladder): "
               f"p = {exponent:.2f}")
         print()
+
+
+def cg_runs(ours):
+    return [r for r in ours if r.get("elasticity solver: CG solves", 0) > 0]
+
+
+def cg_table(problem, ours, markdown, label=""):
+    """CG iterations per elasticity solve, where CG + AMG solved it."""
+    cg = cg_runs(ours)
+    if not cg:
+        return
+    size_name = "N" if problem == "contact" else "nx"
+    print(f"### {problem}: CG iterations per elasticity solve (contact-stefan{label})")
+    print()
+    headers = [size_name, "CG solves", "largest", "growth of the largest", "mean",
+               "growth of the mean", "AMG builds", "AMG recomputations"]
+    key = "elasticity solver: "
+    rows = []
+    for i, r in enumerate(cg):
+        largest = r[key + "max CG iterations per solve"]
+        mean = r[key + "mean CG iterations per solve"]
+        growth = ["-", "-"]
+        if i > 0 and cg[i - 1]["size"] * 2 == r["size"]:
+            before = cg[i - 1]
+            growth = [f"{100 * (largest / before[key + 'max CG iterations per solve'] - 1):+.0f} %",
+                      f"{100 * (mean / before[key + 'mean CG iterations per solve'] - 1):+.0f} %"]
+        rows.append([f"{r['size']}", f"{r[key + 'CG solves']:.0f}", f"{largest:.0f}", growth[0],
+                     f"{mean:.1f}", growth[1], f"{r[key + 'AMG builds']:.0f}",
+                     f"{r[key + 'AMG recomputations']:.0f}"])
+    table(headers, rows, markdown)
+
+
+def plot_cg(series, path):
+    """Largest and mean CG iterations per elasticity solve against N, one
+    pair of curves per (label, runs) in series."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(6, 4))
+    key = "elasticity solver: "
+    for i, (label, runs) in enumerate(series):
+        cg = cg_runs(runs)
+        if not cg:
+            continue
+        n = [r["size"] for r in cg]
+        line, = ax.semilogx(n, [r[key + "max CG iterations per solve"] for r in cg], "o-",
+                            base=2, label=f"largest, {label}")
+        ax.semilogx(n, [r[key + "mean CG iterations per solve"] for r in cg], "s--", base=2,
+                    color=line.get_color(), label=f"mean, {label}")
+    ax.set_xlabel("N (N x N cells)")
+    ax.set_ylabel("CG iterations per solve")
+    # Room above the curves for the legend.
+    top = max((r[key + "max CG iterations per solve"] for _, runs in series
+               for r in cg_runs(runs)), default=1)
+    ax.set_ylim(0, 1.6 * top)
+    ax.set_title("contact block: CG + AMG iterations per elasticity solve")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
 
 
 def plot(problem, ours, theirs, path):
@@ -270,7 +352,14 @@ def main():
     parser.add_argument("--no-fenicsx", action="store_true")
     parser.add_argument("--fenicsx-levels", type=int, help="FEniCSx levels (default: --levels)")
     parser.add_argument("--markdown", action="store_true")
-    parser.add_argument("--plot", help="write PLOT-<problem>.png")
+    parser.add_argument("--plot", help="write PLOT-<problem>.png (and PLOT-<problem>-cg.png "
+                                       "where CG solved the elasticity system)")
+    parser.add_argument("--plot-cg", help="write only the CG-iterations plot, to this PNG")
+    parser.add_argument("--set", action="append", default=[], metavar="SUB/ENTRY=VALUE",
+                        help="set a parameter of contact-stefan's scenes (repeatable)")
+    parser.add_argument("--compare-set", action="append", default=[], metavar="SUB/ENTRY=VALUE",
+                        help="run contact-stefan's ladder again with these settings added "
+                             "and compare its CG iterations per elasticity solve")
     args = parser.parse_args()
     if not os.path.exists(args.binary):
         sys.exit(f"performance.py: no binary at {args.binary}; build first (see README)")
@@ -283,7 +372,7 @@ def main():
         for problem in problems:
             ours, theirs = [], []
             for level in range(args.levels):
-                r = run_ours(args.binary, problem, level, args.np, workdir)
+                r = run_ours(args.binary, problem, level, args.np, workdir, args.set)
                 if r is None:
                     sys.exit(1)
                 ours.append(r)
@@ -299,8 +388,35 @@ def main():
                     took = "failed" if t.get("failed") else f"{t['wall time']:.2f} s"
                     print(f"{problem} level {level}: FEniCSx {took}", file=sys.stderr)
             report(problem, ours, theirs, args.markdown)
+            compared = []
+            if args.compare_set:
+                for level in range(args.levels):
+                    r = run_ours(args.binary, problem, level, args.np, workdir,
+                                 args.set + args.compare_set)
+                    if r is None:
+                        sys.exit(1)
+                    compared.append(r)
+                    print(f"{problem} level {level}: contact-stefan with "
+                          f"{', '.join(args.compare_set)} {r['wall time']:.2f} s", file=sys.stderr)
+                label = ", ".join(args.compare_set)
+                print(f"## {problem}: contact-stefan with {label}")
+                print()
+                size_name = "N" if problem == "contact" else "nx"
+                table([size_name, "wall [s]", "the first run's wall [s]", "ratio"],
+                      [[f"{r['size']}", f"{r['wall time']:.2f}", f"{o['wall time']:.2f}",
+                        f"{r['wall time'] / o['wall time']:.2f}"]
+                       for r, o in zip(compared, ours)], args.markdown)
+                cg_table(problem, compared, args.markdown, f", with {label}")
             if args.plot:
                 plot(problem, ours, theirs, f"{args.plot}-{problem}.png")
+            if (args.plot or args.plot_cg) and (cg_runs(ours) or cg_runs(compared)):
+                def short(settings):
+                    # 'Solver/Linear solver=cg-amg' -> 'Linear solver=cg-amg'
+                    return ", ".join(x.split("/")[-1] for x in settings) or "defaults"
+                series = [(short(args.set), ours)]
+                if compared:
+                    series.append((short(args.set + args.compare_set), compared))
+                plot_cg(series, args.plot_cg or f"{args.plot}-{problem}-cg.png")
 
 
 if __name__ == "__main__":

@@ -711,6 +711,9 @@ namespace ContactStefan
         const unsigned int changes = Utilities::MPI::sum(local_changes, mpi_communicator);
         report.active_nodes        = Utilities::MPI::sum(local_active, mpi_communicator);
         report.changes += changes;
+        // An upper bound of the rows changed since the last factorisation: a
+        // set that returns to an earlier one counts twice, and a condition
+        // without a free DoF changes no row. Both only recompute earlier.
         set_changes_since_factorisation =
           set_changes_since_factorisation > LinearSolver::unknown_changes - changes ?
             LinearSolver::unknown_changes :

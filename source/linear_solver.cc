@@ -257,9 +257,10 @@ namespace ContactStefan
     if (borrowed && amg_key == key && key != 0)
       {
         // The borrowed hierarchy is the one made for these values.
-        borrowed            = false;
-        amg_for_this_matrix = true;
-        values_key          = key;
+        borrowed                = false;
+        amg_for_this_matrix     = true;
+        values_key              = key;
+        rows_changed_since_made = 0;
         return true;
       }
     if (use_direct && direct && key != 0)
@@ -299,8 +300,9 @@ namespace ContactStefan
               amg                               = std::move(recalled.preconditioner);
               iterations_per_decade_after_build = recalled.iterations_per_decade_after_build;
               // Possibly a recomputed hierarchy: a CG failure earns a fresh build.
-              amg_stale           = true;
-              amg_for_this_matrix = true;
+              amg_stale               = true;
+              amg_for_this_matrix     = true;
+              rows_changed_since_made = 0;
               return true;
             }
         return false;

@@ -21,9 +21,11 @@ printf 'subsection Checkpoint\n set Interval (steps) = 5\nend\nsubsection Output
 "$binary" a.prm > /dev/null 2>&1 || { echo "the first scene failed"; exit 1; }
 [ -f "$dir/out/checkpoint/state.txt" ] || { echo "the first scene wrote no checkpoint"; exit 1; }
 if [ $older = 1 ]; then
-  grep -q 'contact-stefan checkpoint [0-9]' "$dir/out/checkpoint/state.txt" ||
-    { echo "no format line in the checkpoint"; exit 1; }
-  sed -i 's/contact-stefan checkpoint [0-9]*/contact-stefan checkpoint 1/' \
+  # Boost's text archive writes a string as '<length> <characters>': replace
+  # the whole '<length> contact-stefan checkpoint <n>' so the length stays right.
+  grep -q '[0-9]* contact-stefan checkpoint [0-9]*' "$dir/out/checkpoint/state.txt" ||
+    { echo "no format string in the checkpoint"; exit 1; }
+  sed -i 's/[0-9]* contact-stefan checkpoint [0-9]*/27 contact-stefan checkpoint 1/' \
     "$dir/out/checkpoint/state.txt"
 fi
 cp "$scene_b" b.prm
