@@ -3,6 +3,7 @@
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/base/utilities.h>
 
+#include <deal.II/dofs/dof_renumbering.h>
 #include <deal.II/dofs/dof_tools.h>
 
 #include <deal.II/fe/fe_values.h>
@@ -61,6 +62,12 @@ namespace ContactStefan
     TimerOutput::Scope t(timer, "setup: thermal field");
     ++n_setups;
     dof_handler.distribute_dofs(fe);
+    // A DoF order that depends on the mesh alone (depth-first through the
+    // cell hierarchy), not on the cell indices, which record the history of
+    // refinement and coarsening that a mesh reloaded from a checkpoint does not
+    // have: the truncated Newton method's Gauss-Seidel sweeps follow this
+    // order, so a resumed run repeats their path exactly.
+    DoFRenumbering::hierarchical(dof_handler);
     owned = dof_handler.locally_owned_dofs();
     DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
 
