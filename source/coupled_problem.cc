@@ -500,6 +500,7 @@ namespace ContactStefan
     unsigned int contact_iterations = 0, active_set_iterations = 0;
     unsigned int           contact_factorisations = 0, enthalpy_factorisations = 0;
     LinearSolverStatistics contact_linear;
+    bool                   truncated_newton = false;
     for (unsigned int it = 1;; ++it)
       {
         exchange_temperature();
@@ -511,6 +512,7 @@ namespace ContactStefan
         contact_factorisations += contact_report.factorisations;
         contact_linear += contact_report.linear;
         enthalpy_factorisations += thermal_report.factorisations;
+        truncated_newton = truncated_newton || thermal_report.truncated_newton;
         coupling_report.iterations = it;
         if (!fixed_point)
           break;
@@ -552,6 +554,7 @@ namespace ContactStefan
     contact_report.linear                = contact_linear;
     thermal_report.active_set_iterations = active_set_iterations;
     thermal_report.factorisations        = enthalpy_factorisations;
+    thermal_report.truncated_newton      = truncated_newton;
   }
 
 

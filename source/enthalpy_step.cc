@@ -533,7 +533,8 @@ namespace ContactStefan
   // accepted this is the plain active-set method; the line search only acts
   // when it would overshoot.
   template <int dim>
-  bool ThermalField<dim>::active_set_iteration(EnthalpyStepReport &report)
+  bool ThermalField<dim>::active_set_iteration(EnthalpyStepReport &report,
+                                               const unsigned int  max_iterations)
   {
     Vector h_new(owned, mpi_communicator);
     Vector z(owned, mpi_communicator);
@@ -569,10 +570,10 @@ namespace ContactStefan
     // Later passes of a fixed-point coupling loop start from this pass's set.
     predicted_set_changed = false;
     std::vector<std::uint64_t> loose_sets;
-    for (unsigned int it = 1; it <= prm.solver.max_active_set_iterations; ++it)
+    for (unsigned int it = 1; it <= max_iterations; ++it)
       {
         // The last allowed iteration is tight, so that it can end the step.
-        loose                = loose && it < prm.solver.max_active_set_iterations;
+        loose                = loose && it < max_iterations;
         report.plateau_nodes = solve_for_pieces(h_new, loose ? loose_tolerance : 0.);
         report.active_set_iterations = it;
 
@@ -702,24 +703,58 @@ namespace ContactStefan
     using EnthalpySolver = Parameters::Solver::EnthalpySolver;
     const auto solver    = prm.solver.enthalpy_solver;
     bool       converged = false;
-    if (solver == EnthalpySolver::active_set)
+    // The large-step mode of the active-set method: where the front crosses
+    // many cells in one step the active-set iteration advances it about a
+    // column of nodes per solve; the truncated Newton method does not
+    // (doc/algorithms.md). A step that needs more than 'Truncated Newton
+    // hand-over' solves is handed over, and so are the steps after it, until
+    // one is solved in at most 'Active set hand-back' solves.
+    const unsigned int hand_over = prm.solver.truncated_newton_hand_over;
+    const unsigned int limit =
+      hand_over > 0 ? std::min(hand_over, prm.solver.max_active_set_iterations) :
+                      prm.solver.max_active_set_iterations;
+    if (solver == EnthalpySolver::active_set && large_step_mode && hand_over > 0)
       {
-        converged = active_set_iteration(report);
+        converged               = truncated_newton_iteration(report);
+        report.truncated_newton = true;
+        if (converged && report.active_set_iterations <= prm.solver.active_set_hand_back)
+          {
+            large_step_mode = false;
+            if (prm.output.verbosity >= 1)
+              pcout << "   Enthalpy step: " << report.active_set_iterations
+                    << " truncated Newton solve(s) at t = " << time
+                    << "; the next step returns to the active-set method" << std::endl;
+          }
+      }
+    else if (solver == EnthalpySolver::active_set)
+      {
+        converged = active_set_iteration(report, limit);
         if (!converged)
           {
-            // Where the front crosses many cells in one step the active-set
-            // iteration advances it about a column of nodes per solve; the
-            // truncated Newton method does not (doc/algorithms.md).
-            pcout << "   Enthalpy step: no convergence in 'Solver/Max active-set iterations' = "
-                  << prm.solver.max_active_set_iterations << " at t = " << time
-                  << "; switching to the truncated Newton method" << std::endl;
+            if (limit < prm.solver.max_active_set_iterations)
+              {
+                if (prm.output.verbosity >= 1)
+                  pcout << "   Enthalpy step: " << limit << " active-set solves at t = " << time
+                        << " ('Solver/Truncated Newton hand-over'); this step and the next "
+                           "ones go to the truncated Newton method"
+                        << std::endl;
+              }
+            else
+              pcout << "   Enthalpy step: no convergence in 'Solver/Max active-set iterations' = "
+                    << prm.solver.max_active_set_iterations << " at t = " << time
+                    << "; switching to the truncated Newton method" << std::endl;
             const unsigned int spent = report.active_set_iterations;
             converged                = truncated_newton_iteration(report);
             report.active_set_iterations += spent;
+            report.truncated_newton = true;
+            large_step_mode         = hand_over > 0;
           }
       }
     else if (solver == EnthalpySolver::truncated_newton)
-      converged = truncated_newton_iteration(report);
+      {
+        converged               = truncated_newton_iteration(report);
+        report.truncated_newton = true;
+      }
     if (solver == EnthalpySolver::relaxation)
       report.relaxation_iterations = relaxation_fallback();
     else if (!converged)

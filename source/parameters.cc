@@ -1160,6 +1160,29 @@ namespace ContactStefan
                         "doc/algorithms.md); falls back to the relaxation iteration. "
                         "'relaxation': the nonlinear relaxation iteration alone (slow; a "
                         "baseline for comparisons).");
+      prm.declare_entry("Truncated Newton hand-over",
+                        "8",
+                        Patterns::Integer(0, 10000),
+                        "With 'Enthalpy solver = active-set': a step whose active-set "
+                        "iteration has not converged in this many linear solves is solved by "
+                        "the truncated Newton method (from the step's start), and so are the "
+                        "following steps until one of them needs at most 'Active set "
+                        "hand-back' solves. Where the front crosses several cells per step "
+                        "(tau >> h^2/kappa, or the fine cells of an adaptive mesh) the "
+                        "active-set iteration needs about two solves per crossed cell and "
+                        "the truncated Newton method about five in all: on Neumann case A "
+                        "at tau = 1000 h^2/kappa 5.2 solves per step instead of 17.3 "
+                        "(doc/performance.md). Below 8 it also takes over steps of 300 h^2, "
+                        "where the two methods cost the same. 0: only at 'Max active-set "
+                        "iterations', for that step alone.");
+      prm.declare_entry("Active set hand-back",
+                        "2",
+                        Patterns::Integer(1, 10000),
+                        "A step solved by the truncated Newton method after a hand-over "
+                        "('Truncated Newton hand-over') in at most this many linear solves "
+                        "hands the following steps back to the active-set method (the front "
+                        "then crosses about a cell per step or less, where the active-set "
+                        "method needs fewer solves).");
       prm.declare_entry("Gauss-Seidel sweeps",
                         "1",
                         Patterns::Integer(0, 100),
@@ -1250,7 +1273,9 @@ namespace ContactStefan
       cg_enthalpy_set_tolerance =
         get_finite(prm, "Solver/", "CG tolerance while the enthalpy set changes");
       cg_max_iterations         = prm.get_integer("CG max iterations");
-      max_active_set_iterations = prm.get_integer("Max active-set iterations");
+      max_active_set_iterations  = prm.get_integer("Max active-set iterations");
+      truncated_newton_hand_over = prm.get_integer("Truncated Newton hand-over");
+      active_set_hand_back       = prm.get_integer("Active set hand-back");
       {
         const std::string solver = prm.get("Enthalpy solver");
         enthalpy_solver          = solver == "relaxation"       ? EnthalpySolver::relaxation :

@@ -128,6 +128,7 @@ namespace ContactStefan
       {
         total_active_set_iterations += report.active_set_iterations;
         steps_with_fallback += (report.relaxation_iterations > 0);
+        steps_with_truncated_newton += report.truncated_newton;
         max_energy_residual = max_with_nan(max_energy_residual, report.energy_residual);
         inconsistent_enthalpy_nodes += report.inconsistent_nodes;
         enthalpy_factorisations += report.factorisations;
@@ -515,6 +516,10 @@ namespace ContactStefan
     add_result("mean active-set iterations",
                n_steps > 0 ? double(total_active_set_iterations) / n_steps : 0.);
     add_result("steps with relaxation fallback", steps_with_fallback);
+    // Only where it ran: the active-set method's large-step mode or its
+    // hand-over at its iteration limit, or 'Enthalpy solver = truncated-newton'.
+    if (steps_with_truncated_newton > 0)
+      add_result("steps solved by the truncated Newton method", steps_with_truncated_newton);
     add_result("max energy-balance residual", max_energy_residual);
     add_result("enthalpy matrix factorisations", enthalpy_factorisations);
     add_result("melt area", thermal->melt_area());

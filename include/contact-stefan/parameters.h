@@ -304,6 +304,11 @@ namespace ContactStefan
       double       refactorisation_backward_error;
       unsigned int cg_max_iterations;
       unsigned int max_active_set_iterations;
+      // The active-set method's large-step mode: the solves after which a step
+      // is handed over to the truncated Newton method, which then also solves
+      // the following steps until one needs at most hand_back solves (0: the
+      // hand-over only at max_active_set_iterations, for that step alone).
+      unsigned int truncated_newton_hand_over, active_set_hand_back;
       enum class EnthalpySolver
       {
         active_set,

@@ -85,7 +85,7 @@ namespace ContactStefan
                         &max_pressure_error &max_exact_pressure &loaded_force_history &opening_time
                           &largest_force &n_adaptations &max_refinement_change
                             &max_coarsening_change &pending_change &dof_time_integral &start_time
-                              &elasticity_linear;
+                              &elasticity_linear &steps_with_truncated_newton;
     }
     // The RESULT lines.
     void print_results(const unsigned int n_steps, const double time) const;
@@ -157,6 +157,7 @@ namespace ContactStefan
     std::vector<double> mean_errors; // mean signed temperature error after each step
     double              max_energy_residual         = 0;
     unsigned int        total_active_set_iterations = 0, steps_with_fallback = 0;
+    unsigned int        steps_with_truncated_newton = 0;
     unsigned int        inconsistent_enthalpy_nodes = 0;
     unsigned int        total_contact_iterations = 0, max_contact_iterations = 0;
     unsigned int        first_contact_iterations = 0, max_contact_iterations_warm = 0;

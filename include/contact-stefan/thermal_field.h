@@ -67,6 +67,7 @@ namespace ContactStefan
     unsigned int inconsistent_nodes    = 0; // free nodes with h not in H(Theta) at the end
     unsigned int factorisations        = 0; // matrices factorised (reused otherwise)
     double       thermoelastic_heat    = 0; // -sum_i G_i, J per unit thickness
+    bool         truncated_newton      = false; // solved (or finished) by it
   };
 
   template <int dim>
@@ -163,16 +164,18 @@ namespace ContactStefan
     // cells that are not owned).
     void error_indicator(dealii::Vector<float> &indicator) const;
 
-    // What a restart needs besides the primary state: whether a step was taken
-    // and the length of the last one (the warm start extrapolates from it).
+    // What a restart needs besides the primary state: whether a step was taken,
+    // the length of the last one (the warm start extrapolates from it), and
+    // whether the steps start with the truncated Newton method (large-step mode).
     std::vector<double> time_levels() const
     {
-      return {first_step ? 1. : 0., previous_time_step};
+      return {first_step ? 1. : 0., previous_time_step, large_step_mode ? 1. : 0.};
     }
     void set_time_levels(const std::vector<double> &levels)
     {
       first_step         = levels.at(0) != 0;
       previous_time_step = levels.at(1);
+      large_step_mode    = levels.at(2) != 0;
     }
 
     // sum_i m_i h_i: the heat content (J per unit thickness) of the mesh.
@@ -224,7 +227,8 @@ namespace ContactStefan
     // nodal diagonal and right-hand side from phase_state, so every write to
     // phase_state must be copied to phase_state_ghosted before the call.
     unsigned int solve_for_pieces(Vector &h_new, const double tolerance = 0);
-    bool         active_set_iteration(EnthalpyStepReport &report);
+    // At most max_iterations solves; false if the set did not settle.
+    bool active_set_iteration(EnthalpyStepReport &report, const unsigned int max_iterations);
     // enthalpy_newton.cc: the truncated nonsmooth Newton method in Theta.
     bool truncated_newton_iteration(EnthalpyStepReport &report);
     // One forward nonlinear Gauss-Seidel sweep over the free owned nodes
@@ -355,6 +359,10 @@ namespace ContactStefan
     bool         first_step = true; // no previous step to extrapolate from
     // Whether the warm start of this step moved a node to another piece.
     bool predicted_set_changed = false;
+    // With 'Enthalpy solver = active-set': whether a step was handed over to
+    // the truncated Newton method ('Truncated Newton hand-over') and no step
+    // since has handed back; the next step then starts with it.
+    bool large_step_mode = false;
 
     // Output fields, alive until the next add_output().
     mutable Vector output_phase_index, output_liquid_fraction;
