@@ -173,7 +173,9 @@ namespace ContactStefan
       }
     // The first iterate: the extrapolated temperature with this step's
     // Dirichlet values (v must vanish on the Dirichlet nodes).
-    theta = predicted_temperature;
+    // (Later passes of a coupling loop within one step: the last pass's
+    // temperature, the better guess.)
+    theta = first_pass_of_step ? predicted_temperature : temperature;
     dirichlet_constraints.distribute(theta);
 
     double       *state = entries(phase_state), *th = entries(theta);

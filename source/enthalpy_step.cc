@@ -708,30 +708,50 @@ namespace ContactStefan
     // column of nodes per solve; the truncated Newton method does not
     // (doc/algorithms.md). A step that needs more than 'Truncated Newton
     // hand-over' solves is handed over, and so are the steps after it, until
-    // one is solved in at most 'Active set hand-back' solves.
-    const unsigned int hand_over = prm.solver.truncated_newton_hand_over;
-    const unsigned int limit =
-      hand_over > 0 ? std::min(hand_over, prm.solver.max_active_set_iterations) :
-                      prm.solver.max_active_set_iterations;
-    if (solver == EnthalpySolver::active_set && large_step_mode && hand_over > 0)
+    // one is solved in at most 'Active set hand-back' solves. The mode is
+    // decided per step (begin_time_step()): every pass of a coupling loop
+    // uses the method that solved the step's first pass.
+    const unsigned int hand_over      = prm.solver.truncated_newton_hand_over;
+    const unsigned int max_iterations = prm.solver.max_active_set_iterations;
+    // (A later pass starts warm and is cheap: only the first judges the hand-back.)
+    const bool first_pass = first_pass_of_step;
+    // Should the truncated Newton method not converge where the mode chose
+    // it: the active-set iteration with its full limit, before the relaxation.
+    const auto active_set_after_failure = [&]() {
+      pcout << "   Enthalpy step: the truncated Newton method did not converge in 'Solver/Max "
+               "active-set iterations' = "
+            << max_iterations << " at t = " << time
+            << "; the active-set iteration takes the step over" << std::endl;
+      const unsigned int spent = report.active_set_iterations;
+      converged                = active_set_iteration(report, max_iterations);
+      report.active_set_iterations += spent;
+      large_step_mode = step_in_large_step_mode = false;
+    };
+    if (solver == EnthalpySolver::active_set && hand_over > 0 && step_in_large_step_mode)
       {
         converged               = truncated_newton_iteration(report);
-        report.truncated_newton = true;
-        if (converged && report.active_set_iterations <= prm.solver.active_set_hand_back)
+        report.truncated_newton = converged;
+        if (!converged)
+          active_set_after_failure();
+        else if (first_pass && report.active_set_iterations <= prm.solver.active_set_hand_back)
           {
             large_step_mode = false;
             if (prm.output.verbosity >= 1)
               pcout << "   Enthalpy step: " << report.active_set_iterations
                     << " truncated Newton solve(s) at t = " << time
-                    << "; the next step returns to the active-set method" << std::endl;
+                    << " ('Solver/Active set hand-back'); the next time step starts with the "
+                       "active-set method"
+                    << std::endl;
           }
       }
     else if (solver == EnthalpySolver::active_set)
       {
-        converged = active_set_iteration(report, limit);
+        const unsigned int limit = hand_over > 0 ? std::min(hand_over, max_iterations) :
+                                                   max_iterations;
+        converged                = active_set_iteration(report, limit);
         if (!converged)
           {
-            if (limit < prm.solver.max_active_set_iterations)
+            if (limit < max_iterations)
               {
                 if (prm.output.verbosity >= 1)
                   pcout << "   Enthalpy step: " << limit << " active-set solves at t = " << time
@@ -741,25 +761,35 @@ namespace ContactStefan
               }
             else
               pcout << "   Enthalpy step: no convergence in 'Solver/Max active-set iterations' = "
-                    << prm.solver.max_active_set_iterations << " at t = " << time
+                    << max_iterations << " at t = " << time
                     << "; switching to the truncated Newton method" << std::endl;
             const unsigned int spent = report.active_set_iterations;
             converged                = truncated_newton_iteration(report);
             report.active_set_iterations += spent;
-            report.truncated_newton = true;
-            large_step_mode         = hand_over > 0;
+            report.truncated_newton = converged;
+            if (hand_over > 0)
+              large_step_mode = step_in_large_step_mode = true;
+            // After a hand-over below the limit, the active-set iteration has
+            // solves left.
+            if (!converged && limit < max_iterations)
+              active_set_after_failure();
           }
       }
     else if (solver == EnthalpySolver::truncated_newton)
       {
         converged               = truncated_newton_iteration(report);
-        report.truncated_newton = true;
+        report.truncated_newton = converged;
       }
+    first_pass_of_step = false;
     if (solver == EnthalpySolver::relaxation)
       report.relaxation_iterations = relaxation_fallback();
     else if (!converged)
       {
-        pcout << "   Enthalpy step: no convergence in 'Solver/Max active-set iterations' = "
+        pcout << "   Enthalpy step: no convergence of the "
+              << (solver == EnthalpySolver::truncated_newton ? "truncated Newton method" :
+                                                               "active-set and truncated Newton "
+                                                               "methods")
+              << " in 'Solver/Max active-set iterations' = "
               << prm.solver.max_active_set_iterations << " at t = " << time
               << "; switching to the relaxation fallback" << std::endl;
         report.relaxation_iterations = relaxation_fallback();

@@ -1144,8 +1144,12 @@ namespace ContactStefan
       prm.declare_entry("Max active-set iterations",
                         "50",
                         Patterns::Integer(1, 10000),
-                        "Limit of linear solves of the active-set iteration per enthalpy "
-                        "step; reaching it switches to the relaxation fallback. (At most 10000.)");
+                        "Limit of linear solves per enthalpy step of the active-set iteration "
+                        "and of the truncated Newton method. An active-set iteration that "
+                        "reaches it hands the step to the truncated Newton method (and one "
+                        "that the large-step mode handed over to it, back to the active-set "
+                        "iteration); a step neither solves goes to the relaxation fallback. "
+                        "(At most 10000.)");
       prm.declare_entry("Enthalpy solver",
                         "active-set",
                         Patterns::Selection("active-set|truncated-newton|relaxation"),
@@ -1171,18 +1175,20 @@ namespace ContactStefan
                         "(tau >> h^2/kappa, or the fine cells of an adaptive mesh) the "
                         "active-set iteration needs about two solves per crossed cell and "
                         "the truncated Newton method about five in all: on Neumann case A "
-                        "at tau = 1000 h^2/kappa 5.2 solves per step instead of 17.3 "
+                        "at tau = 1000 h^2/kappa 5.53 solves per step instead of 17.27 "
                         "(doc/performance.md). Below 8 it also takes over steps of 300 h^2, "
-                        "where the two methods cost the same. 0: only at 'Max active-set "
-                        "iterations', for that step alone.");
+                        "where the two methods cost the same. Every pass of a coupling loop "
+                        "uses the method of the step's first pass. 0: the hand-over happens "
+                        "only at 'Max active-set iterations', for that step alone.");
       prm.declare_entry("Active set hand-back",
                         "2",
                         Patterns::Integer(1, 10000),
                         "A step solved by the truncated Newton method after a hand-over "
                         "('Truncated Newton hand-over') in at most this many linear solves "
-                        "hands the following steps back to the active-set method (the front "
-                        "then crosses about a cell per step or less, where the active-set "
-                        "method needs fewer solves).");
+                        "(its first coupling pass) hands the following steps back to the "
+                        "active-set method (the front then crosses about a cell per step or "
+                        "less, where the active-set method needs fewer solves). Must be "
+                        "below 'Truncated Newton hand-over'.");
       prm.declare_entry("Gauss-Seidel sweeps",
                         "1",
                         Patterns::Integer(0, 100),
@@ -1302,6 +1308,11 @@ namespace ContactStefan
       require(cg_enthalpy_set_tolerance >= 0 && cg_enthalpy_set_tolerance < 1,
               "Solver/CG tolerance while the enthalpy set changes",
               "must lie in [0, 1)");
+      require(truncated_newton_hand_over == 0 || active_set_hand_back < truncated_newton_hand_over,
+              "Solver/Active set hand-back",
+              "must be below 'Solver/Truncated Newton hand-over' = " +
+                std::to_string(truncated_newton_hand_over) +
+                " (or the methods would trade every step)");
       require(relaxation_parameter_fraction > 0 && relaxation_parameter_fraction <= 1,
               "Solver/Relaxation parameter",
               "must lie in (0, 1]");

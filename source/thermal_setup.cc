@@ -413,6 +413,7 @@ namespace ContactStefan
   {
     time             = t0;
     first_step       = true;
+    large_step_mode  = false;
     Function<dim> &f = functions.initial_condition();
     f.set_time(t0);
     Vector values(owned, mpi_communicator);
@@ -454,6 +455,10 @@ namespace ContactStefan
   template <int dim>
   void ThermalField<dim>::begin_time_step(const double t, const double tau)
   {
+    // The method of this step's enthalpy solves (every pass of a coupling
+    // loop): decided once per step from the large-step mode.
+    step_in_large_step_mode = large_step_mode;
+    first_pass_of_step      = true;
     // Warm start of the active set: the phase states of the enthalpy
     // extrapolated linearly from the last two steps (the previous step's states
     // on the first step). A front moving at a steady speed then starts each step

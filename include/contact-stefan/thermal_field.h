@@ -67,7 +67,7 @@ namespace ContactStefan
     unsigned int inconsistent_nodes    = 0; // free nodes with h not in H(Theta) at the end
     unsigned int factorisations        = 0; // matrices factorised (reused otherwise)
     double       thermoelastic_heat    = 0; // -sum_i G_i, J per unit thickness
-    bool         truncated_newton      = false; // solved (or finished) by it
+    bool         truncated_newton      = false; // solved by it (it converged)
   };
 
   template <int dim>
@@ -363,6 +363,12 @@ namespace ContactStefan
     // the truncated Newton method ('Truncated Newton hand-over') and no step
     // since has handed back; the next step then starts with it.
     bool large_step_mode = false;
+    // The mode of the current step (set by begin_time_step(), and by a
+    // hand-over within the step, so that later passes of a coupling loop use
+    // the method that solved the first), and whether solve() has not yet run
+    // in this step (the truncated Newton method starts later passes from the
+    // last pass's temperature).
+    bool step_in_large_step_mode = false, first_pass_of_step = true;
 
     // Output fields, alive until the next add_output().
     mutable Vector output_phase_index, output_liquid_fraction;
