@@ -39,13 +39,14 @@ SOLVERS = [("active-set", {"Enthalpy solver": "active-set"}),
             {"Enthalpy solver": "active-set", "Truncated Newton hand-over": "0"})]
 
 
-def run(binary, multiple, solver, settings, workdir):
+def run(binary, multiple, index, workdir):
+    settings = SOLVERS[index][1]
     with open(SCENE) as f:
         text = f.read()
     h = 1.0 / 128
     text = set_entry(text, "Initial global refinements", "3")
     text = set_entry(text, "Time step", repr(multiple * h * h))
-    name = f"{SOLVERS.index((solver, settings))}-{multiple}"
+    name = f"{index}-{multiple}"
     text = set_entry(text, "Directory", os.path.join(workdir, name))
     text += "\nsubsection Solver\n" + "".join(
         f"  set {entry} = {value}\n" for entry, value in settings.items()) + "end\n"
@@ -76,8 +77,8 @@ def main():
     rows, curves = [], {s: [] for s, _ in SOLVERS}
     with tempfile.TemporaryDirectory() as workdir:
         for k in args.multiples:
-            for solver, settings in SOLVERS:
-                r = run(args.binary, k, solver, settings, workdir)
+            for index, (solver, _) in enumerate(SOLVERS):
+                r = run(args.binary, k, index, workdir)
                 if "failed" in r:
                     rows.append([f"{k:g}", solver, "failed", "", f"{r['wall']:.2f}", r["failed"]])
                     continue

@@ -5,7 +5,8 @@
 //                  of both fields attached: h, h_old, u, u_old (written by
 //                  parallel::distributed::SolutionTransfer, so a resumed run
 //                  may use any number of ranks)
-//   state.txt      time, step, step length, the thermal field's time levels,
+//   state.txt      time, step, step length, the thermal field's restart
+//                  scalars (warm start, large-step mode),
 //                  the wall time so far and everything the postprocessor has
 //                  accumulated (boost text archive; doubles round-trip exactly)
 //   statistics     the statistics file up to the checkpoint's step
@@ -201,9 +202,10 @@ namespace ContactStefan
         boost::archive::text_oarchive archive(out);
         const std::string             format  = checkpoint_format;
         const unsigned int            n_ranks = Utilities::MPI::n_mpi_processes(comm);
-        std::vector<double> levels = thermal ? thermal->time_levels() : std::vector<double>();
+        std::vector<double> thermal_scalars =
+          thermal ? thermal->restart_state() : std::vector<double>();
         archive << format << fields_fingerprint() << n_ranks << time << time_step << step_number
-                << levels << wall;
+                << thermal_scalars << wall;
         archive << *postprocessor;
         out.flush();
         if (!out)
@@ -262,7 +264,7 @@ namespace ContactStefan
       TimerOutput::Scope t(timer, "setup: mesh");
       make_mesh(prm, triangulation, true);
     }
-    std::vector<double> levels;
+    std::vector<double> thermal_scalars;
     double              wall = 0;
     {
       std::ifstream in(directory + "/state.txt");
@@ -282,7 +284,7 @@ namespace ContactStefan
           if (fields != fields_fingerprint())
             throw std::runtime_error("it was written by a scene with " + fields +
                                      ", this one has " + fields_fingerprint());
-          archive >> n_ranks >> time >> time_step >> step_number >> levels >> wall;
+          archive >> n_ranks >> time >> time_step >> step_number >> thermal_scalars >> wall;
           archive >> *postprocessor;
         }
       catch (const std::exception &e)
@@ -329,7 +331,7 @@ namespace ContactStefan
     if (thermal)
       {
         restore(thermal->get_dof_handler(), thermal->primary_state());
-        thermal->set_time_levels(levels);
+        thermal->set_restart_state(thermal_scalars);
       }
     if (mechanical)
       restore(mechanical->get_dof_handler(), mechanical->primary_state());

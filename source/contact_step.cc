@@ -334,11 +334,10 @@ namespace ContactStefan
         // (same stiffness): LinearSolver::update keeps its aggregates.
         TimerOutput::Scope t(timer, "contact step: factorise");
         if (preconditioner_stiffness_version == stiffness_version)
-          linear_solver.update(system_matrix, 0, set_changes_since_factorisation);
+          linear_solver.update(system_matrix);
         else
           linear_solver.initialize(system_matrix);
         preconditioner_stiffness_version = stiffness_version;
-        set_changes_since_factorisation  = 0;
       }
     TimerOutput::Scope t(timer, "contact step: linear solve");
     linear_solver.solve(displacement,
@@ -711,13 +710,10 @@ namespace ContactStefan
         const unsigned int changes = Utilities::MPI::sum(local_changes, mpi_communicator);
         report.active_nodes        = Utilities::MPI::sum(local_active, mpi_communicator);
         report.changes += changes;
-        // An upper bound of the rows changed since the last factorisation: a
-        // set that returns to an earlier one counts twice, and a condition
-        // without a free DoF changes no row. Both only recompute earlier.
-        set_changes_since_factorisation =
-          set_changes_since_factorisation > LinearSolver::unknown_changes - changes ?
-            LinearSolver::unknown_changes :
-            set_changes_since_factorisation + changes;
+        // For the AMG reuse limit: an upper bound of the rows changed (a set
+        // that returns to an earlier one counts twice, and a condition without
+        // a free DoF changes no row; both only recompute earlier).
+        linear_solver.note_changed_rows(changes);
         const std::uint64_t set_hash = Utilities::MPI::sum(local_hash, mpi_communicator);
 
         if (prm.output.verbosity >= 1)
@@ -814,8 +810,7 @@ namespace ContactStefan
     functions.check_finite_values(mpi_communicator);
     Vector residual(owned, mpi_communicator);
     apply_stiffness(displacement_ghosted, residual, true);
-    complementarity_scale           = 1;
-    set_changes_since_factorisation = LinearSolver::unknown_changes;
+    complementarity_scale = 1;
     // Twice: the multipliers at a vertex with several contact conditions are
     // separated with the other active conditions, so the set found in the first
     // pass (from none) is the input of the second.

@@ -565,10 +565,9 @@ namespace ContactStefan
     const double loose_tolerance = prm.solver.cg_enthalpy_set_tolerance;
     // (Decided from the system's size, not from the solver's last set-up:
     // a run resumed from a checkpoint has none yet and must take the same path.)
+    // Later passes of a fixed-point coupling loop start from the last pass's set.
     const bool iterative = !linear_solver.direct_for(dof_handler.n_dofs());
-    bool       loose     = predicted_set_changed && loose_tolerance > 0 && iterative;
-    // Later passes of a fixed-point coupling loop start from this pass's set.
-    predicted_set_changed = false;
+    bool loose = first_pass_of_step && predicted_set_changed && loose_tolerance > 0 && iterative;
     std::vector<std::uint64_t> loose_sets;
     for (unsigned int it = 1; it <= max_iterations; ++it)
       {
@@ -715,24 +714,32 @@ namespace ContactStefan
     const unsigned int max_iterations = prm.solver.max_active_set_iterations;
     // (A later pass starts warm and is cheap: only the first judges the hand-back.)
     const bool first_pass = first_pass_of_step;
+    // Another method continues a step: its solves add to the ones spent.
+    const auto continue_with = [&](const auto &method) {
+      const unsigned int spent = report.active_set_iterations;
+      const bool         done  = method();
+      report.active_set_iterations += spent;
+      return done;
+    };
+    const auto truncated_newton = [&]() { return truncated_newton_iteration(report); };
+    const auto active_set       = [&]() { return active_set_iteration(report, max_iterations); };
     // Should the truncated Newton method not converge where the mode chose
-    // it: the active-set iteration with its full limit, before the relaxation.
+    // it: the active-set iteration with its full limit, before the relaxation;
+    // the mode ends.
     const auto active_set_after_failure = [&]() {
       pcout << "   Enthalpy step: the truncated Newton method did not converge in 'Solver/Max "
                "active-set iterations' = "
             << max_iterations << " at t = " << time
             << "; the active-set iteration takes the step over" << std::endl;
-      const unsigned int spent = report.active_set_iterations;
-      converged                = active_set_iteration(report, max_iterations);
-      report.active_set_iterations += spent;
       large_step_mode = step_in_large_step_mode = false;
+      return continue_with(active_set);
     };
     if (solver == EnthalpySolver::active_set && hand_over > 0 && step_in_large_step_mode)
       {
-        converged               = truncated_newton_iteration(report);
+        converged               = truncated_newton();
         report.truncated_newton = converged;
         if (!converged)
-          active_set_after_failure();
+          converged = active_set_after_failure();
         else if (first_pass && report.active_set_iterations <= prm.solver.active_set_hand_back)
           {
             large_step_mode = false;
@@ -763,21 +770,19 @@ namespace ContactStefan
               pcout << "   Enthalpy step: no convergence in 'Solver/Max active-set iterations' = "
                     << max_iterations << " at t = " << time
                     << "; switching to the truncated Newton method" << std::endl;
-            const unsigned int spent = report.active_set_iterations;
-            converged                = truncated_newton_iteration(report);
-            report.active_set_iterations += spent;
+            converged               = continue_with(truncated_newton);
             report.truncated_newton = converged;
             if (hand_over > 0)
               large_step_mode = step_in_large_step_mode = true;
             // After a hand-over below the limit, the active-set iteration has
             // solves left.
             if (!converged && limit < max_iterations)
-              active_set_after_failure();
+              converged = active_set_after_failure();
           }
       }
     else if (solver == EnthalpySolver::truncated_newton)
       {
-        converged               = truncated_newton_iteration(report);
+        converged               = truncated_newton();
         report.truncated_newton = converged;
       }
     first_pass_of_step = false;

@@ -413,9 +413,7 @@ namespace ContactStefan
 
 
 
-  void LinearSolver::update(const TrilinosWrappers::SparseMatrix &A,
-                            const std::uint64_t                   key,
-                            const unsigned int                    changed_rows)
+  void LinearSolver::update(const TrilinosWrappers::SparseMatrix &A, const std::uint64_t key)
   {
     borrowed   = false;
     values_key = key;
@@ -427,10 +425,6 @@ namespace ContactStefan
     // matrix moves at most m eigenvalues of the preconditioned operator), so
     // a limit that does not depend on the mesh keeps them bounded under
     // refinement, where a fixed fraction of the contact nodes would not.
-    rows_changed_since_made =
-      changed_rows == unknown_changes || rows_changed_since_made > unknown_changes - changed_rows ?
-        unknown_changes :
-        rows_changed_since_made + changed_rows;
     const bool over_reuse_limit = reuse_limit > 0 && rows_changed_since_made > reuse_limit;
     if (matrix == &A && use_direct && cholmod)
       {
@@ -642,7 +636,8 @@ namespace ContactStefan
     cholmod.reset();
     amg->clear();
     kept_amg.clear();
-    amg_built = false;
+    amg_built               = false;
+    rows_changed_since_made = 0;
   }
 
 

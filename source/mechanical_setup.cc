@@ -465,7 +465,6 @@ namespace ContactStefan
 
     update_condition_gaps();
     functions.check_finite_values(mpi_communicator);
-    set_changes_since_factorisation = LinearSolver::unknown_changes;
     for (Vector *v : {&obstacle_active, &interface_active})
       *v = 0.;
     for (const auto &c : normal_conditions)

@@ -73,9 +73,6 @@ namespace ContactStefan
                  const unsigned int                  smoother_sweeps,
                  const unsigned int                  reuse_limit = 0);
 
-    // update()'s changed_rows when the caller cannot count them.
-    static constexpr unsigned int unknown_changes = static_cast<unsigned int>(-1);
-
     // The near-null space the AMG hierarchy is built for: vectors over the
     // locally owned rows in their order (elasticity: the rigid-body modes; ML's
     // default, the constant, only fits a scalar operator). Empty: the default.
@@ -95,15 +92,18 @@ namespace ContactStefan
     // build (the finest level's largest eigenvalue), which a moving front can outdate.
     // key (optional, nonzero) names the matrix values for recall(): the
     // caller's fingerprint of everything they depend on.
-    // changed_rows: how many rows (active-set conditions) changed since the
-    // last initialize() or update(); with 'AMG update = reuse' and a reuse
-    // limit, a hierarchy kept across more changed rows than the limit since it
-    // was made for its values is recomputed for the new ones (unknown_changes
-    // counts as over the limit). A kept hierarchy costs CG extra iterations
-    // that grow with the number of changed rows, not with the mesh.
-    void update(const TrilinosWrappers::SparseMatrix &A,
-                const std::uint64_t                   key          = 0,
-                const unsigned int                    changed_rows = unknown_changes);
+    // With 'AMG update = reuse' and a reuse limit, a hierarchy kept across
+    // more changed rows (note_changed_rows()) than the limit since it was made
+    // for its values is recomputed for the new ones. A kept hierarchy costs
+    // CG extra iterations that grow with the number of changed rows, not with
+    // the mesh.
+    void update(const TrilinosWrappers::SparseMatrix &A, const std::uint64_t key = 0);
+    // The caller changed n rows of the matrix (active-set conditions entering
+    // or leaving; an upper bound will do), for the reuse limit.
+    void note_changed_rows(const unsigned int n)
+    {
+      rows_changed_since_made += n;
+    }
     // The matrix object of the last initialize() now holds the values that
     // were named key in an earlier update() or initialize(): if their
     // factorisation (CHOLMOD or Amesos) or AMG hierarchy was kept ('Solver/Kept
@@ -156,9 +156,9 @@ namespace ContactStefan
     // ML's 'smoother: sweeps' for this system.
     const unsigned int smoother_sweeps;
     // The reuse limit (0: none) and the rows changed since the current
-    // hierarchy was built or recomputed for its values (saturating).
+    // hierarchy was built or recomputed for its values.
     const unsigned int reuse_limit;
-    unsigned int       rows_changed_since_made = 0;
+    std::uint64_t      rows_changed_since_made = 0;
     // Counted since the last take_statistics().
     LinearSolverStatistics statistics;
     // ML's reuse on the current hierarchy for A's new values; true if it worked.

@@ -326,9 +326,6 @@ namespace ContactStefan
     unsigned int stiffness_version = 0;
     // The stiffness the linear solver's preconditioner was built for.
     unsigned int      preconditioner_stiffness_version = static_cast<unsigned int>(-1);
-    // Contact-set changes since the linear solver last saw the matrix (its
-    // AMG reuse limit counts them); unknown after a set was made afresh.
-    unsigned int set_changes_since_factorisation = LinearSolver::unknown_changes;
     bool              have_matrix = false, have_factorisation = false, have_solution = false;
     std::uint64_t     matrix_signature = 0, factorisation_signature = 0;
     std::uint64_t     solved_signature = 0;

@@ -167,15 +167,15 @@ namespace ContactStefan
     // What a restart needs besides the primary state: whether a step was taken,
     // the length of the last one (the warm start extrapolates from it), and
     // whether the steps start with the truncated Newton method (large-step mode).
-    std::vector<double> time_levels() const
+    std::vector<double> restart_state() const
     {
       return {first_step ? 1. : 0., previous_time_step, large_step_mode ? 1. : 0.};
     }
-    void set_time_levels(const std::vector<double> &levels)
+    void set_restart_state(const std::vector<double> &state)
     {
-      first_step         = levels.at(0) != 0;
-      previous_time_step = levels.at(1);
-      large_step_mode    = levels.at(2) != 0;
+      first_step         = state.at(0) != 0;
+      previous_time_step = state.at(1);
+      large_step_mode    = state.at(2) != 0;
     }
 
     // sum_i m_i h_i: the heat content (J per unit thickness) of the mesh.
