@@ -48,15 +48,6 @@ namespace ContactStefan
   // reports), so that an older checkpoint is refused by name, not misread.
   const std::string checkpoint_format = "contact-stefan checkpoint 2";
 
-  void kill_if_asked(const char *variable, const unsigned int step)
-  {
-    const char *value = std::getenv(variable);
-    if (value && std::strtoul(value, nullptr, 10) == step)
-      std::raise(SIGKILL);
-  }
-
-
-
   template <int dim>
   std::string CoupledProblem<dim>::checkpoint_directory(const std::string &suffix) const
   {

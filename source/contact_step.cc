@@ -369,6 +369,48 @@ namespace ContactStefan
 
 
 
+  // The loads of every cell (body and surface loads, thermal stress), bit for
+  // bit. The multiplier of a contact condition is the residual of its
+  // constrained row, K u - f there, so the loads of constrained rows matter
+  // as much as those of free rows: two blocks pressed together by thermal
+  // expansion have the same condensed right-hand side at every temperature
+  // (the loads of the two interface rows cancel on the row they are tied
+  // into), but not the same contact pressure.
+  template <int dim>
+  std::uint64_t MechanicalField<dim>::loads_hash() const
+  {
+    const bool    loaded = functions.mechanical_load_present();
+    std::uint64_t local  = 0;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const unsigned int index = cell->active_cell_index();
+          std::uint64_t      h     = Fingerprint::mix(index + 1);
+          if (loaded)
+            for (const double f : cell_load[index])
+              h = Fingerprint::mix(h + Fingerprint::bits(f));
+          if (thermal_stress)
+            for (const double f : cell_thermal_load[index])
+              h = Fingerprint::mix(h ^ Fingerprint::bits(f));
+          local += h;
+        }
+    return Utilities::MPI::sum(local, mpi_communicator);
+  }
+
+
+
+  // All the data a converged contact solve depends on besides the matrix:
+  // inhomogeneities (prescribed displacements, gaps of active conditions),
+  // the gaps of every condition and the loads of every row.
+  template <int dim>
+  std::uint64_t MechanicalField<dim>::contact_data_hash() const
+  {
+    return Fingerprint::combine(Fingerprint::combine(constraints_hash(true), gaps_hash()),
+                                loads_hash());
+  }
+
+
+
   // result = K u (- f), unconstrained (hanging nodes condensed): the nodal
   // contact forces on the contact nodes and the reactions on Dirichlet nodes.
   template <int dim>
@@ -635,19 +677,13 @@ namespace ContactStefan
         assemble_system(!same_matrix);
         have_matrix      = true;
         matrix_signature = signature;
-        // Stationary data: the same matrix, right-hand side, inhomogeneities and
-        // gaps as the last converged solve, from its converged active set, give
-        // its solution again; nothing is solved.
+        // Stationary data: the same matrix, loads (of free and constrained
+        // rows), inhomogeneities and gaps as the last converged solve, from
+        // its converged active set, give its solution, multipliers and set
+        // again; nothing is solved.
         if (it == 1 && have_solution && same_matrix)
           {
-            const std::uint64_t data = Fingerprint::combine(constraints_hash(true), gaps_hash());
-            // Bit for bit on the free rows (the data of constrained rows are the
-            // inhomogeneities, compared through the fingerprint).
-            unsigned int local_changed = 0;
-            for (const auto i : owned)
-              local_changed += !constraints.is_constrained(i) && system_rhs[i] != solved_rhs[i];
-            if (data == solved_signature &&
-                Utilities::MPI::sum(local_changed, mpi_communicator) == 0)
+            if (contact_data_hash() == solved_signature)
               {
                 report            = last_report;
                 report.reused     = true;
@@ -781,8 +817,7 @@ namespace ContactStefan
                   << "; complementarity constant divided by 10" << std::endl;
           }
       }
-    solved_rhs       = system_rhs;
-    solved_signature = Fingerprint::combine(constraints_hash(true), gaps_hash());
+    solved_signature = contact_data_hash();
     have_solution    = true;
     report.linear    = linear_solver.take_statistics();
     last_report      = report;

@@ -16,6 +16,7 @@
 #include <contact-stefan/coupled_problem.h>
 #include <contact-stefan/mesh.h>
 
+#include <csignal>
 #include <cstdio>
 
 namespace ContactStefan
@@ -125,11 +126,15 @@ namespace ContactStefan
 
 
   template <int dim>
-  void CoupledProblem<dim>::run()
+  std::vector<std::string> CoupledProblem<dim>::run()
   {
     wall_clock.restart();
+    const MPI_Comm comm = triangulation.get_communicator();
     if (prm.checkpoint.resume)
-      resume();
+      {
+        resume();
+        postprocessor->remove_stale_output(step_number);
+      }
     else
       {
         {
@@ -139,6 +144,7 @@ namespace ContactStefan
         ContactStepReport initial_contact = set_initial_state();
         adapt_initial_mesh(initial_contact);
         remove_checkpoints();
+        postprocessor->remove_stale_output(-1);
         postprocessor->start(time, initial_contact, wall_clock.wall_time());
       }
     pcout << "Mesh: " << triangulation.n_global_active_cells() << " cells on "
@@ -191,14 +197,32 @@ namespace ContactStefan
           adapt_mesh();
         // After the adaptation: a resumed run continues on the adapted mesh,
         // as the uninterrupted one does.
-        if (!last && checkpoint_due())
+        const bool checkpoint = !last && checkpoint_due();
+        if (checkpoint)
           write_checkpoint();
         kill_if_asked("CONTACT_STEFAN_KILL_AFTER_STEP", step_number);
+        kill_if_asked("CONTACT_STEFAN_TERM_AFTER_STEP", step_number, SIGTERM);
+        // A stop signal (SIGTERM, SIGINT) on any rank ends the run here, between
+        // two steps, with every finished step's output written; a run that
+        // writes checkpoints writes one, so that --resume continues from here.
+        if (const int signal = StopSignals::received_by_any(comm); signal != 0 && !last)
+          {
+            const bool checkpoints =
+              prm.checkpoint.interval_steps > 0 || prm.checkpoint.interval_minutes > 0;
+            if (checkpoints && !checkpoint)
+              write_checkpoint();
+            throw StoppedBySignal(signal,
+                                  "stopped by " + StopSignals::name(signal) + " after step " +
+                                    std::to_string(step_number) + " (t = " + number(time) +
+                                    "); the output holds every step up to it" +
+                                    (checkpoints ? ", and --resume continues from there" : ""));
+          }
       }
 
     postprocessor->print_results(step_number, time);
     pcout << "RESULT wall time = " << wall_offset + wall_clock.wall_time() << std::endl;
-    timer.print_wall_time_statistics(triangulation.get_communicator());
+    timer.print_wall_time_statistics(comm);
+    return postprocessor->failed_diagnostics();
   }
 
 

@@ -162,18 +162,25 @@ namespace ContactStefan
 
 
   template <int dim>
-  double MechanicalField<dim>::elastic_energy() const
+  typename MechanicalField<dim>::ElasticStatistics MechanicalField<dim>::elastic_statistics() const
   {
     TimerOutput::Scope t(timer, "statistics: elastic energy");
-    double             energy = 0;
-    for_each_vertex_stress(
-      [&](const Point<dim> &,
-          const double                   w,
-          const SymmetricTensor<2, dim> &sigma,
-          const double,
-          const SymmetricTensor<2, dim> &,
-          const ElasticModuli &moduli) { energy += 0.5 * sigma * (invert(moduli.C) * sigma) * w; });
-    return Utilities::MPI::sum(energy, mpi_communicator);
+    ElasticStatistics  result;
+    for_each_vertex_stress([&](const Point<dim> &,
+                               const double                   w,
+                               const SymmetricTensor<2, dim> &sigma,
+                               const double,
+                               const SymmetricTensor<2, dim> &thermal_part,
+                               const ElasticModuli           &moduli) {
+      const SymmetricTensor<4, dim> compliance = invert(moduli.C);
+      result.energy += 0.5 * sigma * (compliance * sigma) * w;
+      // sigma = C e + sigma(e = 0): the strain from the mechanical part.
+      result.max_strain =
+        std::max(result.max_strain, (compliance * (sigma - thermal_part)).norm());
+    });
+    result.energy     = Utilities::MPI::sum(result.energy, mpi_communicator);
+    result.max_strain = Utilities::MPI::max(result.max_strain, mpi_communicator);
+    return result;
   }
 
 

@@ -168,7 +168,6 @@ namespace ContactStefan
                       &interface_active_ghosted,
                       &stiffness_diagonal})
       v->reinit(owned, relevant, mpi_communicator);
-    solved_rhs.reinit(owned, mpi_communicator);
     cell_load.assign(triangulation.n_active_cells(), dealii::Vector<double>());
     cell_thermal_load.assign(triangulation.n_active_cells(), dealii::Vector<double>());
     cell_theta_excess.assign(triangulation.n_active_cells(), {{0., 0., 0., 0.}});

@@ -1524,6 +1524,13 @@ namespace ContactStefan
                         Patterns::Integer(0, 2),
                         "0: one line per step; 1: plus one line per active-set "
                         "iteration; 2: plus linear-solver details.");
+      prm.declare_entry("Small-strain limit",
+                        "0.05",
+                        Patterns::Double(0),
+                        "The largest strain (Frobenius norm of the strain tensor at the "
+                        "cell vertices, over all steps) the linear small-strain model is "
+                        "trusted with. A run that exceeds it finishes and writes its output, "
+                        "but ends with a warning on stderr and exit code 3; 0: no check.");
       prm.leave_subsection();
     }
 
@@ -1534,6 +1541,7 @@ namespace ContactStefan
       vtu_interval    = prm.get_integer("VTU interval");
       statistics_file = prm.get("Statistics file");
       verbosity       = prm.get_integer("Verbosity");
+      small_strain_limit = get_finite(prm, "Output/", "Small-strain limit");
       prm.leave_subsection();
       require(!directory.empty(), "Output/Directory", "must not be empty");
       require(!statistics_file.empty() && statistics_file.find('/') == std::string::npos,

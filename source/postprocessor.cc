@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <sstream>
 #include <stdexcept>
 
 namespace ContactStefan
@@ -52,10 +53,56 @@ namespace ContactStefan
         else if (!std::ofstream(probe))
           problem = "cannot write into '" + prm.output.directory + "'";
         std::filesystem::remove(probe, error);
+        // One run at a time: a second run into the same directory would
+        // interleave its statistics rows and VTU files with this one's.
+        if (problem.empty())
+          try
+            {
+              output_lock = std::make_unique<OutputDirectoryLock>(prm.output.directory);
+            }
+          catch (const std::exception &e)
+            {
+              problem = e.what();
+            }
       }
     problem = Utilities::MPI::broadcast(mpi_communicator, problem, 0);
     if (!problem.empty())
       throw InputError("Output/Directory", problem);
+  }
+
+
+
+  template <int dim>
+  void Postprocessor<dim>::remove_stale_output(const long last_kept_step) const
+  {
+    unsigned int removed = 0;
+    std::string  problem;
+    if (Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
+      try
+        {
+          removed = ContactStefan::remove_stale_output(prm.output.directory, last_kept_step);
+          // A resumed run's index lists the steps up to the checkpoint (an
+          // interrupted run's index may list later steps whose files are gone).
+          if (last_kept_step >= 0 && !pvd_records.empty())
+            {
+              std::ostringstream pvd;
+              DataOutBase::write_pvd_record(pvd, pvd_records);
+              write_file_atomically(prm.output.directory + "/solution.pvd", pvd.str());
+            }
+        }
+      catch (const std::exception &e)
+        {
+          problem = e.what();
+        }
+    problem = Utilities::MPI::broadcast(mpi_communicator, problem, 0);
+    if (!problem.empty())
+      throw std::runtime_error(problem);
+    removed = Utilities::MPI::broadcast(mpi_communicator, removed, 0);
+    pcout << "Output: '" << prm.output.directory << "'";
+    if (removed > 0)
+      pcout << " (removed " << removed << " VTU/PVD files of an earlier run"
+            << (last_kept_step >= 0 ? " after the checkpoint's step" : "") << ")";
+    pcout << std::endl;
   }
 
 
@@ -190,10 +237,11 @@ namespace ContactStefan
     pvd_records.emplace_back(time, name);
     if (Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
       {
-        std::ofstream pvd(directory + "solution.pvd");
+        // Through a rename: a run stopped while writing it (SIGKILL, a full
+        // disk) leaves the previous, complete index, never an empty one.
+        std::ostringstream pvd;
         DataOutBase::write_pvd_record(pvd, pvd_records);
-        if (!pvd)
-          throw std::runtime_error("cannot write '" + directory + "solution.pvd'");
+        write_file_atomically(directory + "solution.pvd", pvd.str());
       }
   }
 
@@ -477,6 +525,27 @@ namespace ContactStefan
 
 
 
+  // The run's own checks that do not stop it (its output is complete and
+  // finite) but that a researcher must know of before using its numbers.
+  template <int dim>
+  std::vector<std::string> Postprocessor<dim>::failed_diagnostics() const
+  {
+    std::vector<std::string> failed;
+    if (thermal && inconsistent_enthalpy_nodes > 0)
+      failed.push_back(std::to_string(inconsistent_enthalpy_nodes) +
+                       " node-steps ended with an enthalpy outside H(Theta) (must be 0; see "
+                       "doc/algorithms.md): the enthalpy step did not converge to a solution");
+    if (mechanical && prm.output.small_strain_limit > 0 &&
+        max_strain > prm.output.small_strain_limit)
+      failed.push_back("the largest strain " + number(max_strain) +
+                       " exceeds 'Output/Small-strain limit' = " +
+                       number(prm.output.small_strain_limit) +
+                       ": the linear small-strain model does not describe this deformation");
+    return failed;
+  }
+
+
+
   template <int dim>
   void Postprocessor<dim>::print_results(const unsigned int n_steps, const double time) const
   {
@@ -531,9 +600,16 @@ namespace ContactStefan
       {
         add_result("mesh width", h);
         add_result("L2 error temperature", last_l2_error);
-        add_result("relative L2 error temperature", last_l2_error / last_l2_norm);
-        add_result("relative space-time L2 error temperature",
-                   std::sqrt(space_time_error_squared / space_time_norm_squared));
+        // A relative error needs an exact solution that is not zero (Function
+        // = 0, or min(t, 100 - t) at t = 100): there the absolute error, which
+        // the line above and the space-time line below report, is the measure.
+        if (last_l2_norm > 0)
+          add_result("relative L2 error temperature", last_l2_error / last_l2_norm);
+        if (space_time_norm_squared > 0)
+          add_result("relative space-time L2 error temperature",
+                     std::sqrt(space_time_error_squared / space_time_norm_squared));
+        else
+          add_result("space-time L2 error temperature", std::sqrt(space_time_error_squared));
         add_result("max-norm error temperature", last_max_error);
         add_result("max over the steps of the relative max-norm error temperature",
                    max_exact_temperature > 0 ? max_max_error / max_exact_temperature : 0.);
@@ -587,8 +663,11 @@ namespace ContactStefan
         add_result("equilibrium temperature", T_f);
         add_result("max deviation from equilibrium temperature",
                    global_max_with_nan(deviation, mpi_communicator));
-        add_result("relative change of total enthalpy",
-                   std::abs(E_end - initial_total_enthalpy) / std::abs(initial_total_enthalpy));
+        if (initial_total_enthalpy != 0)
+          add_result("relative change of total enthalpy",
+                     std::abs(E_end - initial_total_enthalpy) / std::abs(initial_total_enthalpy));
+        else
+          add_result("change of total enthalpy", std::abs(E_end - initial_total_enthalpy));
       }
     if (const NeumannSolution *neumann = functions.neumann())
       {
@@ -636,7 +715,9 @@ namespace ContactStefan
                                                          const ContactStepReport &contact_report)
   {
     TimerOutput::Scope t(timer, "statistics: mechanical");
-    elastic_energy = mechanical->elastic_energy();
+    const auto elastic = mechanical->elastic_statistics();
+    elastic_energy     = elastic.energy;
+    max_strain         = std::max(max_strain, elastic.max_strain);
     total_contact_work += mechanical->contact_work();
     for (const auto &[group, force] : contact_report.forces)
       {

@@ -23,24 +23,25 @@
 #include <contact-stefan/mesh_adaptation.h>
 #include <contact-stefan/parameters.h>
 #include <contact-stefan/postprocessor.h>
+#include <contact-stefan/run_guard.h>
 #include <contact-stefan/scene_functions.h>
 #include <contact-stefan/thermal_field.h>
 
 #include <memory>
+#include <string>
+#include <vector>
 
 namespace ContactStefan
 {
-  // Fault injection for the restart tests: if the environment variable holds
-  // this step number, the process kills itself with SIGKILL (uncatchable, as
-  // an external kill -9). Unset in normal runs.
-  void kill_if_asked(const char *variable, const unsigned int step);
 
   template <int dim>
   class CoupledProblem
   {
   public:
     CoupledProblem(const AllParameters &parameters, const MPI_Comm mpi_communicator);
-    void run();
+    // Runs the scene; returns the self-checks that failed (a run that fails
+    // one ends with exit code 3, see main.cc).
+    std::vector<std::string> run();
 
   private:
     // One time step of both fields: staggered (contact step with Theta^k, then

@@ -158,8 +158,15 @@ namespace ContactStefan
     // is the heat that the step's strain increment takes out of node v.
     void thermoelastic_work(CellVertexValues &work) const;
     // Stored elastic energy 1/2 int sigma : C^{-1} : sigma (thermal part
-    // included), by the trapezoidal rule; collective.
-    double elastic_energy() const;
+    // included), by the trapezoidal rule, and the largest strain (Frobenius
+    // norm of e(u) at the cell vertices, for the small-strain check); one pass,
+    // collective.
+    struct ElasticStatistics
+    {
+      double energy     = 0;
+      double max_strain = 0;
+    };
+    ElasticStatistics elastic_statistics() const;
     // Work of the contact forces on the bodies over the last step; collective.
     double contact_work() const;
     // sigma and sigma_zz at vertex v of an owned cell for the strain e there.
@@ -247,6 +254,8 @@ namespace ContactStefan
     // matrix depends on), with inhomogeneities if asked; the same on every rank.
     std::uint64_t constraints_hash(const bool with_inhomogeneities) const;
     std::uint64_t gaps_hash() const;
+    std::uint64_t loads_hash() const;
+    std::uint64_t contact_data_hash() const;
     double        normal_displacement_jump(const NormalCondition &c) const;
     Vector       &active_flags(const NormalCondition &c);
     const Vector &active_flags_ghosted(const NormalCondition &c) const;
@@ -322,14 +331,14 @@ namespace ContactStefan
 
     // Work skipped when its inputs did not change: the matrix (stiffness
     // version, constraint pattern) last assembled and factorised, and the data
-    // of the last converged solve (rhs, inhomogeneities, gaps).
+    // of the last converged solve (contact_data_hash(): loads, inhomogeneities,
+    // gaps).
     unsigned int stiffness_version = 0;
     // The stiffness the linear solver's preconditioner was built for.
     unsigned int      preconditioner_stiffness_version = static_cast<unsigned int>(-1);
     bool              have_matrix = false, have_factorisation = false, have_solution = false;
     std::uint64_t     matrix_signature = 0, factorisation_signature = 0;
     std::uint64_t     solved_signature = 0;
-    Vector            solved_rhs;
     ContactStepReport last_report;
 
     std::vector<NormalCondition> normal_conditions;

@@ -384,6 +384,7 @@ namespace ContactStefan
       unsigned int vtu_interval;
       std::string  statistics_file;
       unsigned int verbosity;
+      double       small_strain_limit;
 
       static void declare(ParameterHandler &prm);
       void        parse(ParameterHandler &prm);

@@ -19,10 +19,12 @@
 #include <contact-stefan/materials.h>
 #include <contact-stefan/mechanical_field.h>
 #include <contact-stefan/parameters.h>
+#include <contact-stefan/run_guard.h>
 #include <contact-stefan/scene_functions.h>
 #include <contact-stefan/thermal_field.h>
 
 #include <map>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -85,10 +87,16 @@ namespace ContactStefan
                         &max_pressure_error &max_exact_pressure &loaded_force_history &opening_time
                           &largest_force &n_adaptations &max_refinement_change
                             &max_coarsening_change &pending_change &dof_time_integral &start_time
-                              &elasticity_linear &steps_with_truncated_newton;
+                              &elasticity_linear &steps_with_truncated_newton &max_strain;
     }
     // The RESULT lines.
     void print_results(const unsigned int n_steps, const double time) const;
+    // The self-checks the run failed, one sentence each (empty: none failed).
+    std::vector<std::string> failed_diagnostics() const;
+    // Removes the VTU/PVTU/PVD files of the output directory that this run
+    // does not own (those of steps after last_kept_step; -1: all) and says so.
+    // Collective.
+    void remove_stale_output(const long last_kept_step) const;
 
   private:
     void accumulate_errors(const double time, const double tau);
@@ -169,6 +177,7 @@ namespace ContactStefan
     LinearSolverStatistics elasticity_linear;
     unsigned int reused_contact_steps = 0, max_active_nodes = 0;
     double       total_thermoelastic_heat = 0, total_contact_work = 0, elastic_energy = 0;
+    double       max_strain = 0; // over the steps, for the small-strain check
     // Exact stress: the largest L2 error over the steps relative to
     // the exact stress plus the thermal stress; exact contact pressure: the
     // largest nodal error and the largest exact pressure.
@@ -194,6 +203,9 @@ namespace ContactStefan
     // researchers publish these numbers, so a non-finite one stops the run with
     // an error (exit code 2) instead of reaching the output.
     mutable std::vector<std::pair<std::string, double>> results;
+
+    // Rank 0 holds the output directory's lock for the run's lifetime.
+    std::unique_ptr<OutputDirectoryLock> output_lock;
   };
 } // namespace ContactStefan
 

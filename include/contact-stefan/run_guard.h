@@ -1,0 +1,82 @@
+// What protects a run's output from other runs and from signals
+// (doc/reliability.md, "Output directories and signals"):
+//
+//  * OutputDirectoryLock: one run at a time writes into an output directory.
+//    The lock is an advisory flock() on '<directory>/.contact-stefan.lock',
+//    which also records the holder's process id, host and start time; the
+//    kernel drops the lock with the process, so a killed run never leaves a
+//    stale lock behind.
+//  * remove_stale_output(): the VTU/PVTU/PVD files in an output directory that
+//    the starting run does not own (an earlier run's, also pieces '*.k.vtu'
+//    written on more ranks) are removed before the first is written.
+//  * StopSignals: SIGTERM and SIGINT only set a flag; the time loop looks at
+//    it between steps (all ranks agree), ends with its output complete
+//    (optionally a checkpoint) and exits with 128 + the signal's number. A
+//    second signal ends the process at once.
+#ifndef contact_stefan_run_guard_h
+#define contact_stefan_run_guard_h
+
+#include <deal.II/base/mpi.h>
+
+#include <csignal>
+#include <stdexcept>
+#include <string>
+
+namespace ContactStefan
+{
+  class OutputDirectoryLock
+  {
+  public:
+    // Takes the lock or throws a runtime_error naming the directory and the
+    // process that holds it. Not collective (rank 0).
+    explicit OutputDirectoryLock(const std::string &directory);
+    ~OutputDirectoryLock();
+    OutputDirectoryLock(const OutputDirectoryLock &)            = delete;
+    OutputDirectoryLock &operator=(const OutputDirectoryLock &) = delete;
+
+  private:
+    int descriptor = -1;
+  };
+
+  // Removes 'solution.pvd' and every 'solution_NNNNN.vtu', 'solution_NNNNN.k.vtu'
+  // and 'solution_NNNNN.pvtu' of 'directory' whose step NNNNN is larger than
+  // last_kept_step (a fresh run: -1, everything; a resumed one: the
+  // checkpoint's step, whose earlier files are its own). Returns the number
+  // of files removed. Not collective (rank 0).
+  unsigned int remove_stale_output(const std::string &directory, const long last_kept_step);
+
+  // Writes text to path through a temporary file in the same directory and a
+  // rename, so that path always holds either the old or the new whole text.
+  void write_file_atomically(const std::string &path, const std::string &text);
+
+  // Thrown between two time steps when a stop signal arrived; the output is
+  // complete up to that step. main() exits with 128 + signal.
+  class StoppedBySignal : public std::runtime_error
+  {
+  public:
+    StoppedBySignal(const int signal, const std::string &message)
+      : std::runtime_error(message)
+      , signal(signal)
+    {}
+    const int signal;
+  };
+
+  // Fault injection for the restart and signal tests: if the environment
+  // variable holds this step number, the process sends itself the signal
+  // (SIGKILL: uncatchable, as an external kill -9). Unset in normal runs.
+  void kill_if_asked(const char *variable, const unsigned int step, const int signal = SIGKILL);
+
+  namespace StopSignals
+  {
+    // Installs the SIGTERM and SIGINT handlers (once per process).
+    void install();
+    // The signal received so far on this rank (0: none).
+    int received();
+    // Collective: the signal any rank received (0: none), the same on all ranks.
+    int received_by_any(const MPI_Comm comm);
+    // "SIGTERM", "SIGINT", or the number.
+    std::string name(const int signal);
+  } // namespace StopSignals
+} // namespace ContactStefan
+
+#endif
