@@ -33,7 +33,7 @@ import tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from ladder import set_entry  # noqa: E402
+from ladder import set_entry, set_path  # noqa: E402
 from performance import run, table  # noqa: E402
 
 ROOT = os.path.dirname(HERE)
@@ -44,13 +44,10 @@ SCENES = {"stefan": os.path.join(ROOT, "prm", "benchmarks", "neumann_A.prm"),
 
 
 def with_settings(text, settings):
-    """Append 'subsection A / set B = v / end' blocks (a .prm may re-enter a
-    subsection; the last value wins)."""
+    """Set 'Subsection/Entry' paths to values (replaced where the scene sets
+    them, appended otherwise: contact-stefan refuses an entry set twice)."""
     for path, value in settings.items():
-        section, key = path.rsplit("/", 1)
-        levels = section.split("/")
-        text += "".join(f"subsection {s}\n" for s in levels)
-        text += f"  set {key} = {value}\n" + "end\n" * len(levels)
+        text = set_path(text, path, value)
     return text
 
 

@@ -53,6 +53,30 @@ def set_entry(text, name, value):
     return pattern.sub(lambda m: m.group(1) + " " + value, text)
 
 
+def set_path(text, path, value):
+    """Set 'Sub/section/Entry' to value in a .prm text: replace the lines that set
+    it in that subsection path, or append a subsection block if there are none
+    (contact-stefan refuses an entry set twice)."""
+    *sections, key = [p.strip() for p in path.split("/")]
+    stack, lines, found = [], text.splitlines(), False
+    for k, raw in enumerate(lines):
+        line = raw.split("#", 1)[0].replace("\t", " ").strip()
+        if line.startswith(("subsection ", "SUBSECTION ")):
+            stack.append(line[len("subsection "):].strip())
+        elif line in ("end", "END") and stack:
+            stack.pop()
+        elif line.startswith(("set ", "SET ")) and "=" in line and stack == sections \
+                and line[4:].split("=", 1)[0].strip() == key:
+            indent = raw[: len(raw) - len(raw.lstrip())]
+            lines[k] = f"{indent}set {key} = {value}"
+            found = True
+    text = "\n".join(lines) + "\n"
+    if not found:
+        text += "".join(f"subsection {s}\n" for s in sections)
+        text += f"  set {key} = {value}\n" + "end\n" * len(sections)
+    return text
+
+
 def get_entry(text, name):
     m = re.search(r"^\s*set\s+" + re.escape(name) + r"\s*=\s*(.*?)\s*(#.*)?$", text, re.M)
     if not m:

@@ -25,7 +25,7 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from ladder import set_entry  # noqa: E402
+from ladder import set_entry, set_path  # noqa: E402
 from performance import parse  # noqa: E402
 
 DEFAULT_BINARY = os.path.join(HERE, "..", "build", "contact-stefan")
@@ -48,8 +48,8 @@ def run(binary, multiple, index, workdir):
     text = set_entry(text, "Time step", repr(multiple * h * h))
     name = f"{index}-{multiple}"
     text = set_entry(text, "Directory", os.path.join(workdir, name))
-    text += "\nsubsection Solver\n" + "".join(
-        f"  set {entry} = {value}\n" for entry, value in settings.items()) + "end\n"
+    for entry, value in settings.items():
+        text = set_path(text, "Solver/" + entry, value)
     prm = os.path.join(workdir, f"{name}.prm")
     with open(prm, "w") as f:
         f.write(text)

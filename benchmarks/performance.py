@@ -46,7 +46,7 @@ import tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from ladder import get_entry, least_squares_rate, set_entry  # noqa: E402
+from ladder import get_entry, least_squares_rate, set_entry, set_path  # noqa: E402
 
 DEFAULT_BINARY = os.path.join(HERE, "..", "build", "contact-stefan")
 FENICSX_PYTHON = "/usr/bin/python3"
@@ -82,15 +82,13 @@ def run(cmd, what):
 
 
 def append_setting(text, setting):
-    """Append 'Sub/section/Entry=value' as a subsection block (ParameterHandler
-    lets a later block set an entry again)."""
+    """Set 'Sub/section/Entry=value' in the scene text (replaced where the scene
+    sets it, appended otherwise: contact-stefan refuses an entry set twice)."""
     path, sep, value = setting.partition("=")
     parts = [p.strip() for p in path.split("/")]
     if not sep or len(parts) < 2 or not all(parts):
         sys.exit(f"performance.py: --set '{setting}' is not 'Subsection/Entry=value'")
-    block = "".join(f"subsection {p}\n" for p in parts[:-1])
-    block += f"  set {parts[-1]} = {value.strip()}\n" + "end\n" * (len(parts) - 1)
-    return text + "\n" + block
+    return set_path(text, "/".join(parts), value.strip())
 
 
 def run_ours(binary, problem, level, np_, workdir, settings=()):

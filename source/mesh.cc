@@ -12,6 +12,7 @@
 #include <array>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
@@ -108,6 +109,157 @@ namespace ContactStefan
              std::to_string(text.size()) + " bytes");
     }
 
+    // A coarse mesh must be conforming: no vertex may lie inside an edge. deal.II
+    // accepts a node that hangs on a neighbour's edge (a T-junction) and makes
+    // the long edge and the two short ones boundary faces: the cells are cut
+    // apart there, the heat does not cross and the bodies do not touch, and
+    // the run ends with exit 0 and a wrong result. Between two bodies the same
+    // happens to a non-matching interface (the bodies share the nodes of their
+    // interfaces; nothing here pairs a node with a point inside an edge), so it
+    // is refused alike, with its own message.
+    //
+    // The used vertices are sorted into a grid of buckets about the mean edge
+    // length wide (coarser if the mesh's bounding box would need more than a
+    // few buckets per vertex). Each edge visits the buckets of its bounding box,
+    // or, for a long slanted edge whose box holds many buckets, the 3 x 3
+    // buckets around points at most a bucket apart along it: linear in the
+    // size of the mesh unless its edges differ in length by orders of magnitude.
+    void check_conforming(const Triangulation<2> &mesh,
+                          const std::string      &file,
+                          const double            geometric_zero)
+    {
+      const std::vector<Point<2>> &vertices = mesh.get_vertices();
+      const std::vector<bool>     &is_used  = mesh.get_used_vertices();
+      struct Edge
+      {
+        unsigned int       a, b;
+        types::material_id body;
+      };
+      std::vector<Edge> edges;
+      double            total_length = 0;
+      for (const auto &cell : mesh.active_cell_iterators())
+        for (const unsigned int f : cell->face_indices())
+          // Each interior face once, from the cell of lower index.
+          if (cell->at_boundary(f) || cell->index() < cell->neighbor_index(f))
+            {
+              edges.push_back({cell->face(f)->vertex_index(0),
+                               cell->face(f)->vertex_index(1),
+                               cell->material_id()});
+              total_length += cell->face(f)->measure();
+            }
+      std::vector<unsigned int> used;
+      Point<2> low(std::numeric_limits<double>::max(), std::numeric_limits<double>::max()),
+        high = -low;
+      for (unsigned int i = 0; i < vertices.size(); ++i)
+        if (is_used[i])
+          {
+            used.push_back(i);
+            for (unsigned int d = 0; d < 2; ++d)
+              low[d]  = std::min(low[d], vertices[i][d]),
+              high[d] = std::max(high[d], vertices[i][d]);
+          }
+      if (edges.empty() || used.empty())
+        return;
+      // Coordinates of 1e308 overflow the lengths: such a mesh (refused or
+      // run elsewhere) is not checked here.
+      double h = total_length / edges.size();
+      if (!(h > 0) || !std::isfinite(total_length) || !std::isfinite((high - low).norm()))
+        return;
+      const double max_buckets = 4. * used.size() + 64;
+      const auto   n_buckets   = [&](const unsigned int d) {
+        return std::floor((high[d] - low[d]) / h) + 1;
+      };
+      if (n_buckets(0) * n_buckets(1) > max_buckets)
+        h *= std::sqrt(n_buckets(0) * n_buckets(1) / max_buckets) * 1.01;
+      const unsigned int nx = n_buckets(0), ny = n_buckets(1);
+      const auto         index = [&](const double x, const unsigned int d, const unsigned int n) {
+        return static_cast<unsigned int>(std::min<double>(n - 1, std::max(0., (x - low[d]) / h)));
+      };
+      // The vertices by bucket (a counting sort): bucket k holds
+      // sorted[start[k]] ... sorted[start[k + 1] - 1].
+      std::vector<unsigned int> start(nx * ny + 1, 0), sorted(used.size());
+      const auto                bucket = [&](const Point<2> &p) {
+        return index(p[0], 0, nx) + nx * index(p[1], 1, ny);
+      };
+      for (const unsigned int v : used)
+        ++start[bucket(vertices[v]) + 1];
+      for (unsigned int k = 0; k < nx * ny; ++k)
+        start[k + 1] += start[k];
+      {
+        std::vector<unsigned int> next(start.begin(), start.end() - 1);
+        for (const unsigned int v : used)
+          sorted[next[bucket(vertices[v])]++] = v;
+      }
+
+      for (const Edge &edge : edges)
+        {
+          const Point<2>     a = vertices[edge.a], b = vertices[edge.b];
+          const Tensor<1, 2> d       = b - a;
+          const double       length  = d.norm();
+          unsigned int       hanging = numbers::invalid_unsigned_int;
+          double             nearest = 2;
+          const auto         test    = [&](const unsigned int k) {
+            for (unsigned int m = start[k]; m < start[k + 1]; ++m)
+              {
+                const unsigned int v = sorted[m];
+                if (v == edge.a || v == edge.b)
+                  continue;
+                const Tensor<1, 2> r        = vertices[v] - a;
+                const double       t        = r * d / length / length;
+                const double       distance = std::abs(d[0] * r[1] - d[1] * r[0]) / length;
+                if (distance <= geometric_zero * length && t > geometric_zero &&
+                    t < 1 - geometric_zero && t < nearest)
+                  hanging = v, nearest = t;
+              }
+          };
+          const unsigned int x0        = index(std::min(a[0], b[0]), 0, nx),
+                             x1        = index(std::max(a[0], b[0]), 0, nx),
+                             y0        = index(std::min(a[1], b[1]), 1, ny),
+                             y1        = index(std::max(a[1], b[1]), 1, ny);
+          const unsigned int n_samples = static_cast<unsigned int>(std::ceil(length / h)) + 1;
+          if (double(x1 - x0 + 1) * (y1 - y0 + 1) <= 9. * n_samples)
+            {
+              // Bucket edges at round-off distance: one more bucket each way.
+              for (unsigned int i = x0 - (x0 > 0); i <= std::min(x1 + 1, nx - 1); ++i)
+                for (unsigned int j = y0 - (y0 > 0); j <= std::min(y1 + 1, ny - 1); ++j)
+                  test(i + nx * j);
+            }
+          else
+            {
+              // Samples at most h apart: every point within h of the edge lies
+              // in the 3 x 3 buckets around some sample. A bucket may be tested
+              // more than once; that finds nothing new.
+              for (unsigned int s = 0; s < n_samples; ++s)
+                {
+                  const Point<2>     p = a + d * (double(s) / (n_samples - 1));
+                  const unsigned int i = index(p[0], 0, nx), j = index(p[1], 1, ny);
+                  for (unsigned int ii = i - (i > 0); ii <= std::min(i + 1, nx - 1); ++ii)
+                    for (unsigned int jj = j - (j > 0); jj <= std::min(j + 1, ny - 1); ++jj)
+                      test(ii + nx * jj);
+                }
+            }
+          if (hanging == numbers::invalid_unsigned_int)
+            continue;
+          // The bodies of the cells around the hanging node.
+          std::set<types::material_id> bodies;
+          for (const auto &cell : mesh.active_cell_iterators())
+            for (const unsigned int v : cell->vertex_indices())
+              if (cell->vertex_index(v) == hanging)
+                bodies.insert(cell->material_id());
+          const std::string where = "'" + file + "': the node " + point_text(vertices[hanging]) +
+                                    " lies inside the edge from " + point_text(a) + " to " +
+                                    point_text(b) + " of body " + std::to_string(edge.body);
+          if (bodies.count(edge.body) == 1)
+            throw InputError("Geometry/Mesh file",
+                             where + ": a T-junction (hanging node); the mesh must be conforming, "
+                                     "every edge shared whole by the cells on both sides");
+          throw InputError("Geometry/Mesh file",
+                           where + ", a node of body " + std::to_string(*bodies.begin()) +
+                             ": a non-matching interface (the bodies must share the nodes of "
+                             "their interfaces)");
+        }
+    }
+
     // A Gmsh mesh must be a valid Q1 mesh: every cell's bilinear map has a
     // positive Jacobian determinant at its four vertices (a negative one at all
     // four is an inverted cell, mixed signs a self-overlapping "bow-tie" cell),
@@ -169,6 +321,7 @@ namespace ContactStefan
                                point_text(used[k].first) +
                                ": the mesh is cut there (bodies must share their interface "
                                "nodes)");
+      check_conforming(mesh, file, geometric_zero);
     }
   } // namespace
 

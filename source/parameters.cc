@@ -4,6 +4,7 @@
 
 #include <contact-stefan/materials.h>
 #include <contact-stefan/neumann_solution.h>
+#include <contact-stefan/parameter_file.h>
 #include <contact-stefan/parameters.h>
 
 #include <algorithm>
@@ -238,7 +239,8 @@ namespace ContactStefan
       prm.declare_entry("Mesh file",
                         "",
                         Patterns::Anything(),
-                        "Gmsh .msh file, relative to the parameter file's directory.");
+                        "Gmsh .msh file, relative to the parameter file's directory (the "
+                        "main file's, also where an included file sets it).");
       prm.leave_subsection();
     }
 
@@ -1644,29 +1646,28 @@ namespace ContactStefan
 
   void AllParameters::read(const std::string &filename)
   {
+    // .xml and .json files are read in those formats, everything else as .prm;
+    // only a .prm file has `include` lines (expanded here, not by deal.II, so
+    // that each included file is checked like the main one).
+    const auto        dot        = filename.rfind('.');
+    const std::string extension  = dot == std::string::npos ? "" : filename.substr(dot);
+    const bool        prm_format = extension != ".xml" && extension != ".json";
     // The file is read once (it may be a pipe) and parsed from memory twice.
-    std::ifstream in(filename, std::ios::binary);
-    if (!in)
-      throw InputError("parameter file '" + filename + "' cannot be opened");
-    if (std::filesystem::is_directory(filename))
-      throw InputError("parameter file '" + filename + "' is not a regular file (a directory)");
-    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    // A binary file is not a parameter file (deal.II's message would quote the
-    // line up to its first NUL byte).
-    if (text.find('\0') != std::string::npos)
-      throw InputError("parameter file '" + filename +
-                       "' is not a text file (it contains NUL bytes)");
-    // .xml and .json files are read in those formats, everything else as .prm.
+    const ParameterFileText file = read_parameter_file(filename, prm_format);
+    if (prm_format)
+      check_entries_set_once(file);
     const auto parse = [&](ParameterHandler &prm, const bool skip_undefined) {
-      std::istringstream input(text);
-      const auto         dot       = filename.rfind('.');
-      const std::string  extension = dot == std::string::npos ? "" : filename.substr(dot);
+      std::istringstream input(file.text);
       if (extension == ".xml")
         prm.parse_input_from_xml(input, skip_undefined);
       else if (extension == ".json")
         prm.parse_input_from_json(input, skip_undefined);
       else
         prm.parse_input(input, filename, "", skip_undefined);
+    };
+    // deal.II's line numbers count lines of the expanded text.
+    const auto parse_failure = [&](const std::exception &e) {
+      return InputError(locate_lines(ContactStefan::parse_error(filename, e), file, filename));
     };
     const auto        slash = filename.rfind('/');
     const std::string prm_directory =
@@ -1683,7 +1684,7 @@ namespace ContactStefan
         }
       catch (const std::exception &e)
         {
-          throw InputError(parse_error(filename, e));
+          throw parse_failure(e);
         }
       prm.enter_subsection("Bodies");
       body_ids = parse_ids(prm.get("Body ids"), "Bodies/Body ids");
@@ -1708,7 +1709,7 @@ namespace ContactStefan
       }
     catch (const std::exception &e)
       {
-        throw InputError(parse_error(filename, e));
+        throw parse_failure(e);
       }
 
     geometry.parse(prm, prm_directory);

@@ -6,8 +6,11 @@
 # so that line 10 has a corner at (0, 0) (the top stays 12).
 # With -DDEFECT=inverted the first cell is listed clockwise (inverted), with
 # bowtie its vertices cross (self-overlapping), with split body 2 has its own
-# copies of the interface vertices at x = 4 (the mesh is cut there): invalid
-# meshes for the bad-input tests.
+# copies of the interface vertices at x = 4 (the mesh is cut there), with
+# tjunction the cells (1..2, 1) and (2..3, 1) of body 1 are one 2 x 1 cell (the
+# nodes (2, 1) and (2, 2) hang on its edges), with nonmatching body 2 has cells
+# of height 2 (the interface nodes (4, 1) and (4, 3) of body 1 hang on body 2's
+# edges): invalid meshes for the bad-input tests.
 # The test meshes are generated, never committed.
 set(nx 8)
 set(ny 4)
@@ -56,6 +59,19 @@ foreach(j RANGE ${last_j})
       math(EXPR a "${n_nodes} + ${j} + 1")
       math(EXPR d "${a} + 1")
     endif()
+    # Merged cells: the first of the two takes the far nodes, the second is left out.
+    math(EXPR odd_row "${j} % 2")
+    if(DEFECT STREQUAL "tjunction" AND j EQUAL 1 AND i EQUAL 2)
+      continue()
+    elseif(DEFECT STREQUAL "tjunction" AND j EQUAL 1 AND i EQUAL 1)
+      math(EXPR b "${b} + 1")
+      math(EXPR c "${c} + 1")
+    elseif(DEFECT STREQUAL "nonmatching" AND body EQUAL 2 AND odd_row)
+      continue()
+    elseif(DEFECT STREQUAL "nonmatching" AND body EQUAL 2)
+      math(EXPR c "${c} + ${nnx}")
+      math(EXPR d "${d} + ${nnx}")
+    endif()
     if(DEFECT STREQUAL "inverted" AND count EQUAL 0)
       add_element("3 2 ${body} ${body} ${a} ${d} ${c} ${b}")
     elseif(DEFECT STREQUAL "bowtie" AND count EQUAL 0)
@@ -71,6 +87,12 @@ foreach(j RANGE ${last_j})
   add_element("1 2 10 10 ${a} ${d}")
   math(EXPR a "${j} * ${nnx} + ${nnx}")
   math(EXPR d "${a} + ${nnx}")
+  math(EXPR odd_row "${j} % 2")
+  if(DEFECT STREQUAL "nonmatching" AND odd_row)
+    continue()
+  elseif(DEFECT STREQUAL "nonmatching")
+    math(EXPR d "${d} + ${nnx}")
+  endif()
   add_element("1 2 11 11 ${a} ${d}")
 endforeach()
 if(KINK)

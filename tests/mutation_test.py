@@ -367,6 +367,28 @@ def duplicate_first_quad(text):
     return ("\n".join(lines) + "\n").encode()
 
 
+def merge_quads(first, second):
+    """Two neighbouring quads (0-based, in the order of $Elements) made one: the
+    nodes on their common edge hang on the merged cell's edges (a T-junction,
+    or a non-matching interface where one of them is a node of another body)."""
+    def edit(text):
+        lines = mesh_lines(text)
+        e = elements_start(lines)
+        f1, f2 = lines[e + 2 + first].split(), lines[e + 2 + second].split()
+        n1, n2 = f1[5:9], f2[5:9]
+        if n2[0] == n1[1] and n2[3] == n1[2]:    # side by side
+            f1[5:9] = [n1[0], n2[1], n2[2], n1[3]]
+        elif n2[0] == n1[3] and n2[1] == n1[2]:  # one above the other
+            f1[5:9] = [n1[0], n1[1], n2[2], n2[3]]
+        else:
+            raise SystemExit("merge_quads: quads %d and %d are not neighbours" % (first, second))
+        lines[e + 2 + first] = " ".join(f1)
+        del lines[e + 2 + second]
+        lines[e + 1] = str(int(lines[e + 1]) - 1)
+        return ("\n".join(lines) + "\n").encode()
+    return edit
+
+
 def truncate_in_elements(text):
     e = text.index("$Elements")
     cut = e + (len(text) - e) // 2
@@ -419,6 +441,12 @@ MESH_MUTATIONS = [
     ("empty", "an empty file", lambda t: b"", ("gmsh", "kink")),
     ("directory", "a directory", lambda t: "dir", ("gmsh", "kink")),
     ("missing", "no such file", lambda t: "missing", ("gmsh",)),
+    # 8 x 4 unit quads, row by row: quads 9 and 10 are (1..2, 1) and (2..3, 1);
+    # 12 and 20 are (4..5, 1) and (4..5, 2), body 2 next to the interface x = 4.
+    ("tjunction", "two quads of a row merged (T-junctions: nodes hang on its edges)",
+     merge_quads(9, 10), ("gmsh", "kink")),
+    ("nonmatching", "two quads of body 2 at the interface merged (a node of body 1 hangs "
+     "on body 2's edge)", merge_quads(12, 20), ("gmsh",)),
 ]
 
 
@@ -608,6 +636,76 @@ def build_mutations(base_texts, defaults):
                  append="subsection Geometry\n  set Subdivisions 4, 4\nend\n", **R))
     add(Mutation("patch.prm.body-undeclared", "Body ids = 0, 1, 5 (no body 5 in the mesh)",
                  "patch", sets=[("Bodies/Body ids", "0, 1, 5")], **R))
+
+    # 'include' lines (expanded by contact-stefan, every included file checked
+    # like the main one), encodings, line ends, entries set twice.
+    def files(**contents):
+        def setup(work):
+            for name, data in contents.items():
+                path = os.path.join(work, name.replace("_", "."))
+                if data == "dir":
+                    os.mkdir(path)
+                elif data == "fifo":
+                    os.mkfifo(path)
+                else:
+                    with open(path, "wb") as f:
+                        f.write(data)
+        return setup
+    inc = lambda name: ("include %s\n" % name).encode()
+    add(Mutation("prm.include-self", "the parameter file includes itself",
+                 prm_bytes=manu.encode() + inc(SCENE_NAME), **R))
+    add(Mutation("prm.include-loop", "scene.prm includes b.prm, which includes scene.prm",
+                 prm_bytes=manu.encode() + inc("b.prm"), setup=files(b_prm=inc(SCENE_NAME)),
+                 **R))
+    add(Mutation("prm.include-directory", "include of a directory",
+                 prm_bytes=manu.encode() + inc("sub"), setup=files(sub="dir"), **R))
+    add(Mutation("prm.include-dev-zero", "include /dev/zero",
+                 prm_bytes=manu.encode() + inc("/dev/zero"), **R))
+    add(Mutation("prm.include-fifo", "include of a FIFO no one writes to",
+                 prm_bytes=manu.encode() + inc("fifo.prm"), setup=files(fifo_prm="fifo"), **R))
+    add(Mutation("prm.include-missing", "include of a file that does not exist",
+                 prm_bytes=manu.encode() + inc("no-such-file.prm"), **R))
+    add(Mutation("prm.include-empty-name", "'include' without a file name",
+                 prm_bytes=manu.encode() + b"include   \n", **R))
+    add(Mutation("prm.include-binary", "include of binary garbage",
+                 prm_bytes=manu.encode() + inc("bin.prm"), setup=files(bin_prm=BINARY_BYTES),
+                 **R))
+    add(Mutation("prm.include-cr-only", "include of a file with CR-only line ends",
+                 prm_bytes=inc("cr.prm"), setup=files(cr_prm=manu.replace("\n", "\r").encode()),
+                 **R))
+    add(Mutation("prm.include-utf16", "include of a UTF-16 file",
+                 prm_bytes=inc("u16.prm"), setup=files(u16_prm=manu.encode("utf-16")), **R))
+    add(Mutation("prm.include-unclosed", "an included file opens a subsection it does not close",
+                 prm_bytes=manu.encode() + inc("open.prm"),
+                 setup=files(open_prm=b"subsection Output\n"), **R))
+    add(Mutation("prm.include-diamond", "includes doubling 40 levels deep (2^40 reads)",
+                 prm_bytes=inc("d0.prm"),
+                 setup=files(**{"d%d_prm" % k: inc("d%d.prm" % (k + 1)) * 2 for k in range(40)},
+                             d40_prm=b"# empty\n"), **R))
+    add(Mutation("prm.include-valid", "the whole scene in an included file",
+                 prm_bytes=inc("base.prm"), setup=files(base_prm=manu.encode())))
+    add(Mutation("prm.cr-only", "CR-only line ends (the scene starts with a comment)",
+                 prm_bytes=manu.replace("\n", "\r").encode(), **R))
+    add(Mutation("prm.utf8-bom", "a UTF-8 byte-order mark",
+                 prm_bytes=b"\xef\xbb\xbf" + manu.encode()))
+    add(Mutation("prm.utf16", "UTF-16 with a byte-order mark", prm_bytes=manu.encode("utf-16"),
+                 **R))
+    add(Mutation("prm.utf16be", "UTF-16BE without a byte-order mark",
+                 prm_bytes=manu.encode("utf-16-be"), **R))
+    add(Mutation("prm.utf32", "UTF-32 with a byte-order mark", prm_bytes=manu.encode("utf-32"),
+                 **R))
+    density = "set Density                 = 2"
+    assert density in manu
+    add(Mutation("prm.duplicate", "an entry set twice in one subsection (the same value)",
+                 prm_bytes=manu.replace(density, density + "\n    set Density = 2").encode(), **R))
+    add(Mutation("manu.prm.duplicate-block", "an entry set again in a second block of its "
+                 "subsection", "manu",
+                 append="subsection Materials\n  subsection Body 0\n    set Density = 3\n"
+                        "  end\nend\n", **R))
+    add(Mutation("prm.duplicate-include", "an entry set in the scene and in an included file",
+                 prm_bytes=manu.encode() + inc("density.prm"),
+                 setup=files(density_prm=b"subsection Materials\nsubsection Body 0\n"
+                                         b"set Density = 3\nend\nend\n"), **R))
 
     # Root writes into a 555 directory: then the run may go on.
     add(Mutation("manu.out.readonly", "Output/Directory under a read-only (555) directory",

@@ -16,8 +16,8 @@ if [ "${1:-}" = --older-format ]; then older=1; shift; fi
 dir=$(mktemp -d) && cd "$dir" || exit 1
 trap 'rm -rf "$dir"' EXIT
 cp "$scene_a" a.prm
-printf 'subsection Checkpoint\n set Interval (steps) = 5\nend\nsubsection Output\n set Directory = %s\nend\n' \
-  "$dir/out" >> a.prm
+settings=$(dirname "$0")/apply_settings.sh
+"$settings" a.prm "SET:Checkpoint/Interval (steps)=5" "SET:Output/Directory=$dir/out" || exit 1
 "$binary" a.prm > /dev/null 2>&1 || { echo "the first scene failed"; exit 1; }
 [ -f "$dir/out/checkpoint/state.txt" ] || { echo "the first scene wrote no checkpoint"; exit 1; }
 if [ $older = 1 ]; then
@@ -29,11 +29,10 @@ if [ $older = 1 ]; then
     "$dir/out/checkpoint/state.txt"
 fi
 cp "$scene_b" b.prm
-extra=$("$(dirname "$0")/apply_settings.sh" b.prm "$@") || exit 1
+extra=$("$settings" b.prm "$@" "SET:Output/Directory=$dir/out") || exit 1
 [ -z "$extra" ] || { echo "unexpected arguments: $extra"; exit 1; }
-printf 'subsection Output\n set Directory = %s\nend\n' "$dir/out" >> b.prm
 if [ $between = 1 ]; then
   "$binary" b.prm > /dev/null 2>&1 || { echo "the fresh run failed"; exit 1; }
 fi
-printf 'subsection Checkpoint\n set Resume = true\nend\n' >> b.prm
+"$settings" b.prm "SET:Checkpoint/Resume=true" || exit 1
 "$(dirname "$0")/expect_error.sh" "$binary" "$dir/b.prm" "$expected"
