@@ -128,6 +128,8 @@ namespace ContactStefan
   void CoupledProblem<dim>::run()
   {
     wall_clock.restart();
+    // (the mesh file as make_mesh() reads it now: checkpoints record it)
+    mesh_file_content = mesh_file_checksum();
     if (prm.checkpoint.resume)
       resume();
     else
