@@ -299,10 +299,12 @@ namespace ContactStefan
           if (size != entry.size)
             difference = file(entry.name) + " is damaged: it has " + std::to_string(size) +
                          " bytes, the manifest lists " + std::to_string(entry.size) +
-                         (size == 0 ? " (emptied)" : size < entry.size ? " (truncated)" : "");
+                         (size == 0 ? " (emptied)" :
+                                      size < entry.size ? " (truncated, or of another checkpoint)" :
+                                                          " (of another checkpoint?)");
           else if (checksum != entry.checksum)
-            difference = file(entry.name) + " is damaged: its content does not match the " +
-                         "checksum in the manifest (changed, or a file of another checkpoint)";
+            difference = file(entry.name) + " is damaged: its checksum is not the manifest's " +
+                         "(changed, or of another checkpoint)";
           if (!difference.empty())
             {
               differing.push_back(entry.name);
@@ -640,8 +642,8 @@ namespace ContactStefan
                "is set)";
       std::string problem = check_checkpoint(directory, manifest);
       if (!problem.empty() && directory == current && fs::exists(old))
-        problem += "; the previous checkpoint, 'checkpoint.old', exists: rename it to "
-                   "'checkpoint' to resume from it";
+        problem += "; the previous one exists: rename 'checkpoint.old' to 'checkpoint' to "
+                   "resume from it";
       if (problem.empty() && manifest.mesh_file != mesh_file_content)
         problem = "the checkpoint in '" + directory + "' was written with another content of " +
                   "the mesh file '" + prm.geometry.mesh_file + "'" +
