@@ -158,8 +158,11 @@ namespace ContactStefan
 
     // The files every checkpoint has (mesh_variable.data only exists when
     // data of variable size are attached: then it is listed as well).
-    const std::vector<std::string> required_files = {
-      "mesh", "mesh.info", "mesh_fixed.data", "state.txt", "statistics"};
+    const std::vector<std::string> required_files = {"mesh",
+                                                     "mesh.info",
+                                                     "mesh_fixed.data",
+                                                     "state.txt",
+                                                     "statistics"};
 
     // Writes the manifest of the files now in directory.
     void write_manifest(const std::string &directory,
@@ -172,8 +175,8 @@ namespace ContactStefan
         names.push_back(entry.path().filename().string());
       std::sort(names.begin(), names.end());
       std::ostringstream text;
-      text << checkpoint_format << "\nid " << id << "\nstep " << step << "\nmesh-file "
-           << mesh_file << '\n';
+      text << checkpoint_format << "\nid " << id << "\nstep " << step << "\nmesh-file " << mesh_file
+           << '\n';
       for (const std::string &name : names)
         {
           std::uintmax_t size = 0;
@@ -222,8 +225,8 @@ namespace ContactStefan
           const std::string format = format_of_state_file(directory + "/state.txt");
           if (!format.empty() && format != checkpoint_format)
             return "'" + directory + "/state.txt' was written in the format '" + format +
-                   "' of another version of contact-stefan, this one reads '" +
-                   checkpoint_format + "'";
+                   "' of another version of contact-stefan, this one reads '" + checkpoint_format +
+                   "'";
           return file("manifest") + " is missing (it is written last: the checkpoint is " +
                  "incomplete or damaged)";
         }
@@ -231,7 +234,8 @@ namespace ContactStefan
       if (fs::is_directory(path) || fs::file_size(path) > (1u << 20))
         return file("manifest") + " is damaged (not a manifest)";
       std::ifstream     in(path, std::ios::binary);
-      const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+      const std::string text((std::istreambuf_iterator<char>(in)),
+                             std::istreambuf_iterator<char>());
       if (text.empty())
         return file("manifest") + " is empty";
       // The last line is the checksum of everything before it.
@@ -249,8 +253,7 @@ namespace ContactStefan
       std::getline(lines, manifest.format);
       if (manifest.format != checkpoint_format)
         return file("manifest") + " was written in the format '" + manifest.format.substr(0, 40) +
-               "' of another version of contact-stefan, this one reads '" + checkpoint_format +
-               "'";
+               "' of another version of contact-stefan, this one reads '" + checkpoint_format + "'";
       std::string line;
       while (std::getline(lines, line))
         {
@@ -299,9 +302,9 @@ namespace ContactStefan
           if (size != entry.size)
             difference = file(entry.name) + " is damaged: it has " + std::to_string(size) +
                          " bytes, the manifest lists " + std::to_string(entry.size) +
-                         (size == 0 ? " (emptied)" :
-                                      size < entry.size ? " (truncated, or of another checkpoint)" :
-                                                          " (of another checkpoint?)");
+                         (size == 0         ? " (emptied)" :
+                          size < entry.size ? " (truncated, or of another checkpoint)" :
+                                              " (of another checkpoint?)");
           else if (checksum != entry.checksum)
             difference = file(entry.name) + " is damaged: its checksum is not the manifest's " +
                          "(changed, or of another checkpoint)";
@@ -327,10 +330,9 @@ namespace ContactStefan
       for (const auto &entry : fs::directory_iterator(directory))
         {
           const std::string name = entry.path().filename().string();
-          if (name != "manifest" &&
-              std::none_of(manifest.files.begin(), manifest.files.end(), [&](const auto &e) {
-                return e.name == name;
-              }))
+          if (name != "manifest" && std::none_of(manifest.files.begin(),
+                                                 manifest.files.end(),
+                                                 [&](const auto &e) { return e.name == name; }))
             return file(name) + " is not listed in the manifest (a file of another checkpoint?)";
         }
       return "";
@@ -339,7 +341,8 @@ namespace ContactStefan
     // Checks the statistics copy against the state: a header line, then the
     // rows of steps 0, 1, ..., step, each with the header's number of
     // columns, the last one at the checkpoint's time.
-    std::string check_statistics(const std::string &path, const unsigned int step, const double time)
+    std::string
+    check_statistics(const std::string &path, const unsigned int step, const double time)
     {
       std::ifstream in(path);
       std::string   line;
@@ -375,8 +378,8 @@ namespace ContactStefan
                std::to_string(step) + " needs rows 0 to " + std::to_string(step);
       // (written with 11 significant digits)
       if (!(std::abs(last_time - time) <= 1e-9 * std::abs(time) + 1e-300))
-        return name + " ends at t = " + number(last_time) + ", the checkpoint is at t = " +
-               number(time);
+        return name + " ends at t = " + number(last_time) +
+               ", the checkpoint is at t = " + number(time);
       return "";
     }
   } // namespace
@@ -566,7 +569,7 @@ namespace ContactStefan
         boost::archive::text_oarchive archive(out);
         const std::string             format  = checkpoint_format;
         const unsigned int            n_ranks = Utilities::MPI::n_mpi_processes(comm);
-        std::vector<double> thermal_scalars =
+        std::vector<double>           thermal_scalars =
           thermal ? thermal->restart_state() : std::vector<double>();
         archive << format << id << fields_fingerprint() << n_ranks << time << time_step
                 << step_number << thermal_scalars << wall;
@@ -630,8 +633,8 @@ namespace ContactStefan
         {
           Manifest          unused;
           const std::string problem = check_checkpoint(next, unused);
-          return "there is no checkpoint in '" + prm.output.directory +
-                 "', only the unfinished '" + next + "'" +
+          return "there is no checkpoint in '" + prm.output.directory + "', only the unfinished '" +
+                 next + "'" +
                  (problem.empty() ?
                     " (complete, but the run stopped before renaming it to 'checkpoint')" :
                     ", which a run left incomplete when it stopped while writing it");
@@ -653,8 +656,8 @@ namespace ContactStefan
     });
     {
       std::vector<std::string> found{directory, manifest.id, std::to_string(manifest.step)};
-      found     = Utilities::MPI::broadcast(comm, found, 0);
-      directory = found[0];
+      found         = Utilities::MPI::broadcast(comm, found, 0);
+      directory     = found[0];
       manifest.id   = found[1];
       manifest.step = std::stoul(found[2]);
     }
@@ -715,8 +718,8 @@ namespace ContactStefan
         problem = "the time t = " + number(time) + " is not the time of step " +
                   std::to_string(step_number) + ", t = " + number(expected_time);
       else if (!(time_step == prm.time.time_step))
-        problem = "the step size " + number(time_step) + " is not 'Time stepping/Time step' = " +
-                  number(prm.time.time_step);
+        problem = "the step size " + number(time_step) +
+                  " is not 'Time stepping/Time step' = " + number(prm.time.time_step);
       else if (n_ranks == 0 || !std::isfinite(wall) || wall < 0)
         problem = "the number of ranks or the wall time is not valid";
       else if (thermal_scalars.size() != n_thermal_scalars ||
@@ -732,9 +735,8 @@ namespace ContactStefan
       throw InputError("Checkpoint/Resume",
                        "the checkpoint is at t = " + number(time) +
                          ", not before 'Time stepping/End time' = " + number(prm.time.end_time));
-    check_on_root(comm, [&]() {
-      return check_statistics(directory + "/statistics", step_number, time);
-    });
+    check_on_root(comm,
+                  [&]() { return check_statistics(directory + "/statistics", step_number, time); });
 
     {
       TimerOutput::Scope t(timer, "setup: mesh");
