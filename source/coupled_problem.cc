@@ -130,6 +130,8 @@ namespace ContactStefan
   {
     wall_clock.restart();
     const MPI_Comm comm = triangulation.get_communicator();
+    // (the mesh file as make_mesh() reads it now: checkpoints record it)
+    mesh_file_content = mesh_file_checksum();
     if (prm.checkpoint.resume)
       {
         resume();

@@ -7,7 +7,8 @@
 # with other parameters) would misread the attached vectors or continue
 # another history. With --fresh-run-between, SCENE_B first runs from the start
 # in the same directory (which must remove SCENE_A's checkpoints). With
-# --older-format, the checkpoint claims the format of an earlier version.
+# --older-format, the checkpoint is made one of the format of an earlier
+# version (format 2: no manifest yet).
 binary=$1 scene_a=$2 scene_b=$3 expected=$4
 shift 4
 between=0 older=0
@@ -21,12 +22,15 @@ settings=$(dirname "$0")/apply_settings.sh
 "$binary" a.prm > /dev/null 2>&1 || { echo "the first scene failed"; exit 1; }
 [ -f "$dir/out/checkpoint/state.txt" ] || { echo "the first scene wrote no checkpoint"; exit 1; }
 if [ $older = 1 ]; then
-  # Boost's text archive writes a string as '<length> <characters>': replace
-  # the whole '<length> contact-stefan checkpoint <n>' so the length stays right.
+  # What a checkpoint of format 2 looks like: no manifest, and that format in
+  # state.txt. Boost's text archive writes a string as '<length> <characters>':
+  # replace the whole '<length> contact-stefan checkpoint <n>' so the length
+  # stays right.
   grep -q '[0-9]* contact-stefan checkpoint [0-9]*' "$dir/out/checkpoint/state.txt" ||
     { echo "no format string in the checkpoint"; exit 1; }
-  sed -i 's/[0-9]* contact-stefan checkpoint [0-9]*/27 contact-stefan checkpoint 1/' \
+  sed -i 's/[0-9]* contact-stefan checkpoint [0-9]*/27 contact-stefan checkpoint 2/' \
     "$dir/out/checkpoint/state.txt"
+  rm -f "$dir/out/checkpoint/manifest"
 fi
 cp "$scene_b" b.prm
 extra=$("$settings" b.prm "$@" "SET:Output/Directory=$dir/out") || exit 1

@@ -70,14 +70,19 @@ namespace ContactStefan
     // Checkpoint/restart (checkpoint.cc, doc/adaptivity.md): the mesh, the
     // primary state of both fields, the time state, the postprocessor's
     // accumulated results and the statistics file, written atomically into
-    // Output/Directory/checkpoint; resume() builds the coarse mesh and loads
-    // all of it (on any number of ranks).
+    // Output/Directory/checkpoint with a manifest of their sizes and
+    // checksums; resume() checks the manifest before anything is read, then
+    // builds the coarse mesh and loads all of it (on any number of ranks).
     bool        checkpoint_due();
     void        write_checkpoint();
     void        remove_checkpoints();
     void        resume();
     std::string checkpoint_directory(const std::string &suffix = "") const;
     std::string fields_fingerprint() const;
+    // The checksum of Geometry/Mesh file's content ("none" without one),
+    // taken once at the start of the run into mesh_file_content.
+    std::string mesh_file_checksum() const;
+    std::string mesh_file_content;
     // The data each field hands the other (doc/coupling.md).
     void exchange_temperature();
     void exchange_thermoelastic_work();
