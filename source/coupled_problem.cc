@@ -159,6 +159,13 @@ namespace ContactStefan
           << '\n'
           << describe_coupling() << std::endl;
 
+    // A stop signal during the set-up: nothing but the initial state is
+    // written; stop before the first step.
+    if (const int signal = StopSignals::received_by_any(comm); signal != 0)
+      throw StoppedBySignal(signal,
+                            "stopped by " + StopSignals::name(signal) + " before step " +
+                              std::to_string(step_number + 1) + " (t = " + number(time) +
+                              "); the output holds every step up to it");
     const double end = prm.time.end_time;
     // A step that would end within this fraction of a step of the end time is
     // stretched to end exactly there (round-off, not a parameter).

@@ -43,7 +43,15 @@ namespace
 int main(int argc, char *argv[])
 {
   using namespace ContactStefan;
+  // SIGTERM and SIGINT stop the run between two steps (run_guard.h). They are
+  // held back while MPI starts (most of a second; MPI_Init installs handlers
+  // of its own, and the threads it starts inherit the blocked mask, so that
+  // the signals reach this thread only), then handled; a signal that arrived
+  // meanwhile is delivered then.
+  StopSignals::block();
   Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  StopSignals::install();
+  StopSignals::unblock();
   const bool                       root = Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
 
   std::string filename;
@@ -155,8 +163,6 @@ int main(int argc, char *argv[])
         std::cout << filename << ": OK" << std::endl;
       return 0;
     }
-  // SIGTERM and SIGINT stop the run between two steps (run_guard.h).
-  StopSignals::install();
   std::vector<std::string> failed_checks;
   try
     {

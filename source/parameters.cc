@@ -1527,12 +1527,15 @@ namespace ContactStefan
                         "0: one line per step; 1: plus one line per active-set "
                         "iteration; 2: plus linear-solver details.");
       prm.declare_entry("Small-strain limit",
-                        "0.05",
+                        "1",
                         Patterns::Double(0),
                         "The largest strain (Frobenius norm of the strain tensor at the "
                         "cell vertices, over all steps) the linear small-strain model is "
                         "trusted with. A run that exceeds it finishes and writes its output, "
-                        "but ends with a warning on stderr and exit code 3; 0: no check.");
+                        "but ends with a warning on stderr and exit code 3; 0: no check. "
+                        "The default flags strains of order one, which no small-strain model "
+                        "describes; verification scenes in scaled units reach 0.3, a "
+                        "geological or engineering scene should set 0.01-0.05.");
       prm.leave_subsection();
     }
 

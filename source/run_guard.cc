@@ -4,8 +4,11 @@
 #include <contact-stefan/run_guard.h>
 
 #include <sys/file.h>
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
 
 #include <csignal>
+#include <pthread.h>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
@@ -21,41 +24,52 @@ namespace ContactStefan
 {
   namespace fs = std::filesystem;
 
+  namespace
+  {
+    // The process holding a flock() on the file with this device and inode,
+    // from the kernel's table (/proc/locks: "1: FLOCK ADVISORY WRITE <pid>
+    // <major>:<minor>:<inode> 0 EOF"); 0 if it cannot be told.
+    long lock_holder(const struct stat &target)
+    {
+      std::ifstream locks("/proc/locks");
+      std::string   line;
+      while (std::getline(locks, line))
+        {
+          std::istringstream fields(line);
+          std::string        number, kind, mode, access, file;
+          long               pid = 0;
+          if (!(fields >> number >> kind >> mode >> access >> pid >> file) || kind != "FLOCK")
+            continue;
+          unsigned int       file_major = 0, file_minor = 0;
+          unsigned long long inode = 0;
+          if (std::sscanf(file.c_str(), "%x:%x:%llu", &file_major, &file_minor, &inode) == 3 &&
+              inode == target.st_ino && file_major == major(target.st_dev) &&
+              file_minor == minor(target.st_dev))
+            return pid;
+        }
+      return 0;
+    }
+  } // namespace
+
+
+
   OutputDirectoryLock::OutputDirectoryLock(const std::string &directory)
   {
-    const std::string path = directory + "/.contact-stefan.lock";
-    descriptor             = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    // The directory itself is locked: a run that is refused later (bad input
+    // found with the mesh) has written nothing into it.
+    descriptor = ::open(directory.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
     if (descriptor < 0)
-      throw std::runtime_error("cannot create the lock file '" + path + "'");
+      throw std::runtime_error("cannot open the directory '" + directory + "' to lock it");
     if (::flock(descriptor, LOCK_EX | LOCK_NB) != 0)
       {
-        // Held: the holder wrote who it is when it took the lock.
-        std::string holder(256, '\0');
-        const ssize_t n = ::pread(descriptor, holder.data(), holder.size() - 1, 0);
-        holder.resize(n > 0 ? static_cast<std::size_t>(n) : 0);
-        while (!holder.empty() && (holder.back() == '\n' || holder.back() == '\0'))
-          holder.pop_back();
+        struct stat status;
+        const long  holder = ::fstat(descriptor, &status) == 0 ? lock_holder(status) : 0;
         ::close(descriptor);
         descriptor = -1;
         throw std::runtime_error("the directory '" + directory + "' is in use by another run (" +
-                           (holder.empty() ? std::string("a process that is starting") :
-                                             one_line(holder)) +
-                           "); wait for it to end or choose another directory");
-      }
-    char host[256] = "unknown host";
-    ::gethostname(host, sizeof(host) - 1);
-    const std::time_t now = std::time(nullptr);
-    char              when[64];
-    std::strftime(when, sizeof(when), "%Y-%m-%d %H:%M:%S UTC", std::gmtime(&now));
-    const std::string record = "process " + std::to_string(::getpid()) + " on " + host +
-                               ", started " + when + "\n";
-    if (::ftruncate(descriptor, 0) != 0 ||
-        ::pwrite(descriptor, record.data(), record.size(), 0) !=
-          static_cast<ssize_t>(record.size()))
-      {
-        ::close(descriptor);
-        descriptor = -1;
-        throw std::runtime_error("cannot write the lock file '" + path + "'");
+                                 (holder > 0 ? "process " + std::to_string(holder) :
+                                               std::string("another process")) +
+                                 "); wait for it to end or choose another directory");
       }
   }
 
@@ -63,8 +77,8 @@ namespace ContactStefan
 
   OutputDirectoryLock::~OutputDirectoryLock()
   {
-    // Closing releases the lock; the file stays (removing it would let a
-    // third run lock a new file while a second still holds the old one).
+    // Closing releases the lock (so does the end of the process, however it
+    // ends: a killed run leaves no stale lock).
     if (descriptor >= 0)
       ::close(descriptor);
   }
@@ -144,6 +158,30 @@ namespace ContactStefan
         received_signal = signal;
       }
     } // namespace
+
+    namespace
+    {
+      sigset_t stop_signals()
+      {
+        sigset_t set;
+        sigemptyset(&set);
+        sigaddset(&set, SIGTERM);
+        sigaddset(&set, SIGINT);
+        return set;
+      }
+    } // namespace
+
+    void block()
+    {
+      const sigset_t set = stop_signals();
+      pthread_sigmask(SIG_BLOCK, &set, nullptr);
+    }
+
+    void unblock()
+    {
+      const sigset_t set = stop_signals();
+      pthread_sigmask(SIG_UNBLOCK, &set, nullptr);
+    }
 
     void install()
     {

@@ -51,39 +51,33 @@ import subprocess
 import sys
 import tempfile
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "benchmarks"))
+from ladder import set_path  # noqa: E402  (the one .prm editor of the project's scripts)
+
 SCENE = "prm/benchmarks/neumann_A.prm"
 GMSH_SCENE = "tests/scenes/two_blocks_gmsh.prm"
 OUTPUT = "out"
 # Adaptive (so that meshes of different steps differ), a checkpoint every 3
-# steps: the last at step 12 of 15, an older one at step 6.
-SETTINGS = """
-subsection Mesh refinement
-  set Adaptive refinement interval = 1
-  set Initial adaptive refinements = 2
-  set Maximum level = 2
-end
-subsection Checkpoint
-  set Interval (steps) = 3
-end
-subsection Output
-  set Directory = out
-  set VTU interval = 0
-end
-"""
-OTHER_RUN = """
-subsection Materials
-  subsection Body 0
-    subsection Phase change
-      set Latent heats = 1.5
-    end
-  end
-end
-"""
-RESUME = """
-subsection Checkpoint
-  set Resume = true
-end
-"""
+# steps: the last at step 12 of 15, an older one at step 6. Set in place
+# (contact-stefan refuses an entry set twice).
+SETTINGS = [
+    ("Mesh refinement/Adaptive refinement interval", "1"),
+    ("Mesh refinement/Initial adaptive refinements", "2"),
+    ("Mesh refinement/Maximum level", "2"),
+    ("Checkpoint/Interval (steps)", "3"),
+    ("Output/Directory", OUTPUT),
+    ("Output/VTU interval", "0"),
+]
+OTHER_RUN = [("Materials/Body 0/Phase change/Latent heats", "1.5")]
+RESUME = [("Checkpoint/Resume", "true")]
+
+
+def with_settings(text, settings):
+    for path, value in settings:
+        text = set_path(text, path, value)
+    return text
+
+
 TEXT_FILES = {"manifest", "state.txt", "statistics", "mesh.info"}
 CAUSES = {
     "emptied": r"emptied|is empty",
@@ -220,10 +214,9 @@ def main():
     source = os.path.abspath(args.source_dir)
     work = args.keep or tempfile.mkdtemp(prefix="mutation-checkpoint-")
     os.makedirs(work, exist_ok=True)
-    scene_text = open(os.path.join(source, SCENE)).read() + SETTINGS
-    gmsh_text = (open(os.path.join(source, GMSH_SCENE)).read() +
-                 "subsection Checkpoint\n set Interval (steps) = 3\nend\n"
-                 "subsection Output\n set Directory = out\nend\n")
+    scene_text = with_settings(open(os.path.join(source, SCENE)).read(), SETTINGS)
+    gmsh_text = with_settings(open(os.path.join(source, GMSH_SCENE)).read(),
+                              [("Checkpoint/Interval (steps)", "3"), ("Output/Directory", OUTPUT)])
 
     def setup_failed(message):
         print("FAIL setup: " + message)
@@ -261,7 +254,7 @@ def main():
         # Another run: another latent heat.
         o = os.path.join(root, "other")
         os.makedirs(o, exist_ok=True)
-        open(os.path.join(o, "scene.prm"), "w").write(scene_text + OTHER_RUN)
+        open(os.path.join(o, "scene.prm"), "w").write(with_settings(scene_text, OTHER_RUN))
         code, _, err = run(binary, np, ["scene.prm"], o)
         if code != 0:
             setup_failed("np %d: the other run failed: %s" % (np, err))
@@ -362,7 +355,9 @@ def main():
                                  re.sub(r"[^A-Za-z0-9.-]+", "_", case.cls + "-" + case.name))
         shutil.rmtree(directory, ignore_errors=True)
         shutil.copytree(base, directory)
-        open(os.path.join(directory, "scene.prm"), "a").write(RESUME)
+        scene = os.path.join(directory, "scene.prm")
+        resumed = with_settings(open(scene).read(), RESUME)
+        open(scene, "w").write(resumed)
         damaged = apply(case, directory)
         before = snapshot(os.path.join(directory, OUTPUT))
         code, _, err = run(binary, case.np, ["scene.prm"], directory)

@@ -12,7 +12,9 @@ step below the resolution of t, ...) must either
     stack trace, no half-written output (statistics lines complete, every
     .vtu/.pvtu/.pvd file closed by </VTKFile>); or
   * run: exit code 0, empty stderr, and every number in stdout (RESULT lines,
-    step lines), in the statistics table and in the VTU files is finite;
+    step lines), in the statistics table and in the VTU files is finite; or
+  * run with warnings: exit code 3, every stderr line a 'contact-stefan:
+    warning: ...' of a failed self-check, output finite as for a run;
 
 anything else (a signal, a hang beyond --timeout, a silent NaN, a multi-line
 error, ...) is a failure. Each case runs the binary serially in its own fresh
@@ -25,7 +27,7 @@ Invalid inputs (a NaN, a directory as parameter file, a bow-tie cell, ...) are
 marked 'refuse' in --list: for them a clean exit 0 is a failure as well. Each case
 is limited to --memory-limit MiB of address space, 1 GiB files and no core file.
 It prints one FAIL line per failure, then
-  mutations: N  refused: R  ran: A  clean: C  failed: F
+  mutations: N  refused: R  ran: A  ran with warnings (exit 3): W  clean: C  failed: F
   C passed, F failed
 and exits 1 if F > 0. In ctest (tests/CMakeLists.txt):
   add_test(NAME mutation COMMAND /usr/bin/python3 ${T}/mutation_test.py
@@ -734,9 +736,11 @@ def build_mutations(base_texts, defaults):
     add(Mutation("manu.out.vtu-full", "the first VTU file is /dev/full (disk full)",
                  "manu", sets=[("Output/Directory", "output"), ("Output/VTU interval", "1")],
                  setup=make_output_entry("solution_00000.0.vtu", "full"), **R))
+    # (solution.pvd is written as solution.pvd.tmp and renamed: the disk is
+    # full where the text goes)
     add(Mutation("manu.out.pvd-full", "the PVD file is /dev/full (disk full)",
                  "manu", sets=[("Output/Directory", "output"), ("Output/VTU interval", "1")],
-                 setup=make_output_entry("solution.pvd", "full"), **R))
+                 setup=make_output_entry("solution.pvd.tmp", "full"), **R))
     add(Mutation("manu.out.vtu-dir", "the first VTU file exists as a directory",
                  "manu", sets=[("Output/Directory", "output"), ("Output/VTU interval", "1")],
                  setup=make_output_entry("solution_00000.0.vtu", "dir"), **R))
@@ -993,6 +997,30 @@ def classify(rc, timed_out, out, err, output_problems, timeout, must_refuse):
         if problems:
             return "fail", "exit 0 but " + "; ".join(problems[:3])
         return "ran", ""
+    if rc == 3:
+        # Finished with complete, finite output, but one of the run's own
+        # checks failed (a strain above the small-strain limit, enthalpies
+        # outside H(Theta)): one 'warning:' line each, no error line.
+        problems = []
+        lines = [l for l in err.split(b"\n") if l]
+        if not lines:
+            problems.append("exit 3 without a warning line")
+        for line in lines:
+            if not line.startswith(b"contact-stefan: warning: ") or CONTROL.search(line):
+                problems.append("stderr line is not a warning: %s" % printable(
+                    line.decode("utf-8", "replace")[:150]))
+                break
+        for line in text_out.splitlines():
+            if NONFINITE.search(line):
+                problems.append("non-finite number in stdout: '%s'" %
+                                printable(line.strip()[:150]))
+                break
+        problems += output_problems
+        if must_refuse:
+            problems.insert(0, "the invalid input was accepted (with a warning)")
+        if problems:
+            return "fail", "exit 3 but " + "; ".join(problems[:3])
+        return "warned", printable(text_err.strip())
     if rc in (1, 2):
         problems = []
         lines = err.split(b"\n")
@@ -1193,15 +1221,16 @@ def main():
     finally:
         remove_tree(root)
 
-    counts = {"refused": 0, "ran": 0, "fail": 0}
+    counts = {"refused": 0, "ran": 0, "warned": 0, "fail": 0}
     for k, m in enumerate(mutations):
         verdict, reason, _ = results[k]
         counts[verdict] += 1
         if verdict == "fail":
             print("FAIL %s: %s: %s" % (m.id, m.desc, reason))
-    clean = counts["refused"] + counts["ran"]
-    print("mutations: %d  refused: %d  ran: %d  clean: %d  failed: %d" %
-          (len(mutations), counts["refused"], counts["ran"], clean, counts["fail"]))
+    clean = counts["refused"] + counts["ran"] + counts["warned"]
+    print("mutations: %d  refused: %d  ran: %d  ran with warnings (exit 3): %d  clean: %d  "
+          "failed: %d" % (len(mutations), counts["refused"], counts["ran"], counts["warned"],
+                          clean, counts["fail"]))
     print("wall time: %.0f s with %d job(s)" % (time.monotonic() - start, args.jobs))
     print("%d passed, %d failed" % (clean, counts["fail"]))
     return 1 if counts["fail"] else 0

@@ -49,11 +49,9 @@ check_pvd() { # every file the index names exists and is complete, none other is
 
 case $case in
 lock)
-  # First a process holding the lock the way a run does (flock on the lock
-  # file, with the record a run writes there).
+  # First a process holding the lock the way a run does (flock on the directory).
   mkdir -p "$directory"
-  printf 'process 4242 on testhost, started 2026-01-01 00:00:00 UTC\n' > "$directory/.contact-stefan.lock"
-  flock "$directory/.contact-stefan.lock" sleep 30 &
+  flock "$directory" sleep 30 &
   holder=$!
   sleep 0.5
   echo "1 2 3" > "$directory/statistics.txt"
@@ -61,7 +59,7 @@ lock)
   status=$?
   kill $(pgrep -P $holder) $holder 2>/dev/null; wait $holder 2>/dev/null
   [ $status -eq 1 ] || { echo "a run into a locked directory: exit $status, expected 1"; cat stderr.txt; exit 1; }
-  one_line stderr.txt "is in use by another run (process 4242 on testhost" || exit 1
+  one_line stderr.txt "is in use by another run (process $holder)" || exit 1
   [ "$(cat "$directory/statistics.txt")" = "1 2 3" ] || { echo "the holder's statistics were touched"; exit 1; }
   # A real run holds the lock too: a second one started beside it is refused.
   cp scene.prm short.prm
@@ -74,7 +72,7 @@ lock)
   kill -TERM $first; wait $first
   first_status=$?
   [ $status -eq 1 ] || { echo "the second run: exit $status, expected 1"; cat second_err.txt; exit 1; }
-  one_line second_err.txt "is in use by another run (process $first on" || exit 1
+  one_line second_err.txt "is in use by another run (process $first)" || exit 1
   [ $first_status -eq 143 ] || { echo "the first run ended with $first_status after SIGTERM, expected 143"; cat first_err.txt; exit 1; }
   # The holder gone, the directory is free again.
   "$binary" short.prm > third.txt 2> third_err.txt ||

@@ -2,10 +2,11 @@
 // (doc/reliability.md, "Output directories and signals"):
 //
 //  * OutputDirectoryLock: one run at a time writes into an output directory.
-//    The lock is an advisory flock() on '<directory>/.contact-stefan.lock',
-//    which also records the holder's process id, host and start time; the
-//    kernel drops the lock with the process, so a killed run never leaves a
-//    stale lock behind.
+//    The lock is an advisory flock() on the directory itself (no file is
+//    written, so a run refused for bad input leaves the directory as it was);
+//    a refused run names the holder's process id from the kernel's lock table.
+//    The kernel drops the lock with the process, so a killed run never leaves
+//    a stale lock behind.
 //  * remove_stale_output(): the VTU/PVTU/PVD files in an output directory that
 //    the starting run does not own (an earlier run's, also pieces '*.k.vtu'
 //    written on more ranks) are removed before the first is written.
@@ -68,8 +69,12 @@ namespace ContactStefan
 
   namespace StopSignals
   {
-    // Installs the SIGTERM and SIGINT handlers (once per process).
+    // Holds SIGTERM and SIGINT back in this thread (and the threads it starts).
+    void block();
+    // Installs the SIGTERM and SIGINT handlers.
     void install();
+    // Lets SIGTERM and SIGINT through again (one that arrived meanwhile now).
+    void unblock();
     // The signal received so far on this rank (0: none).
     int received();
     // Collective: the signal any rank received (0: none), the same on all ranks.
