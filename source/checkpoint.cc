@@ -50,6 +50,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <random>
 #include <regex>
 
@@ -394,11 +395,17 @@ namespace ContactStefan
   {
     if (prm.geometry.mesh_type != Parameters::Geometry::MeshType::gmsh)
       return "none";
-    std::uintmax_t size = 0;
-    std::string    checksum;
-    if (!checksum_of_file(prm.geometry.mesh_file, size, checksum))
-      return "unreadable";
-    return checksum;
+    // (rank 0's view of the file, the same on every rank; see resume())
+    const MPI_Comm comm     = triangulation.get_communicator();
+    std::string    checksum = "unreadable";
+    if (Utilities::MPI::this_mpi_process(comm) == 0)
+      {
+        std::uintmax_t size = 0;
+        std::string    sum;
+        if (checksum_of_file(prm.geometry.mesh_file, size, sum))
+          checksum = sum;
+      }
+    return Utilities::MPI::broadcast(comm, checksum, 0);
   }
 
 
@@ -663,7 +670,18 @@ namespace ContactStefan
     double              wall    = 0;
     unsigned int        n_ranks = 0;
     {
-      std::ifstream in(directory + "/state.txt");
+      // Read by rank 0 alone (whose view of the files the manifest check
+      // judged) and parsed by every rank from that text: ranks with other
+      // cached views of a shared file system must not disagree on it (one
+      // rank refusing while the others load the mesh would hang the run).
+      std::string text;
+      if (Utilities::MPI::this_mpi_process(comm) == 0)
+        {
+          std::ifstream in(directory + "/state.txt", std::ios::binary);
+          text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+        }
+      text = Utilities::MPI::broadcast(comm, text, 0);
+      std::istringstream in(text);
       try
         {
           boost::archive::text_iarchive archive(in);

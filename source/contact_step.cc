@@ -363,7 +363,8 @@ namespace ContactStefan
     std::uint64_t local = 0;
     for (const auto &c : normal_conditions)
       if (owned.is_element(c.dofs_k[0]))
-        local += Fingerprint::mix(Fingerprint::mix(c.dofs_k[0]) + Fingerprint::bits(c.gap));
+        local += Fingerprint::mix(Fingerprint::mix(3 * c.dofs_k[0] + static_cast<int>(c.kind)) +
+                                  Fingerprint::bits(c.gap));
     return Utilities::MPI::sum(local, mpi_communicator);
   }
 

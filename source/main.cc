@@ -37,13 +37,14 @@ namespace
                       "\n"
                       "Exit codes: 0 success; 1 bad input; 2 a failure at run time; 3 finished,\n"
                       "but a self-check failed (named on stderr); 128 + N stopped by signal N\n"
-                      "(SIGTERM 143, SIGINT 130) between two steps, output complete up to there.\n";
+                      "(SIGTERM 143, SIGINT 130, SIGUSR1 138) between two steps, output complete\n"
+                      "up to there (under mpirun send SIGUSR1: mpirun kills on SIGTERM).\n";
 }
 
 int main(int argc, char *argv[])
 {
   using namespace ContactStefan;
-  // SIGTERM and SIGINT stop the run between two steps (run_guard.h). They are
+  // SIGTERM, SIGINT, SIGUSR1/2 stop the run between two steps (run_guard.h). They are
   // held back while MPI starts (most of a second; MPI_Init installs handlers
   // of its own, and the threads it starts inherit the blocked mask, so that
   // the signals reach this thread only), then handled; a signal that arrived
@@ -132,6 +133,8 @@ int main(int argc, char *argv[])
             if (!all_failed)
               std::this_thread::sleep_for(std::chrono::milliseconds(5));
           }
+        if (!all_failed) // (the last rank may have arrived at the deadline)
+          MPI_Test(&request, &all_failed, MPI_STATUS_IGNORE);
         if (!all_failed)
           {
             std::cerr << "contact-stefan: error (rank "

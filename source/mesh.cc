@@ -126,7 +126,7 @@ namespace ContactStefan
     // size of the mesh unless its edges differ in length by orders of magnitude.
     void check_conforming(const Triangulation<2> &mesh,
                           const std::string      &file,
-                          const double            geometric_zero)
+                          const double            near)
     {
       const std::vector<Point<2>> &vertices = mesh.get_vertices();
       const std::vector<bool>     &is_used  = mesh.get_used_vertices();
@@ -207,8 +207,7 @@ namespace ContactStefan
                 const Tensor<1, 2> r        = vertices[v] - a;
                 const double       t        = r * d / length / length;
                 const double       distance = std::abs(d[0] * r[1] - d[1] * r[0]) / length;
-                if (distance <= geometric_zero * length && t > geometric_zero &&
-                    t < 1 - geometric_zero && t < nearest)
+                if (distance <= near * length && t > near && t < 1 - near && t < nearest)
                   hanging = v, nearest = t;
               }
           };
@@ -268,9 +267,9 @@ namespace ContactStefan
     // and the first bad cell.
     void check_mesh(const Triangulation<2> &mesh, const std::string &file)
     {
-      // Relative to the cell's squared diameter (Jacobian) and to the mesh's
-      // extent (coincidence): a geometric zero, far above the round-off of
-      // coordinates read from a file, far below any cell a mesh generator makes.
+      // Relative to the cell's squared diameter: a geometric zero, far above
+      // the round-off of coordinates read from a file, far below any cell a
+      // mesh generator makes.
       // Not a parameter: a user has nothing to tune here.
       constexpr double geometric_zero = 1e-12;
       for (const auto &cell : mesh.active_cell_iterators())
@@ -307,21 +306,29 @@ namespace ContactStefan
       std::sort(used.begin(), used.end(), [](const auto &a, const auto &b) {
         return a.first[0] < b.first[0] || (a.first[0] == b.first[0] && a.first[1] < b.first[1]);
       });
-      double extent = 0;
-      for (const auto &[p, i] : used)
-        extent = std::max({extent, std::abs(p[0]), std::abs(p[1])});
+      // Coincidence and hanging nodes are judged with a coarser zero: a mesh
+      // written with 7 or 8 significant digits puts the two copies of a node
+      // (or a node on a neighbour's edge) 1e-8 to 1e-7 apart, relative, and
+      // must still be refused; no valid mesh has two vertices, or a vertex and
+      // an edge it does not end on, within a millionth of its shortest edge.
+      constexpr double near = 1e-6;
+      double           shortest_edge = std::numeric_limits<double>::max();
+      for (const auto &cell : mesh.active_cell_iterators())
+        for (const unsigned int f : cell->face_indices())
+          shortest_edge = std::min(shortest_edge, cell->face(f)->measure());
+      const double apart = near * shortest_edge;
       for (unsigned int k = 0; k < used.size(); ++k)
         for (unsigned int m = k + 1;
-             m < used.size() && used[m].first[0] - used[k].first[0] <= geometric_zero * extent;
+             m < used.size() && used[m].first[0] - used[k].first[0] <= apart;
              ++m)
-          if (used[k].first.distance(used[m].first) <= geometric_zero * extent)
+          if (used[k].first.distance(used[m].first) <= apart)
             throw InputError("Geometry/Mesh file",
                              "'" + file + "': vertices " + std::to_string(used[k].second) +
                                " and " + std::to_string(used[m].second) + " coincide at " +
                                point_text(used[k].first) +
                                ": the mesh is cut there (bodies must share their interface "
                                "nodes)");
-      check_conforming(mesh, file, geometric_zero);
+      check_conforming(mesh, file, near);
     }
   } // namespace
 

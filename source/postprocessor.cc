@@ -235,6 +235,8 @@ namespace ContactStefan
     const std::string name =
       data_out.write_vtu_with_pvtu_record(directory, "solution", step, mpi_communicator, 5);
     pvd_records.emplace_back(time, name);
+    // Every rank's piece is complete before the index names the step.
+    Utilities::MPI::sum(0, mpi_communicator);
     if (Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
       {
         // Through a rename: a run stopped while writing it (SIGKILL, a full

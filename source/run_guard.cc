@@ -165,8 +165,8 @@ namespace ContactStefan
       {
         sigset_t set;
         sigemptyset(&set);
-        sigaddset(&set, SIGTERM);
-        sigaddset(&set, SIGINT);
+        for (const int signal : {SIGTERM, SIGINT, SIGUSR1, SIGUSR2})
+          sigaddset(&set, signal);
         return set;
       }
     } // namespace
@@ -190,8 +190,8 @@ namespace ContactStefan
       sigemptyset(&action.sa_mask);
       // Interrupted system calls resume: a signal only sets the flag.
       action.sa_flags = SA_RESTART;
-      sigaction(SIGTERM, &action, nullptr);
-      sigaction(SIGINT, &action, nullptr);
+      for (const int signal : {SIGTERM, SIGINT, SIGUSR1, SIGUSR2})
+        sigaction(signal, &action, nullptr);
     }
 
     int received()
@@ -210,6 +210,10 @@ namespace ContactStefan
         return "SIGTERM";
       if (signal == SIGINT)
         return "SIGINT";
+      if (signal == SIGUSR1)
+        return "SIGUSR1";
+      if (signal == SIGUSR2)
+        return "SIGUSR2";
       return "signal " + std::to_string(signal);
     }
   } // namespace StopSignals

@@ -7,14 +7,17 @@ directory. This script runs Neumann case A (180 steps, VTU every step, a
 checkpoint every 25) uninterrupted once, then:
 
   term   SIGTERM at 12 fixed fractions of the uninterrupted run's wall time
-         (serial), and at 4 on 2 ranks (sent to mpirun, which forwards it)
+         (serial)
   int    SIGINT at 4 fractions (serial)
+  usr1   SIGUSR1 to mpirun at 5 fractions of the 2-rank run's time (mpirun
+         forwards it; SIGTERM it follows by SIGKILL after a second); at least
+         one must stop the run between two steps
   rival  two runs started into one directory at offsets 0, 0.05 and 0.3 s
 
-A signal before main() (while the libraries load, about 0.3 s) ends the process
-by its default action: accepted ('stopped before start-up') only if the output
-directory was not even created. Every other stopped case must end with exit 143
-(SIGTERM) or 130 (SIGINT) and exactly
+A signal before main() (while the libraries load, about 0.3 s; under mpirun on
+a rank still loading) ends the process by its default action: accepted
+('stopped before start-up') only if what was written is whole. Every other stopped case must end with exit 143
+(SIGTERM), 130 (SIGINT) or 138 (SIGUSR1) and exactly
 one stderr line naming the signal, or with exit 0 if it finished first; the
 statistics rows must be complete and consecutive; the PVD index must be whole and
 every file it names (and each piece) complete, with no unlisted solution file
@@ -54,7 +57,7 @@ SETTINGS = [
     ("Output/VTU interval", "1"),
 ]
 TERM_FRACTIONS = [0.02, 0.15, 0.25, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 0.97, 1.2]
-TERM_FRACTIONS_MPI = [0.2, 0.5, 0.8, 0.95]
+USR1_FRACTIONS_MPI = [0.2, 0.5, 0.7, 0.8, 0.9]
 INT_FRACTIONS = [0.1, 0.45, 0.75, 0.99]
 RIVAL_OFFSETS = [0.0, 0.05, 0.3]
 
@@ -87,7 +90,12 @@ def finish(p, timeout):
     out.close()
     err.close()
     shutil.rmtree(tmp, ignore_errors=True)
-    return code, open(out.name, encoding="latin-1").read(), open(err.name, encoding="latin-1").read()
+    # Open MPI's singleton daemon sometimes complains about its own session
+    # files when the process ends early ('[host:pid] PMIX ERROR: ...'): not
+    # the program's output.
+    text = re.sub(r"(?m)^\[[^\]]*\] PMIX ERROR: .*\n?", "",
+                  open(err.name, encoding="latin-1").read())
+    return code, open(out.name, encoding="latin-1").read(), text
 
 
 def statistics_problem(directory, rows_expected=None):
@@ -166,22 +174,26 @@ def stopped_case(binary, np, sig, delay, work, reference, timeout):
     code, out, err = finish(p, timeout)
     directory = os.path.join(work, OUTPUT)
     expected = 128 + sig
-    # (mpirun that was sent the signal ends with 1 even where its ranks got it
-    # only after their last step and finished normally)
-    finished = code == 0 or (np > 1 and code == 1 and not err.strip() and
-                             statistics_problem(directory, ROWS) is None)
-    if finished:
+    if code == 0:
         problem = statistics_problem(directory, ROWS) or pvd_problem(directory)
         return ("failed" if problem else "ran", problem)
-    if code != expected and not os.path.exists(directory):
+    if not err.strip() and code in (expected, -sig, 1):
         # Before main(): while the dynamic loader maps and initialises the
         # MPI, Trilinos and PETSc libraries (about 0.3 s) no handler can be
-        # installed and the signal ends the process (mpirun: exit 1); nothing
-        # has been written then, so nothing is damaged.
-        return ("early", None)
+        # installed and the signal ends the process (under mpirun: one rank
+        # that was still loading, and mpirun ends the others). Accepted when
+        # what was written is whole: no directory, or complete rows and index.
+        if not os.path.exists(directory):
+            return ("early", None)
+        problem = (statistics_problem(directory) if
+                   os.path.exists(os.path.join(directory, "statistics.txt")) else None)
+        problem = problem or (pvd_problem(directory) if
+                              os.path.exists(os.path.join(directory, "solution.pvd")) else None)
+        return ("failed", "killed in start-up with damaged output: " + problem) if problem \
+            else ("early", None)
     if code != expected:
         return ("failed", "exit %s, expected %d or 0; stderr %r" % (code, expected, err[:300]))
-    name = "SIGTERM" if sig == signal.SIGTERM else "SIGINT"
+    name = signal.Signals(sig).name
     problem = bad_stderr(err) or (None if ("stopped by " + name) in err else
                                   "stderr does not name %s: %r" % (name, err))
     problem = problem or statistics_problem(directory) or pvd_problem(directory)
@@ -191,9 +203,6 @@ def stopped_case(binary, np, sig, delay, work, reference, timeout):
         return ("stopped", None)
     p = start(binary, np, work, ["--resume"])
     code, out, err = finish(p, timeout)
-    # (Open MPI's singleton start-up sometimes prints a PMIx permission
-    # complaint about its own session files: not the program's output)
-    err = re.sub(r"(?m)^\[[^\]]*\] PMIX ERROR: .*\n?", "", err)
     if code != 0 or err:
         return ("failed", "the resume: exit %s, stderr %r" % (code, err[:300]))
     problem = (statistics_problem(directory, ROWS) or pvd_problem(directory) or
@@ -256,20 +265,22 @@ def main():
     reference = errors(out)
     ROWS = sum(1 for _ in open(os.path.join(root, "whole", OUTPUT, "statistics.txt"))) - 1
 
-    cases = []
-    for f in TERM_FRACTIONS:
-        cases.append(("term", "np1-%.2f" % f,
-                      lambda d, f=f: stopped_case(binary, 1, signal.SIGTERM, f * wall, d,
-                                                  reference, args.timeout)))
-    for f in TERM_FRACTIONS_MPI:
-        # (mpirun starts slower: the fraction of the serial time, plus start-up)
-        cases.append(("term", "np2-%.2f" % f,
-                      lambda d, f=f: stopped_case(binary, 2, signal.SIGTERM, 0.5 + f * wall, d,
-                                                  reference, args.timeout)))
-    for f in INT_FRACTIONS:
-        cases.append(("int", "np1-%.2f" % f,
-                      lambda d, f=f: stopped_case(binary, 1, signal.SIGINT, f * wall, d,
-                                                  reference, args.timeout)))
+    # On 2 ranks: SIGUSR1 to mpirun, which forwards it (SIGTERM it follows by
+    # SIGKILL after a second), at fractions of the 2-rank run's own time.
+    begin = time.time()
+    code, _, err = finish(start(binary, 2, workdir("whole-np2")), args.timeout)
+    wall_np2 = time.time() - begin
+    if code != 0:
+        print("FAIL setup: the uninterrupted run on 2 ranks: exit %s %r" % (code, err[:300]))
+        return 1
+    # (class, ranks, signal, delays)
+    stops = [("term", 1, signal.SIGTERM, [f * wall for f in TERM_FRACTIONS]),
+             ("int", 1, signal.SIGINT, [f * wall for f in INT_FRACTIONS]),
+             ("usr1", 2, signal.SIGUSR1, [f * wall_np2 for f in USR1_FRACTIONS_MPI])]
+    cases = [(cls, "np%d-%.2fs" % (np, delay),
+              lambda d, np=np, sig=sig, delay=delay: stopped_case(
+                  binary, np, sig, delay, d, reference, args.timeout))
+             for cls, np, sig, delays in stops for delay in delays]
     for offset in RIVAL_OFFSETS:
         cases.append(("rival", "offset-%.2f" % offset,
                       lambda d, o=offset: rival_case(binary, o, d, args.timeout)))
@@ -283,6 +294,9 @@ def main():
         if verdict == "failed":
             failed += 1
             print("FAIL %s %s: %s" % (cls, name, problem))
+    if counts.get("usr1", {}).get("stopped", 0) == 0:
+        failed += 1
+        print("FAIL usr1: no 2-rank run was stopped between two steps (all too early or late)")
     for cls, c in counts.items():
         print("%-6s refused: %d  ran: %d  stopped: %d  stopped before start-up: %d  failed: %d" %
               (cls, c["refused"], c["ran"], c["stopped"], c["early"], c["failed"]))

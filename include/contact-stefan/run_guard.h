@@ -10,10 +10,13 @@
 //  * remove_stale_output(): the VTU/PVTU/PVD files in an output directory that
 //    the starting run does not own (an earlier run's, also pieces '*.k.vtu'
 //    written on more ranks) are removed before the first is written.
-//  * StopSignals: SIGTERM and SIGINT only set a flag; the time loop looks at
-//    it between steps (all ranks agree), ends with its output complete
-//    (optionally a checkpoint) and exits with 128 + the signal's number. A
-//    second signal ends the process at once.
+//  * StopSignals: SIGTERM, SIGINT, SIGUSR1 and SIGUSR2 only set a flag; the
+//    time loop looks at it between steps (all ranks agree), ends with its
+//    output complete (a checkpoint if checkpoints are on) and exits with
+//    128 + the signal's number. A second signal ends the process at once.
+//    (Open MPI's mpirun forwards SIGUSR1/2 to the ranks and waits; SIGTERM it
+//    follows with SIGKILL after a second: the way to stop a run under mpirun
+//    is SIGUSR1.)
 #ifndef contact_stefan_run_guard_h
 #define contact_stefan_run_guard_h
 
@@ -69,17 +72,17 @@ namespace ContactStefan
 
   namespace StopSignals
   {
-    // Holds SIGTERM and SIGINT back in this thread (and the threads it starts).
+    // Holds the stop signals back in this thread (and the threads it starts).
     void block();
-    // Installs the SIGTERM and SIGINT handlers.
+    // Installs the handlers of the stop signals.
     void install();
-    // Lets SIGTERM and SIGINT through again (one that arrived meanwhile now).
+    // Lets the stop signals through again (one that arrived meanwhile now).
     void unblock();
     // The signal received so far on this rank (0: none).
     int received();
     // Collective: the signal any rank received (0: none), the same on all ranks.
     int received_by_any(const MPI_Comm comm);
-    // "SIGTERM", "SIGINT", or the number.
+    // "SIGTERM", "SIGINT", "SIGUSR1", "SIGUSR2", or the number.
     std::string name(const int signal);
   } // namespace StopSignals
 } // namespace ContactStefan
