@@ -4,14 +4,21 @@
 # line to stderr containing EXPECTED, and leave complete output: every line of
 # the statistics table has the header's number of columns, and no NaN or
 # infinity appears in stdout or in the table.
-binary=$1 scene=$2 code=$3 expected=$4
+# An optional fifth argument NP runs it on NP MPI ranks: a failure that every
+# rank finds must still be one line (printed by rank 0).
+binary=$1 scene=$2 code=$3 expected=$4 np=${5:-1}
 if ! [[ "$code" =~ ^[0-9]+$ ]] || [ -z "$expected" ]; then
   echo "the scene needs '# EXPECT-EXIT: code' and '# EXPECT: text' lines"; exit 1
 fi
 dir=$(mktemp -d) && cd "$dir" || exit 1
 trap 'rm -rf "$dir" "$TMPDIR"' EXIT
 TMPDIR=$(mktemp -d) && export TMPDIR
-"$binary" "$scene" > stdout.txt 2> stderr.txt
+if [ "$np" -eq 1 ]; then
+  "$binary" "$scene" > stdout.txt 2> stderr.txt
+else
+  mpirun --allow-run-as-root --oversubscribe --quiet -np "$np" "$binary" "$scene" \
+    > stdout.txt 2> stderr.txt
+fi
 status=$?
 if [ $status -ne "$code" ]; then echo "exit code $status, expected $code"; cat stderr.txt; exit 1; fi
 if [ "$(wc -l < stderr.txt)" -ne 1 ]; then
