@@ -51,13 +51,14 @@ case $case in
 lock)
   # First a process holding the lock the way a run does (flock on the directory).
   mkdir -p "$directory"
-  flock "$directory" sleep 30 &
+  # (in a process group of its own, so that flock and its sleep end together)
+  setsid flock "$directory" sleep 30 &
   holder=$!
   sleep 0.5
   echo "1 2 3" > "$directory/statistics.txt"
   "$binary" scene.prm > stdout.txt 2> stderr.txt
   status=$?
-  kill $(pgrep -P $holder) $holder 2>/dev/null; wait $holder 2>/dev/null
+  kill -- -$holder 2>/dev/null; wait $holder 2>/dev/null
   [ $status -eq 1 ] || { echo "a run into a locked directory: exit $status, expected 1"; cat stderr.txt; exit 1; }
   one_line stderr.txt "is in use by another run (process $holder)" || exit 1
   [ "$(cat "$directory/statistics.txt")" = "1 2 3" ] || { echo "the holder's statistics were touched"; exit 1; }
