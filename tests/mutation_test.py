@@ -1215,6 +1215,20 @@ def main():
         counts[verdict] += 1
         if verdict == "fail":
             print("FAIL %s: %s: %s" % (m.id, m.desc, reason))
+    # Counts by class: the kind of mutation, the second part of its id
+    # ("neu.fn.heat-source.nan": fn), or its first for the whole-file cases
+    # ("prm.crlf": prm).
+    by_class = {}
+    for k, m in enumerate(mutations):
+        parts = m.id.split(".")
+        cls = parts[0] if parts[0] == "prm" or len(parts) < 2 else parts[1]
+        row = by_class.setdefault(cls, {"refused": 0, "ran": 0, "fail": 0})
+        verdict = results[k][0]
+        row["ran" if verdict == "warned" else verdict] += 1
+    print("%-10s %8s %5s %7s" % ("class", "refused", "ran", "failed"))
+    for cls in sorted(by_class):
+        row = by_class[cls]
+        print("%-10s %8d %5d %7d" % (cls, row["refused"], row["ran"], row["fail"]))
     clean = counts["refused"] + counts["ran"] + counts["warned"]
     print("mutations: %d  refused: %d  ran: %d  ran with warnings (exit 3): %d  clean: %d  "
           "failed: %d" % (len(mutations), counts["refused"], counts["ran"], counts["warned"],
