@@ -8,6 +8,11 @@ a least-squares rate over the whole ladder.
 
     benchmarks/ladder.py prm/benchmarks/neumann_A.prm --levels 4
     benchmarks/ladder.py prm/benchmarks/neumann_A.prm --levels 5 --np 2 --markdown
+    benchmarks/ladder.py tests/scenes/manufactured_stress.prm --levels 6 --no-refine-time \
+        --require-rate "max relative stress L2 error (recovered)>=1.4"
+
+--require-rate "NAME>=VALUE" (or <=) makes the exit code 1 unless the
+least-squares rate of that RESULT over the ladder meets it (ctest uses it).
 
 Only the standard library is needed; --plot FILE also draws error against wall
 time with matplotlib (Debian: python3-matplotlib, run with /usr/bin/python3).
@@ -42,6 +47,9 @@ COLUMNS = [
     ("Hertz half-width relative error", "a rel err", "{:>10.3e}", True),
     ("Hertz peak pressure relative error", "p0 rel err", "{:>10.3e}", True),
     ("Hertz pressure profile relative L2 error", "p(x) L2", "{:>10.3e}", True),
+    ("max relative stress L2 error", "sigma vert", "{:>10.3e}", True),
+    ("max relative stress L2 error (cell centres)", "sigma cell", "{:>10.3e}", True),
+    ("max relative stress L2 error (recovered)", "sigma rec", "{:>10.3e}", True),
 ]
 
 
@@ -134,6 +142,9 @@ def main():
                         help="keep the time step (quasi-static scenes: refine h only)")
     parser.add_argument("--markdown", action="store_true", help="print a Markdown table")
     parser.add_argument("--plot", help="write error against wall time to this PNG")
+    parser.add_argument("--require-rate", action="append", default=[],
+                        help="'RESULT name>=rate' or '<=': exit 1 unless the least-squares "
+                             "rate over the ladder meets it")
     args = parser.parse_args()
     if not os.path.exists(args.binary):
         sys.exit(f"ladder.py: no binary at {args.binary}; build first (see README)")
@@ -167,11 +178,23 @@ def main():
             else:
                 cells.append(f"{math.log(rows[i-1][c[0]] / r[c[0]]) / math.log(2):>9.2f}")
         print(("| " + " | ".join(x.strip() for x in cells) + " |") if args.markdown else "  ".join(cells))
-    if len(rows) > 1 and not math.isnan(width(rows[0])):
-        h = [width(r) for r in rows]
+    failed = []
+    if len(rows) > 1:
+        # Without a reported mesh width the ladder halves h per level.
+        h = [width(r) if not math.isnan(width(r)) else 2.0**-i for i, r in enumerate(rows)]
         print()
         for c in rate_cols:
             print(f"least-squares rate of {c[0]}: {least_squares_rate(h, [r[c[0]] for r in rows]):.3f}")
+        for requirement in args.require_rate:
+            m = re.match(r"(.+?)\s*(>=|<=)\s*(\S+)$", requirement)
+            if not m or m.group(1) not in rows[0]:
+                sys.exit(f"ladder.py: cannot read the requirement '{requirement}'")
+            rate = least_squares_rate(h, [r[m.group(1)] for r in rows])
+            ok = rate >= float(m.group(3)) if m.group(2) == ">=" else rate <= float(m.group(3))
+            print(f"requirement {'met' if ok else 'FAILED'}: rate of {m.group(1)} = {rate:.3f} "
+                  f"{m.group(2)} {m.group(3)}")
+            if not ok:
+                failed.append(requirement)
         if "mean active-set iterations" in rows[0]:
             print(f"mean active-set iterations over the ladder: "
                   f"{sum(r['mean active-set iterations'] for r in rows) / len(rows):.2f}")
@@ -189,7 +212,8 @@ def main():
         ax.legend()
         fig.tight_layout()
         fig.savefig(args.plot, dpi=120)
+    return 1 if failed else 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

@@ -62,7 +62,7 @@ namespace ContactStefan
   // whenever what they hold changes (2: the linear solver statistics of the
   // contact reports; 3: the manifest and the checkpoint's id), so that an
   // older checkpoint is refused by name, not misread.
-  const std::string checkpoint_format = "contact-stefan checkpoint 3";
+  const std::string checkpoint_format = "contact-stefan checkpoint 4";
 
   namespace
   {

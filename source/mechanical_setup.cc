@@ -483,6 +483,7 @@ namespace ContactStefan
       {
         throw InputError("Boundary conditions/Mechanical boundaries", e.what());
       }
+    check_section_lines(prm.output.section_lines);
   }
 
 

@@ -907,6 +907,14 @@ namespace ContactStefan
                         "Empty, or the exact liquid fraction (fraction through the last "
                         "transition) at every node, a function of x, y, t: the run reports "
                         "its largest nodal error over the steps (any Type).");
+      prm.declare_entry("Section normal force",
+                        "",
+                        Patterns::Anything(),
+                        "Empty, or the exact normal force (N/m) across every line of "
+                        "'Output/Section lines', a function of t (x and y are 0): the run "
+                        "reports the largest relative error of the section forces of the "
+                        "cell-centre stresses and of the recovered nodal stresses over the "
+                        "lines, their sides and the steps (any Type).");
       prm.declare_entry("Contact pressure",
                         "",
                         Patterns::Anything(),
@@ -936,9 +944,12 @@ namespace ContactStefan
       const std::string sigma = prm.get("Stress");
       stress =
         sigma.empty() ? std::vector<std::string>() : Utilities::split_string_list(sigma, ';');
-      contact_pressure = prm.get("Contact pressure");
-      liquid_fraction  = prm.get("Liquid fraction");
+      contact_pressure     = prm.get("Contact pressure");
+      liquid_fraction      = prm.get("Liquid fraction");
+      section_normal_force = prm.get("Section normal force");
       prm.leave_subsection();
+      if (!section_normal_force.empty())
+        check_function(section_normal_force, "Exact solution/Section normal force", false);
       require(
         stress.empty() || stress.size() == 4,
         "Exact solution/Stress",
@@ -1267,7 +1278,7 @@ namespace ContactStefan
       enthalpy_amg_threshold   = get_finite(prm, "Solver/", "Enthalpy AMG aggregation threshold");
       elasticity_amg_sweeps    = prm.get_integer("Elasticity AMG smoother sweeps");
       elasticity_amg_reuse_limit = prm.get_integer("Elasticity AMG reuse limit");
-      enthalpy_amg_sweeps      = prm.get_integer("Enthalpy AMG smoother sweeps");
+      enthalpy_amg_sweeps        = prm.get_integer("Enthalpy AMG smoother sweeps");
       {
         const std::string update = prm.get("AMG update");
         amg_update               = update == "automatic" ? AMGUpdate::automatic :
@@ -1280,7 +1291,7 @@ namespace ContactStefan
         get_finite(prm, "Solver/", "CG tolerance while the contact set changes");
       cg_enthalpy_set_tolerance =
         get_finite(prm, "Solver/", "CG tolerance while the enthalpy set changes");
-      cg_max_iterations         = prm.get_integer("CG max iterations");
+      cg_max_iterations          = prm.get_integer("CG max iterations");
       max_active_set_iterations  = prm.get_integer("Max active-set iterations");
       truncated_newton_hand_over = prm.get_integer("Truncated Newton hand-over");
       active_set_hand_back       = prm.get_integer("Active set hand-back");
@@ -1526,6 +1537,18 @@ namespace ContactStefan
                         Patterns::Integer(0, 2),
                         "0: one line per step; 1: plus one line per active-set "
                         "iteration; 2: plus linear-solver details.");
+      prm.declare_entry("Section lines",
+                        "",
+                        Patterns::Anything(),
+                        "Mesh lines across which the run integrates the stress vector "
+                        "sigma n after every step (a section force, N/m; n = +x for "
+                        "'x = c', +y for 'y = c'), separately over the faces of the cells "
+                        "on either side of the line and from both stress outputs (the "
+                        "cell-centre values and the recovered nodal field; doc/output.md): "
+                        "a comma-separated list such as 'y = 0.25, y = 1.5, x = 0.5'. Each "
+                        "must be a line of the coarse mesh (it cuts no cell). The forces at "
+                        "the end are RESULT lines; with 'Exact solution/Section normal "
+                        "force' their largest error over the steps is too.");
       prm.declare_entry("Small-strain limit",
                         "1",
                         Patterns::Double(0),
@@ -1542,12 +1565,43 @@ namespace ContactStefan
     void Output::parse(ParameterHandler &prm)
     {
       prm.enter_subsection("Output");
-      directory       = prm.get("Directory");
-      vtu_interval    = prm.get_integer("VTU interval");
-      statistics_file = prm.get("Statistics file");
-      verbosity       = prm.get_integer("Verbosity");
-      small_strain_limit = get_finite(prm, "Output/", "Small-strain limit");
+      directory               = prm.get("Directory");
+      vtu_interval            = prm.get_integer("VTU interval");
+      statistics_file         = prm.get("Statistics file");
+      verbosity               = prm.get_integer("Verbosity");
+      small_strain_limit      = get_finite(prm, "Output/", "Small-strain limit");
+      const std::string lines = prm.get("Section lines");
       prm.leave_subsection();
+      section_lines.clear();
+      for (const std::string &entry : Utilities::split_string_list(lines, ','))
+        {
+          const auto  equals = entry.find('=');
+          std::string axis   = Utilities::trim(entry.substr(0, equals));
+          require(equals != std::string::npos && (axis == "x" || axis == "y"),
+                  "Output/Section lines",
+                  "'" + entry + "' is not of the form 'x = value' or 'y = value'");
+          SectionLine line;
+          line.axis               = axis == "x" ? 0 : 1;
+          const std::string value = Utilities::trim(entry.substr(equals + 1));
+          std::size_t       used  = 0;
+          try
+            {
+              line.value = std::stod(value, &used);
+            }
+          catch (const std::exception &)
+            {
+              used = 0;
+            }
+          require(!value.empty() && used == value.size() && std::isfinite(line.value),
+                  "Output/Section lines",
+                  "'" + entry + "': '" + value + "' is not a finite number");
+          line.name = axis + "=" + value;
+          for (const auto &other : section_lines)
+            require(other.name != line.name,
+                    "Output/Section lines",
+                    "'" + entry + "' is listed twice");
+          section_lines.push_back(line);
+        }
       require(!directory.empty(), "Output/Directory", "must not be empty");
       require(!statistics_file.empty() && statistics_file.find('/') == std::string::npos,
               "Output/Statistics file",
@@ -1867,6 +1921,12 @@ namespace ContactStefan
     require(exact_solution.liquid_fraction.empty() || physics.thermal,
             "Exact solution/Liquid fraction",
             "an exact liquid fraction needs Physics/Thermal = true");
+    require(output.section_lines.empty() || physics.mechanics,
+            "Output/Section lines",
+            "section forces need Physics/Mechanics = true");
+    require(exact_solution.section_normal_force.empty() || !output.section_lines.empty(),
+            "Exact solution/Section normal force",
+            "needs at least one line in 'Output/Section lines'");
     // The disk-in-ring nodes lie on the circles only as generated: refined cells
     // would put theirs on the chords (no manifold is attached).
     if (geometry.mesh_type == Parameters::Geometry::MeshType::disk_in_ring)

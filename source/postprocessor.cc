@@ -539,10 +539,10 @@ namespace ContactStefan
                        "doc/algorithms.md): the enthalpy step did not converge to a solution");
     if (mechanical && prm.output.small_strain_limit > 0 &&
         max_strain > prm.output.small_strain_limit)
-      failed.push_back("the largest strain " + number(max_strain) +
-                       " exceeds 'Output/Small-strain limit' = " +
-                       number(prm.output.small_strain_limit) +
-                       ": the linear small-strain model does not describe this deformation");
+      failed.push_back(
+        "the largest strain " + number(max_strain) +
+        " exceeds 'Output/Small-strain limit' = " + number(prm.output.small_strain_limit) +
+        ": the linear small-strain model does not describe this deformation");
     return failed;
   }
 
@@ -717,9 +717,9 @@ namespace ContactStefan
                                                          const ContactStepReport &contact_report)
   {
     TimerOutput::Scope t(timer, "statistics: mechanical");
-    const auto elastic = mechanical->elastic_statistics();
-    elastic_energy     = elastic.energy;
-    max_strain         = std::max(max_strain, elastic.max_strain);
+    const auto         elastic = mechanical->elastic_statistics();
+    elastic_energy             = elastic.energy;
+    max_strain                 = std::max(max_strain, elastic.max_strain);
     total_contact_work += mechanical->contact_work();
     for (const auto &[group, force] : contact_report.forces)
       {
@@ -763,14 +763,76 @@ namespace ContactStefan
                         2 * std::pow(exact->value(x, 2), 2) + std::pow(exact->value(x, 3), 2));
           thermal2 += w * (thermal_part * thermal_part);
         });
+        // The same error of the two stress outputs (doc/output.md): the
+        // cell-centre values by the midpoint rule, the recovered nodal field by
+        // the vertex rule.
+        const auto squared_error =
+          [&](const Point<dim> &x, const SymmetricTensor<2, dim> &sigma, const double szz) {
+            const double e[4] = {sigma[0][0] - exact->value(x, 0),
+                                 sigma[1][1] - exact->value(x, 1),
+                                 sigma[0][1] - exact->value(x, 2),
+                                 szz - exact->value(x, 3)};
+            return e[0] * e[0] + e[1] * e[1] + 2 * e[2] * e[2] + e[3] * e[3];
+          };
+        double     cell_error2 = 0, recovered_error2 = 0;
+        const auto stresses = mechanical->cell_centre_stresses();
+        for (const auto &cell : triangulation.active_cell_iterators())
+          if (cell->is_locally_owned())
+            {
+              const auto &s = stresses[cell->active_cell_index()];
+              cell_error2 += cell->measure() * squared_error(cell->center(), s.sigma, s.sigma_zz);
+            }
+        mechanical->for_each_recovered_vertex_stress(
+          [&](const Point<dim>              &x,
+              const double                   w,
+              const SymmetricTensor<2, dim> &sigma,
+              const double szz) { recovered_error2 += w * squared_error(x, sigma, szz); });
         functions.check_finite_values(mpi_communicator);
         error2             = Utilities::MPI::sum(error2, mpi_communicator);
+        cell_error2        = Utilities::MPI::sum(cell_error2, mpi_communicator);
+        recovered_error2   = Utilities::MPI::sum(recovered_error2, mpi_communicator);
         norm2              = Utilities::MPI::sum(norm2, mpi_communicator);
         thermal2           = Utilities::MPI::sum(thermal2, mpi_communicator);
         const double scale = std::sqrt(norm2) + std::sqrt(thermal2);
         if (scale > 0)
-          max_relative_stress_error =
-            max_with_nan(max_relative_stress_error, std::sqrt(error2) / scale);
+          {
+            max_relative_stress_error =
+              max_with_nan(max_relative_stress_error, std::sqrt(error2) / scale);
+            max_relative_stress_error_cell =
+              max_with_nan(max_relative_stress_error_cell, std::sqrt(cell_error2) / scale);
+            max_relative_stress_error_recovered = max_with_nan(max_relative_stress_error_recovered,
+                                                               std::sqrt(recovered_error2) / scale);
+          }
+      }
+    if (Function<dim> *exact = functions.exact_section_normal_force();
+        exact && time > prm.time.start_time)
+      {
+        exact->set_time(time);
+        const double force = exact->value(Point<dim>());
+        functions.check_finite_values(mpi_communicator);
+        max_exact_section_force = std::max(max_exact_section_force, std::abs(force));
+        const auto &lines       = prm.output.section_lines;
+        const auto  forces      = mechanical->section_forces(lines);
+        for (unsigned int l = 0; l < lines.size(); ++l)
+          for (unsigned int side = 0; side < 2; ++side)
+            if (forces[l].length[side] > 0)
+              {
+                const unsigned int axis = lines[l].axis;
+                max_section_error_cell =
+                  max_with_nan(max_section_error_cell,
+                               std::abs(forces[l].cell_centre[side][axis] - force));
+                max_section_error_recovered =
+                  max_with_nan(max_section_error_recovered,
+                               std::abs(forces[l].recovered[side][axis] - force));
+                ++section_sides_checked;
+                if (forces[l].uniform_row(side))
+                  {
+                    ++section_sides_uniform;
+                    max_section_error_cell_uniform =
+                      max_with_nan(max_section_error_cell_uniform,
+                                   std::abs(forces[l].cell_centre[side][axis] - force));
+                  }
+              }
       }
     if (Function<dim> *exact = functions.exact_contact_pressure();
         exact && time > prm.time.start_time)
@@ -875,6 +937,53 @@ namespace ContactStefan
     if (functions.exact_stress())
       {
         add_result("max relative stress L2 error", max_relative_stress_error);
+        add_result("max relative stress L2 error (cell centres)", max_relative_stress_error_cell);
+        add_result("max relative stress L2 error (recovered)", max_relative_stress_error_recovered);
+      }
+    // The section forces at the end (both sides of each line, both stress
+    // outputs), and their errors over the steps.
+    const auto &lines = prm.output.section_lines;
+    if (!lines.empty())
+      {
+        const auto forces = mechanical->section_forces(lines);
+        for (unsigned int l = 0; l < lines.size(); ++l)
+          for (unsigned int side = 0; side < 2; ++side)
+            if (forces[l].length[side] > 0)
+              {
+                const std::string where = "section force " + lines[l].name + " " +
+                                          (side == 0 ? (lines[l].axis == 0 ? "left" : "below") :
+                                                       (lines[l].axis == 0 ? "right" : "above"));
+                const unsigned int axis = lines[l].axis, other = 1 - axis;
+                add_result(where + ": normal (cell centres)", forces[l].cell_centre[side][axis]);
+                add_result(where + ": tangential (cell centres)",
+                           forces[l].cell_centre[side][other]);
+                add_result(where + ": normal (recovered)", forces[l].recovered[side][axis]);
+                add_result(where + ": tangential (recovered)", forces[l].recovered[side][other]);
+              }
+      }
+    if (functions.exact_section_normal_force())
+      {
+        add_result("section sides compared", section_sides_checked);
+        add_result("section sides on rows of equal cells", section_sides_uniform);
+        // Relative to the largest exact force over the steps; the absolute
+        // errors (N/m) where that is zero.
+        if (max_exact_section_force == 0)
+          {
+            add_result("max section normal force error (cell centres)", max_section_error_cell);
+            add_result("max section normal force error (recovered)", max_section_error_recovered);
+            add_result("max section normal force error (cell centres, rows of equal cells)",
+                       max_section_error_cell_uniform);
+          }
+        else
+          {
+            add_result("max relative section normal force error (cell centres)",
+                       max_section_error_cell / max_exact_section_force);
+            add_result("max relative section normal force error (recovered)",
+                       max_section_error_recovered / max_exact_section_force);
+            add_result(
+              "max relative section normal force error (cell centres, rows of equal cells)",
+              max_section_error_cell_uniform / max_exact_section_force);
+          }
       }
     if (functions.exact_contact_pressure())
       {

@@ -183,6 +183,9 @@ namespace ContactStefan
     if (!prm.exact_solution.contact_pressure.empty())
       pressure = checked(parse<dim>({prm.exact_solution.contact_pressure}),
                          "Exact solution/Contact pressure");
+    if (!prm.exact_solution.section_normal_force.empty())
+      section_force = checked(parse<dim>({prm.exact_solution.section_normal_force}),
+                              "Exact solution/Section normal force");
   }
 
 

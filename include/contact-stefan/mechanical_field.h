@@ -139,8 +139,65 @@ namespace ContactStefan
       have_matrix = have_factorisation = have_solution = false;
       linear_solver.clear();
     }
-    // Adds displacement, stresses, von Mises stress, contact pressure and gap.
+    // Adds the displacement, the stresses and strains (doc/output.md: cell-centre
+    // values as cell data, their recovered nodal field per body as point data),
+    // the contact pressure and the gap.
     void add_output(DataOut<dim> &data_out) const;
+
+    // The stress where Q1 is accurate: at the cell centre, from the strain there
+    // and the mean of the four vertex values of Theta - Theta_0 (the thermal
+    // load is integrated by the vertex rule, so this is the thermal stress the
+    // discrete equilibrium holds). On a rectangle the elastic stress of Q1 is
+    // linear in x and in y separately, so its centre value is its exact mean
+    // over the cell, and the sum of sigma n over the cells along a mesh line
+    // is the section force (doc/output.md).
+    struct CellStress
+    {
+      SymmetricTensor<2, dim> strain;  // e(u)
+      SymmetricTensor<2, dim> sigma;   // C e(u) - beta (Theta - Theta_0)
+      SymmetricTensor<2, dim> thermal; // - beta (Theta - Theta_0)
+      double                  sigma_zz = 0, thermal_zz = 0;
+      double                  von_mises() const;
+    };
+    // Per active cell index (owned cells; the entries of other cells are zero).
+    std::vector<CellStress> cell_centre_stresses() const;
+    // The recovered nodal stress of each body, {(sigma_xx, sigma_yy),
+    // (sigma_xy, sigma_zz)} in the x and y components of the body's slot
+    // (recover_nodal_pair() of the cell-centre values); ghosted vectors.
+    void recover_stresses(const std::vector<CellStress> &stresses,
+                          std::array<Vector, 2>         &ghosted) const;
+    // The section force across each line: the integral of sigma n (n = +x or
+    // +y) over the faces on the line of the cells before it (left or below:
+    // side 0) and of those after it (side 1), from the cell-centre stresses and
+    // from the recovered nodal field (trapezoidal rule on each face: exact for
+    // its linear trace); and the length of those faces. Collective.
+    // On a side whose cells all have the same extent across the line (a row
+    // of equal cells: uniform_row()), the cell-centre force is the exact
+    // section force of the discrete equilibrium (doc/output.md); where hanging
+    // nodes border the row it is not.
+    struct SectionForce
+    {
+      std::array<Tensor<1, dim>, 2> cell_centre, recovered;
+      std::array<double, 2>         length     = {{0., 0.}};
+      std::array<double, 2>         min_extent = {{HUGE_VAL, HUGE_VAL}};
+      std::array<double, 2>         max_extent = {{0., 0.}};
+      bool                          uniform_row(const unsigned int side) const
+      {
+        return max_extent[side] - min_extent[side] <= 1e-10 * max_extent[side];
+      }
+    };
+    std::vector<SectionForce>
+    section_forces(const std::vector<Parameters::SectionLine> &lines) const;
+    // Visit every vertex of every owned cell with its vertex-rule weight and
+    // the recovered stress there (sigma, sigma_zz): the L2 error of the
+    // recovered field by the vertex rule. Collective (the recovery).
+    void for_each_recovered_vertex_stress(
+      const std::function<void(const Point<dim> &, double, const SymmetricTensor<2, dim> &, double)>
+        &visit) const;
+    // Refuses (InputError naming 'Output/Section lines') a line that cuts a
+    // coarse cell or meets no face of the mesh: refinement keeps the lines of
+    // the coarse mesh, so these are mesh lines at every step.
+    void check_section_lines(const std::vector<Parameters::SectionLine> &lines) const;
 
     // --- coupling (doc/coupling.md) -------------------------------------------------
     // The exchange with the thermal field goes through per-cell vertex arrays
@@ -366,8 +423,18 @@ namespace ContactStefan
     double complementarity_scale = 1; // divided by 10 per cycling remedy
     double time                  = 0; // of the data: the start time or the last begin_time_step()
 
+    // The lumped L2 projection of per-cell values onto the continuous Q1 field of
+    // each body (doc/output.md): two values per cell go into the x and y
+    // components of the cell's body slot; a node's value is the area-weighted
+    // mean of the values of the cells of its body around it (hanging nodes
+    // condensed and distributed). Returns an owned vector.
+    void recover_nodal_pair(const std::vector<std::array<double, 2>> &cell_values,
+                            Vector                                   &nodal) const;
+
     // Output, alive until the next add_output().
     mutable Vector                                               output_pressure, output_gap;
+    mutable std::array<Vector, 4>                                output_recovered;
+    mutable std::vector<dealii::Vector<double>>                  output_cell_data;
     mutable std::vector<std::unique_ptr<DataPostprocessor<dim>>> output_postprocessors;
   };
 } // namespace ContactStefan

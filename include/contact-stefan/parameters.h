@@ -253,6 +253,9 @@ namespace ContactStefan
       std::string              contact_pressure;
       // Also independent of Type: the exact liquid fraction (x, y, t); empty if none.
       std::string liquid_fraction;
+      // And the exact normal force across every 'Output/Section lines' line, a
+      // function of t (N/m); empty if none.
+      std::string section_normal_force;
 
       static void declare(ParameterHandler &prm);
       void        parse(ParameterHandler &prm);
@@ -282,8 +285,8 @@ namespace ContactStefan
       double       cg_tolerance;
       double       cg_contact_set_tolerance;
       // The enthalpy step's CG tolerance while its set changes (0: tight).
-      double       cg_enthalpy_set_tolerance;
-      double       amg_rebuild_ratio;
+      double cg_enthalpy_set_tolerance;
+      double amg_rebuild_ratio;
       // ML's aggregation threshold for each system's AMG.
       double elasticity_amg_threshold, enthalpy_amg_threshold;
       // ML's smoother sweeps (Chebyshev degree) for each system's AMG.
@@ -378,13 +381,23 @@ namespace ContactStefan
       void        parse(ParameterHandler &prm);
     };
 
+    // A straight mesh line x = value (axis 0) or y = value (axis 1) across
+    // which the run integrates sigma n (doc/output.md, section forces).
+    struct SectionLine
+    {
+      unsigned int axis  = 1;
+      double       value = 0;
+      std::string  name; // "y=0.75"
+    };
+
     struct Output
     {
-      std::string  directory;
-      unsigned int vtu_interval;
-      std::string  statistics_file;
-      unsigned int verbosity;
-      double       small_strain_limit;
+      std::vector<SectionLine> section_lines;
+      std::string              directory;
+      unsigned int             vtu_interval;
+      std::string              statistics_file;
+      unsigned int             verbosity;
+      double                   small_strain_limit;
 
       static void declare(ParameterHandler &prm);
       void        parse(ParameterHandler &prm);

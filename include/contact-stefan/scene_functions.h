@@ -102,6 +102,11 @@ namespace ContactStefan
     {
       return pressure.get();
     }
+    // Exact normal force across the section lines (a function of t), or null.
+    Function<dim> *exact_section_normal_force()
+    {
+      return section_force.get();
+    }
 
     // Some body force or some traction is not identically zero.
     bool mechanical_load_present() const
@@ -136,11 +141,11 @@ namespace ContactStefan
                                            const std::string             &parameter,
                                            const std::vector<bool>       &used = {}) const;
 
-    const AllParameters                                   &prm;
-    std::unique_ptr<NonFiniteRecord>                       record;
-    std::unique_ptr<NeumannSolution>                       neumann_solution;
-    std::unique_ptr<Function<dim>>                         exact, initial, interface;
-    std::unique_ptr<Function<dim>>                         reference, stress, pressure, liquid;
+    const AllParameters             &prm;
+    std::unique_ptr<NonFiniteRecord> record;
+    std::unique_ptr<NeumannSolution> neumann_solution;
+    std::unique_ptr<Function<dim>>   exact, initial, interface;
+    std::unique_ptr<Function<dim>>   reference, stress, pressure, liquid, section_force;
     std::map<unsigned int, std::unique_ptr<Function<dim>>> heat_sources, thermal_boundaries;
     std::map<unsigned int, std::unique_ptr<Function<dim>>> body_forces, mechanical_values,
       obstacle_gaps;

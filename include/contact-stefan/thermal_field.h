@@ -62,11 +62,11 @@ namespace ContactStefan
     unsigned int damped_steps          = 0; // iterations whose Newton step was shortened
     unsigned int relaxation_iterations = 0; // > 0 only if the fallback ran
     unsigned int plateau_nodes         = 0;
-    unsigned int state_changes         = 0; // summed over the iterations
-    double       energy_residual       = 0; // relative, see compute_energy_balance()
-    unsigned int inconsistent_nodes    = 0; // free nodes with h not in H(Theta) at the end
-    unsigned int factorisations        = 0; // matrices factorised (reused otherwise)
-    double       thermoelastic_heat    = 0; // -sum_i G_i, J per unit thickness
+    unsigned int state_changes         = 0;     // summed over the iterations
+    double       energy_residual       = 0;     // relative, see compute_energy_balance()
+    unsigned int inconsistent_nodes    = 0;     // free nodes with h not in H(Theta) at the end
+    unsigned int factorisations        = 0;     // matrices factorised (reused otherwise)
+    double       thermoelastic_heat    = 0;     // -sum_i G_i, J per unit thickness
     bool         truncated_newton      = false; // solved by it (it converged)
   };
 
@@ -312,7 +312,9 @@ namespace ContactStefan
     // Per-cell operators by active cell index: the conductivity shape matrix
     // S_K (per mesh), A_K = k_K S_K (with the lagged phase mixture), the lumped
     // vertex weights m_K and the heat load F_K.
-    std::vector<LocalMatrix>                      cell_shape_conductivity, cell_conductivity;
+    std::vector<LocalMatrix> cell_shape_conductivity, cell_conductivity;
+    // k_K of each owned cell (A_K = k_K S_K): the heat flux of the output.
+    std::vector<double>                           cell_conductivity_factor;
     std::vector<dealii::Vector<double>>           cell_mass, cell_load;
     std::map<types::global_dof_index, Point<dim>> support_points;
 
@@ -371,7 +373,8 @@ namespace ContactStefan
     bool step_in_large_step_mode = false, first_pass_of_step = true;
 
     // Output fields, alive until the next add_output().
-    mutable Vector output_phase_index, output_liquid_fraction;
+    mutable Vector                                output_phase_index, output_liquid_fraction;
+    mutable std::array<dealii::Vector<double>, 2> output_heat_flux; // cell data
   };
 } // namespace ContactStefan
 
