@@ -6,8 +6,9 @@ temporary directory, reads its VTU output (meshio) and statistics table, and
 writes to doc/figures/scenes/:
 
   <scene>_fields.png     temperature with the phase fronts, liquid fraction and
-                         von Mises stress on the deformed shape (magnified) at
-                         three times
+                         von Mises stress (the recovered point field
+                         'von_mises', doc/output.md) on the deformed shape
+                         (magnified) at three times
   <scene>_interface.png  contact pressure along the contact interface at those times
   <scene>_series.png     active contact nodes, melt area, largest contact pressure
                          and energy residual against time
