@@ -15,6 +15,7 @@
 
 #include <contact-stefan/coupled_problem.h>
 #include <contact-stefan/mesh.h>
+#include <contact-stefan/run_guard.h>
 
 #include <csignal>
 #include <cstdio>
@@ -149,6 +150,9 @@ namespace ContactStefan
         postprocessor->remove_stale_output(-1);
         postprocessor->start(time, initial_contact, wall_clock.wall_time());
       }
+    // The run writes its output now: record what made it (rank 0).
+    if (Utilities::MPI::this_mpi_process(comm) == 0)
+      RunRecord::write(prm.output.directory, prm.checkpoint.resume);
     pcout << "Mesh: " << triangulation.n_global_active_cells() << " cells on "
           << Utilities::MPI::n_mpi_processes(triangulation.get_communicator()) << " MPI rank(s)\n"
           << (thermal ? thermal->describe() :
@@ -531,7 +535,7 @@ namespace ContactStefan
     const Vector u_start(mechanical->get_displacement()), theta_start(thermal->get_temperature());
     Vector       u_last(u_start), theta_last(theta_start);
     unsigned int contact_iterations = 0, active_set_iterations = 0;
-    unsigned int           contact_factorisations = 0, enthalpy_factorisations = 0;
+    unsigned int contact_factorisations = 0, enthalpy_factorisations = 0;
     LinearSolverStatistics contact_linear;
     bool                   truncated_newton = false;
     for (unsigned int it = 1;; ++it)
@@ -545,7 +549,7 @@ namespace ContactStefan
         contact_factorisations += contact_report.factorisations;
         contact_linear += contact_report.linear;
         enthalpy_factorisations += thermal_report.factorisations;
-        truncated_newton = truncated_newton || thermal_report.truncated_newton;
+        truncated_newton           = truncated_newton || thermal_report.truncated_newton;
         coupling_report.iterations = it;
         if (!fixed_point)
           break;

@@ -13,33 +13,51 @@
 #include <thread>
 #include <vector>
 
+namespace ContactStefan
+{
+  extern const char *build_commit; // build_info.cc, written at build time
+}
+
 namespace
 {
-  const char *usage = "Usage: contact-stefan [options] scene.prm\n"
-                      "       mpirun -np N contact-stefan scene.prm\n"
-                      "\n"
-                      "Runs the scene described by the parameter file scene.prm (deal.II\n"
-                      "ParameterHandler format; see prm/ for examples and doc/parameters.prm for\n"
-                      "every parameter with its default and documentation).\n"
-                      "\n"
-                      "Options:\n"
-                      "  -h, --help                 this text\n"
-                      "  -p, --print-parameters     print every parameter with its default and\n"
-                      "                             documentation, in .prm format, and exit\n"
-                      "  -c, --check                read and check scene.prm, then exit\n"
-                      "  -r, --resume               continue from the checkpoint in the scene's\n"
-                      "                             output directory (Checkpoint/Resume = true)\n"
-                      "\n"
-                      "A run writes VTU/PVD files and a statistics table into 'Output/Directory';\n"
-                      "runs with an exact solution end with 'RESULT <name> = <value>' lines.\n"
-                      "Errors in the input stop the run before any work with one line naming the\n"
-                      "parameter and the reason.\n"
-                      "\n"
-                      "Exit codes: 0 success; 1 bad input; 2 a failure at run time; 3 finished,\n"
-                      "but a self-check failed (named on stderr); 128 + N stopped by signal N\n"
-                      "(SIGTERM 143, SIGINT 130, SIGUSR1 138) between two steps, output complete\n"
-                      "up to there (under mpirun send SIGUSR1: mpirun kills on SIGTERM).\n";
-}
+  const char *usage =
+    "Usage: contact-stefan [options] scene.prm\n"
+    "       mpirun -np N contact-stefan scene.prm\n"
+    "\n"
+    "Runs the scene described by the parameter file scene.prm (deal.II\n"
+    "ParameterHandler format; see prm/ for examples and doc/parameters.prm for\n"
+    "every parameter with its default and documentation).\n"
+    "\n"
+    "Options:\n"
+    "  -h, --help                 this text\n"
+    "  -V, --version              the commit this program was built from, its\n"
+    "                             compiler, build type and deal.II version\n"
+    "  -p, --print-parameters     print every parameter with its default and\n"
+    "                             documentation, in .prm format, and exit\n"
+    "  -c, --check                read and check scene.prm, then exit\n"
+    "  -r, --resume               continue from the checkpoint in the scene's\n"
+    "                             output directory (Checkpoint/Resume = true)\n"
+    "\n"
+    "A run writes VTU/PVD files and a statistics table into 'Output/Directory';\n"
+    "runs with an exact solution end with 'RESULT <name> = <value>' lines; a\n"
+    "record of what made the run (version, command line, ranks, the parameter\n"
+    "text as read, start and end time, exit code) goes to provenance.json there.\n"
+    "Errors in the input stop the run before any work with one line naming the\n"
+    "parameter and the reason.\n"
+    "\n"
+    "Exit codes: 0 success; 1 bad input; 2 a failure at run time; 3 finished,\n"
+    "but a self-check failed (named on stderr); 128 + N stopped by signal N\n"
+    "(SIGTERM 143, SIGINT 130, SIGUSR1 138) between two steps, output complete\n"
+    "up to there (under mpirun send SIGUSR1: mpirun kills on SIGTERM).\n";
+
+  // "contact-stefan <commit> (<compiler>, <build type>, deal.II <version>)".
+  std::string version_line()
+  {
+    return std::string("contact-stefan ") + ContactStefan::build_commit + " (" +
+           CONTACT_STEFAN_COMPILER + ", " + CONTACT_STEFAN_BUILD_TYPE + " build, deal.II " +
+           DEAL_II_PACKAGE_VERSION + ")";
+  }
+} // namespace
 
 int main(int argc, char *argv[])
 {
@@ -53,7 +71,7 @@ int main(int argc, char *argv[])
   Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   StopSignals::install();
   StopSignals::unblock();
-  const bool                       root = Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
+  const bool root = Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
 
   std::string filename;
   bool        check_only = false, resume = false;
@@ -64,6 +82,12 @@ int main(int argc, char *argv[])
         {
           if (root)
             std::cout << usage;
+          return 0;
+        }
+      if (arg == "-V" || arg == "--version")
+        {
+          if (root)
+            std::cout << version_line() << std::endl;
           return 0;
         }
       if (arg == "-p" || arg == "--print-parameters")
@@ -125,9 +149,9 @@ int main(int argc, char *argv[])
         MPI_Ibarrier(failure_comm, &request);
         int        all_failed = 0;
         const auto start      = std::chrono::steady_clock::now();
-        while (!all_failed && std::chrono::duration<double>(std::chrono::steady_clock::now() -
-                                                            start)
-                                  .count() < grace_seconds)
+        while (!all_failed &&
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() <
+                 grace_seconds)
           {
             MPI_Test(&request, &all_failed, MPI_STATUS_IGNORE);
             if (!all_failed)
@@ -148,12 +172,14 @@ int main(int argc, char *argv[])
     return code;
   };
 
+  RunRecord::begin(version_line(), std::vector<std::string>(argv, argv + argc), n_ranks);
   AllParameters parameters;
   try
     {
       parameters.read(filename);
       if (resume)
         parameters.checkpoint.resume = true;
+      RunRecord::set_parameters(parameters.source_files, parameters.source_text);
     }
   catch (const std::exception &e)
     {
@@ -167,6 +193,13 @@ int main(int argc, char *argv[])
       return 0;
     }
   std::vector<std::string> failed_checks;
+  // The provenance record (rank 0, if the run got as far as writing one) gets
+  // the exit code.
+  const auto finish = [&](const int code) {
+    if (root)
+      RunRecord::finish(code);
+    return code;
+  };
   try
     {
       CoupledProblem<2> problem(parameters, MPI_COMM_WORLD);
@@ -177,17 +210,20 @@ int main(int argc, char *argv[])
       // All ranks agreed on the stop between two steps: collective.
       if (root)
         std::cerr << "contact-stefan: " << e.what() << std::endl;
-      return 128 + e.signal;
+      return finish(128 + e.signal);
     }
   catch (const InputError &e)
     {
       // Every input check of the run phase is collective (all ranks throw alike).
-      return fail(e, 1, true);
+      return finish(fail(e, 1, true));
     }
   catch (const std::exception &e)
     {
       // Run-time failures (a solver that does not converge, a singular
       // system, a non-finite result): deal.II's long texts shortened to one line.
+      // (A failure on one rank only aborts in fail(): no record then.)
+      if (root)
+        RunRecord::finish(2);
       return fail(e, 2, false);
     }
   // A finished run whose own checks failed: its output is complete and
@@ -195,5 +231,5 @@ int main(int argc, char *argv[])
   if (root)
     for (const auto &check : failed_checks)
       std::cerr << "contact-stefan: warning: " << one_line(check) << std::endl;
-  return failed_checks.empty() ? 0 : 3;
+  return finish(failed_checks.empty() ? 0 : 3);
 }

@@ -1713,6 +1713,8 @@ namespace ContactStefan
     const ParameterFileText file = read_parameter_file(filename, prm_format);
     if (prm_format)
       check_entries_set_once(file);
+    source_text      = file.text;
+    source_files     = file.files;
     const auto parse = [&](ParameterHandler &prm, const bool skip_undefined) {
       std::istringstream input(file.text);
       if (extension == ".xml")

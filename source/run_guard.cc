@@ -3,12 +3,8 @@
 #include <contact-stefan/parameters.h>
 #include <contact-stefan/run_guard.h>
 
-#include <sys/file.h>
-#include <sys/stat.h>
-#include <sys/sysmacros.h>
-
+#include <cctype>
 #include <csignal>
-#include <pthread.h>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
@@ -18,11 +14,144 @@
 #include <sstream>
 
 #include <fcntl.h>
+#include <pthread.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
 #include <unistd.h>
 
 namespace ContactStefan
 {
   namespace fs = std::filesystem;
+
+  namespace RunRecord
+  {
+    namespace
+    {
+      struct Record
+      {
+        std::string              version, started, directory, parameter_text;
+        std::vector<std::string> command_line, parameter_files;
+        unsigned int             n_ranks = 1;
+        bool                     resumed = false;
+        std::string              previous; // the record of the run a resume continues
+      } record;
+
+      std::string now_utc()
+      {
+        const std::time_t now = std::time(nullptr);
+        char              text[32];
+        std::strftime(text, sizeof(text), "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+        return text;
+      }
+
+      // A JSON string: quotes, backslashes and control characters escaped
+      // (the parameter text is ASCII or UTF-8, checked when it was read).
+      std::string json_string(const std::string &text)
+      {
+        std::string out = "\"";
+        for (const unsigned char c : text)
+          if (c == '"' || c == '\\')
+            out += std::string("\\") + char(c);
+          else if (c == '\n')
+            out += "\\n";
+          else if (c == '\t')
+            out += "\\t";
+          else if (c < 0x20)
+            {
+              char code[8];
+              std::snprintf(code, sizeof(code), "\\u%04x", c);
+              out += code;
+            }
+          else
+            out += char(c);
+        return out + "\"";
+      }
+
+      std::string list(const std::vector<std::string> &items)
+      {
+        std::string out = "[";
+        for (unsigned int i = 0; i < items.size(); ++i)
+          out += (i ? ", " : "") + json_string(items[i]);
+        return out + "]";
+      }
+
+      void write_record(const std::string &status, const std::string &finished, const int code)
+      {
+        std::ostringstream json;
+        json << "{\n  \"program\": " << json_string(record.version)
+             << ",\n  \"command_line\": " << list(record.command_line)
+             << ",\n  \"working_directory\": " << json_string(fs::current_path().string())
+             << ",\n  \"mpi_ranks\": " << record.n_ranks
+             << ",\n  \"resumed\": " << (record.resumed ? "true" : "false")
+             << ",\n  \"started\": " << json_string(record.started)
+             << ",\n  \"finished\": " << (finished.empty() ? "null" : json_string(finished))
+             << ",\n  \"status\": " << json_string(status)
+             << ",\n  \"exit_code\": " << (status == "running" ? "null" : std::to_string(code))
+             << ",\n  \"parameter_files\": " << list(record.parameter_files)
+             << ",\n  \"parameters\": " << json_string(record.parameter_text);
+        if (!record.previous.empty())
+          json << ",\n  \"previous\": " << record.previous;
+        json << "\n}\n";
+        write_file_atomically(record.directory + "/provenance.json", json.str());
+      }
+    } // namespace
+
+    void begin(const std::string              &version_line,
+               const std::vector<std::string> &command_line,
+               const unsigned int              n_ranks)
+    {
+      record.version      = version_line;
+      record.command_line = command_line;
+      record.n_ranks      = n_ranks;
+      record.started      = now_utc();
+    }
+
+    void set_parameters(const std::vector<std::string> &files, const std::string &text)
+    {
+      record.parameter_files = files;
+      record.parameter_text  = text;
+    }
+
+    void write(const std::string &directory, const bool resumed)
+    {
+      record.directory = directory;
+      record.resumed   = resumed;
+      record.previous.clear();
+      if (resumed)
+        {
+          // The record of the run this one continues, kept whole (it is JSON
+          // this program wrote; anything else is not kept).
+          std::ifstream      in(directory + "/provenance.json");
+          std::ostringstream old;
+          old << in.rdbuf();
+          std::string text = old.str();
+          while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back())))
+            text.pop_back();
+          if (text.size() > 2 && text.front() == '{' && text.back() == '}')
+            record.previous = text;
+        }
+      write_record("running", "", 0);
+    }
+
+    void finish(const int exit_code)
+    {
+      if (record.directory.empty())
+        return;
+      const std::string status = exit_code == 0  ? "finished" :
+                                 exit_code == 3  ? "finished, a self-check failed" :
+                                 exit_code > 128 ? "stopped by a signal" :
+                                                   "failed";
+      try
+        {
+          write_record(status, now_utc(), exit_code);
+        }
+      catch (...)
+        {
+          // The record is not worth a second failure at exit.
+        }
+    }
+  } // namespace RunRecord
 
   namespace
   {
@@ -66,10 +195,10 @@ namespace ContactStefan
         const long  holder = ::fstat(descriptor, &status) == 0 ? lock_holder(status) : 0;
         ::close(descriptor);
         descriptor = -1;
-        throw std::runtime_error("the directory '" + directory + "' is in use by another run (" +
-                                 (holder > 0 ? "process " + std::to_string(holder) :
-                                               std::string("another process")) +
-                                 "); wait for it to end or choose another directory");
+        throw std::runtime_error(
+          "the directory '" + directory + "' is in use by another run (" +
+          (holder > 0 ? "process " + std::to_string(holder) : std::string("another process")) +
+          "); wait for it to end or choose another directory");
       }
   }
 

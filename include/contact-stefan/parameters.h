@@ -428,6 +428,10 @@ namespace ContactStefan
     // with the same text.
     std::string        solution_parameters;
     Parameters::Output output;
+    // The parameter text as read (includes expanded) and the files it came
+    // from: the run's provenance record.
+    std::string              source_text;
+    std::vector<std::string> source_files;
 
     // Declare everything for the given body and boundary lists.
     static void declare(ParameterHandler                &prm,

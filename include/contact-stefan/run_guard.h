@@ -25,6 +25,7 @@
 #include <csignal>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace ContactStefan
 {
@@ -52,6 +53,26 @@ namespace ContactStefan
   // Writes text to path through a temporary file in the same directory and a
   // rename, so that path always holds either the old or the new whole text.
   void write_file_atomically(const std::string &path, const std::string &text);
+
+  // What made a run, kept in 'provenance.json' in its output directory (rank 0;
+  // doc/output.md): the program's version line, the command line, the number
+  // of ranks, the parameter files and the parameter text as read (includes
+  // expanded), the start time, and, when it ends, the end time and the exit
+  // code. Written when the run has its output directory (a run refused for
+  // bad input before that writes none) and again at the end; a resumed run
+  // keeps the record of the run it continues under "previous".
+  namespace RunRecord
+  {
+    void begin(const std::string              &version_line,
+               const std::vector<std::string> &command_line,
+               const unsigned int              n_ranks);
+    // The parameters as read: the files and the expanded text.
+    void set_parameters(const std::vector<std::string> &files, const std::string &text);
+    // The run owns `directory` now: write the record (status "running").
+    void write(const std::string &directory, const bool resumed);
+    // The run ends with this exit code: rewrite the record, if written.
+    void finish(const int exit_code);
+  } // namespace RunRecord
 
   // Thrown between two time steps when a stop signal arrived; the output is
   // complete up to that step. main() exits with 128 + signal.

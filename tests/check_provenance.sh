@@ -1,0 +1,54 @@
+#!/bin/bash
+# The provenance record of a run (ctest cli/provenance):
+#   check_provenance.sh BINARY SCENE.prm
+# Runs the scene with checkpoints every step, stopped by SIGTERM after step 2
+# (the test hook CONTACT_STEFAN_TERM_AFTER_STEP), then resumes it; checks that
+# Output/Directory/provenance.json is valid JSON naming the version, the command
+# line, the rank count, the parameter text as read, the times and the exit code
+# of each run, the resumed one keeping the stopped one's record.
+set -u
+binary=$1 scene=$2
+here=$(cd "$(dirname "$0")" && pwd)
+work=$(mktemp -d "$PWD/provenance.XXXXXX") && cd "$work" || exit 1
+passed=0
+trap '[ "$passed" = 1 ] && rm -rf "$work"' EXIT
+cp "$scene" scene.prm
+"$here/apply_settings.sh" scene.prm "SET:Checkpoint/Interval (steps)=1" \
+  "SET:Output/Directory=out" > /dev/null || exit 1
+CONTACT_STEFAN_TERM_AFTER_STEP=2 "$binary" scene.prm > first.txt 2>&1
+echo "first run: exit code $?"
+"$binary" --resume scene.prm > second.txt 2>&1
+echo "resumed run: exit code $?"
+version=$("$binary" --version)
+/usr/bin/python3 - "$version" <<'PYTHON' && passed=1
+import json, sys
+version = sys.argv[1]
+record = json.load(open("out/provenance.json"))
+scene = open("scene.prm").read()
+problems = []
+def check(condition, what):
+    if not condition:
+        problems.append(what)
+for name, run, code, status, resumed in (("resumed", record, 0, "finished", True),
+                                         ("stopped", record.get("previous", {}), 143,
+                                          "stopped by a signal", False)):
+    check(run.get("program") == version, "%s: program %r is not --version's %r"
+          % (name, run.get("program"), version))
+    check(run.get("exit_code") == code, "%s: exit code %r" % (name, run.get("exit_code")))
+    check(run.get("status") == status, "%s: status %r" % (name, run.get("status")))
+    check(run.get("resumed") == resumed, "%s: resumed %r" % (name, run.get("resumed")))
+    check(run.get("mpi_ranks") == 1, "%s: ranks %r" % (name, run.get("mpi_ranks")))
+    check(run.get("parameters") == scene, "%s: the parameter text differs" % name)
+    check(run.get("parameter_files") == ["scene.prm"], "%s: files %r"
+          % (name, run.get("parameter_files")))
+    check(str(run.get("started", "")).endswith("Z") and
+          str(run.get("finished", "")) >= str(run.get("started", "")),
+          "%s: times %r .. %r" % (name, run.get("started"), run.get("finished")))
+    check(run.get("command_line", [None])[-1] == "scene.prm", "%s: command line %r"
+          % (name, run.get("command_line")))
+for p in problems:
+    print("FAIL " + p)
+print("provenance: %d checks failed" % len(problems))
+sys.exit(1 if problems else 0)
+PYTHON
+[ "$passed" = 1 ]
