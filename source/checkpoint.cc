@@ -60,7 +60,8 @@ namespace ContactStefan
 
   // The first line of a checkpoint's manifest and of its state.txt. Raised
   // whenever what they hold changes (2: the linear solver statistics of the
-  // contact reports; 3: the manifest and the checkpoint's id), so that an
+  // contact reports; 3: the manifest and the checkpoint's id; 4: the section-force and
+  // stress-output errors of the postprocessor), so that an
   // older checkpoint is refused by name, not misread.
   const std::string checkpoint_format = "contact-stefan checkpoint 4";
 
@@ -128,7 +129,7 @@ namespace ContactStefan
       return sum.hex();
     }
 
-    // The manifest: "contact-stefan checkpoint 3", then one entry per line
+    // The manifest: "contact-stefan checkpoint 4", then one entry per line
     //   id <16 hex digits>
     //   step <n>
     //   mesh-file <checksum of Geometry/Mesh file's content, or none>

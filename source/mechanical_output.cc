@@ -295,17 +295,40 @@ namespace ContactStefan
                 const CellStress &s = stresses[cell->active_cell_index()];
                 for (unsigned int d = 0; d < dim; ++d)
                   result[l].cell_centre[side][d] += s.sigma[d][axis] * length;
-                // The recovered field at the face's two vertices.
                 const auto        &cell_fe = cell->get_fe();
                 const unsigned int c0      = slot_of_body.at(cell->material_id()) * dim;
                 dofs.resize(cell_fe.n_dofs_per_cell());
                 cell->get_dof_indices(dofs);
+                // The test function behind the identity is 1 on the far side
+                // of the row and 0 on the line's nodes (for the row after the
+                // line; the other way round for the row before it), so the
+                // sum leaves out the row's own load at the line's nodes (body
+                // force, traction on the row's side faces; not the traction on
+                // the face on the line, which is the force across it): it is
+                // added for the row after the line and taken off for the row
+                // before it.
+                dealii::Vector<double> F;
+                const bool             loaded =
+                  functions.mechanical_load_present() &&
+                  cell_load[cell->active_cell_index()].size() == cell_fe.n_dofs_per_cell();
+                if (loaded)
+                  {
+                    F                  = cell_load[cell->active_cell_index()];
+                    const auto on_line = traction_face_load.find({cell->active_cell_index(), f});
+                    if (on_line != traction_face_load.end())
+                      F -= on_line->second;
+                  }
                 for (unsigned int i = 0; i < 2; ++i)
                   {
                     const unsigned int v   = GeometryInfo<dim>::face_to_cell_vertices(f, i);
                     const auto         dof = [&](const unsigned int component) {
                       return dofs[cell_fe.component_to_system_index(c0 + component, v)];
                     };
+                    if (loaded)
+                      for (unsigned int d = 0; d < dim; ++d)
+                        result[l].cell_centre[side][d] +=
+                          (side == 1 ? 1. : -1.) * F(cell_fe.component_to_system_index(c0 + d, v));
+                    // The recovered field at the face's two vertices.
                     // (xx, yy) in the first vector, (xy, zz) in the second.
                     const double sxx = ghosted[0][dof(0)], syy = ghosted[0][dof(1)],
                                  sxy = ghosted[1][dof(0)];
@@ -314,7 +337,15 @@ namespace ContactStefan
                     result[l].recovered[side] += 0.5 * length * traction;
                   }
                 result[l].length[side] += length;
-                const double extent        = cell->extent_in_direction(axis);
+                // The cell's extent across the line (from its vertices: a
+                // cell's own axes need not be the mesh's).
+                double low = HUGE_VAL, high = -HUGE_VAL;
+                for (unsigned int v = 0; v < 4; ++v)
+                  {
+                    low  = std::min(low, cell->vertex(v)[axis]);
+                    high = std::max(high, cell->vertex(v)[axis]);
+                  }
+                const double extent        = high - low;
                 result[l].min_extent[side] = std::min(result[l].min_extent[side], extent);
                 result[l].max_extent[side] = std::max(result[l].max_extent[side], extent);
               }

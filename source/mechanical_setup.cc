@@ -658,6 +658,7 @@ namespace ContactStefan
   {
     TimerOutput::Scope t_(timer, "contact step: assemble load");
     load = 0;
+    traction_face_load.clear();
     if (!functions.mechanical_load_present())
       return;
 
@@ -702,14 +703,17 @@ namespace ContactStefan
                 hp_face_values.reinit(cell, face);
                 const FEFaceValues<dim> &fv = hp_face_values.get_present_fe_values();
                 const auto              &tr = functions.mechanical_boundary(bc->first);
+                dealii::Vector<double>   face_load(n);
                 for (unsigned int q = 0; q < fv.n_quadrature_points; ++q)
                   {
                     Tensor<1, dim> traction;
                     for (unsigned int d = 0; d < dim; ++d)
                       traction[d] = tr.value(fv.quadrature_point(q), d);
                     for (unsigned int i = 0; i < n; ++i)
-                      F(i) += traction * fv[u].value(i, q) * fv.JxW(q);
+                      face_load(i) += traction * fv[u].value(i, q) * fv.JxW(q);
                   }
+                F += face_load;
+                traction_face_load[{cell->active_cell_index(), face}] = face_load;
               }
           std::vector<types::global_dof_index> dofs(n);
           cell->get_dof_indices(dofs);

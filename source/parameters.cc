@@ -910,11 +910,12 @@ namespace ContactStefan
       prm.declare_entry("Section normal force",
                         "",
                         Patterns::Anything(),
-                        "Empty, or the exact normal force (N/m) across every line of "
-                        "'Output/Section lines', a function of t (x and y are 0): the run "
-                        "reports the largest relative error of the section forces of the "
-                        "cell-centre stresses and of the recovered nodal stresses over the "
-                        "lines, their sides and the steps (any Type).");
+                        "Empty, or the exact normal force (N/m) across the lines of "
+                        "'Output/Section lines', a function of x, y, t evaluated at (c, 0) "
+                        "for the line x = c and at (0, c) for y = c: the run reports the "
+                        "largest error of the section forces of the cell-centre stresses "
+                        "and of the recovered nodal stresses over the lines, their sides and "
+                        "the steps, relative to the largest exact force (any Type).");
       prm.declare_entry("Contact pressure",
                         "",
                         Patterns::Anything(),
@@ -1597,9 +1598,9 @@ namespace ContactStefan
                   "'" + entry + "': '" + value + "' is not a finite number");
           line.name = axis + "=" + value;
           for (const auto &other : section_lines)
-            require(other.name != line.name,
+            require(other.axis != line.axis || other.value != line.value,
                     "Output/Section lines",
-                    "'" + entry + "' is listed twice");
+                    "'" + entry + "' is the line '" + other.name + "' again");
           section_lines.push_back(line);
         }
       require(!directory.empty(), "Output/Directory", "must not be empty");

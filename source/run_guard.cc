@@ -68,6 +68,13 @@ namespace ContactStefan
         return out + "\"";
       }
 
+      std::string working_directory()
+      {
+        std::error_code error;
+        const auto      path = fs::current_path(error);
+        return error ? std::string("unknown") : path.string();
+      }
+
       std::string list(const std::vector<std::string> &items)
       {
         std::string out = "[";
@@ -81,7 +88,7 @@ namespace ContactStefan
         std::ostringstream json;
         json << "{\n  \"program\": " << json_string(record.version)
              << ",\n  \"command_line\": " << list(record.command_line)
-             << ",\n  \"working_directory\": " << json_string(fs::current_path().string())
+             << ",\n  \"working_directory\": " << json_string(working_directory())
              << ",\n  \"mpi_ranks\": " << record.n_ranks
              << ",\n  \"resumed\": " << (record.resumed ? "true" : "false")
              << ",\n  \"started\": " << json_string(record.started)

@@ -2,7 +2,8 @@
 # apply_settings.sh SCENE.prm [ARGUMENT ...]: every argument of the form
 # 'SET:Subsection/Entry name=value' sets that entry in SCENE.prm (replacing the
 # lines that set it in that subsection path, appending it if there are none: an
-# entry may be set only once); other arguments are printed, one per line, for
+# entry may be set only once; '<semicolon>' in a value stands for ';'); other arguments
+# are printed, one per line, for
 # the caller (requirements). Shared by run_scene.sh, run_resume.sh and
 # resume_other_scene.sh, so that variants of a benchmark need no copies of its
 # file.
@@ -11,6 +12,9 @@ shift
 for argument in "$@"; do
   if [[ "$argument" == SET:* ]]; then
     entry=${argument#SET:} path=${entry%%=*} value=${entry#*=}
+    # '<semicolon>' stands for ';' (a ';' would split the argument in CMake's lists on
+    # its way from tests/CMakeLists.txt to the test).
+    value=${value//'<semicolon>'/;}
     section=${path%/*} key=${path##*/}
     # The subsection path of each line as deal.II reads it (a comment from
     # '#' on, 'subsection'/'end' nest); raw values through the environment.

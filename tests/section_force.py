@@ -132,8 +132,8 @@ def check_step(cells, resultant):
                 cell_force = sum(c["cell"]["cell_stress_yy"] * (c["box"][1] - c["box"][0])
                                  for c in row)
                 nodal_force = sum(edge_integral(c, "stress_yy", y, side) for c in row)
-                heights = [c["box"][3] - c["box"][2] for c in row]
-                uniform = max(heights) - min(heights) <= 1e-6 * max(heights)
+                row_heights = [c["box"][3] - c["box"][2] for c in row]
+                uniform = max(row_heights) - min(row_heights) <= 1e-6 * max(row_heights)
                 lines.append((body, y, side, cell_force, nodal_force, uniform))
     return lines
 

@@ -383,8 +383,12 @@ namespace ContactStefan
     std::vector<ElasticModuli>          cell_moduli;
     std::vector<LocalMatrix>            cell_stiffness, cell_thermal_operator;
     std::vector<dealii::Vector<double>> cell_load, cell_thermal_load;
-    CellVertexValues                    cell_reference, cell_theta_excess;
-    const bool                          coupled, thermal_stress;
+    // The traction part of F_K of each boundary face with a traction, by
+    // (active cell index, face): the section forces leave out the traction on
+    // a face that lies on the section line.
+    std::map<std::pair<unsigned int, unsigned int>, dealii::Vector<double>> traction_face_load;
+    CellVertexValues cell_reference, cell_theta_excess;
+    const bool       coupled, thermal_stress;
 
     // Work skipped when its inputs did not change: the matrix (stiffness
     // version, constraint pattern) last assembled and factorised, and the data
