@@ -102,7 +102,7 @@ def read_step(pvtu):
     return cells
 
 
-def edge_integral(cell, name, y, side):
+def edge_integral(cell, name, y):
     """Integral of the point data 'name' along the cell's face at height y."""
     pts = [(x, v) for (x, yy), v in zip(cell["xy"], cell["point"][name]) if yy == y]
     assert len(pts) == 2, "face of %d points" % len(pts)
@@ -110,7 +110,7 @@ def edge_integral(cell, name, y, side):
     return 0.5 * (v0 + v1) * abs(x1 - x0)
 
 
-def check_step(cells, resultant):
+def check_step(cells):
     """[(body, y, side, cell integral, nodal integral)] for every full line."""
     lines = []
     for body in sorted({int(c["cell"]["body_id"]) for c in cells}):
@@ -131,7 +131,7 @@ def check_step(cells, resultant):
                     continue  # the line cuts through cells of this side
                 cell_force = sum(c["cell"]["cell_stress_yy"] * (c["box"][1] - c["box"][0])
                                  for c in row)
-                nodal_force = sum(edge_integral(c, "stress_yy", y, side) for c in row)
+                nodal_force = sum(edge_integral(c, "stress_yy", y) for c in row)
                 row_heights = [c["box"][3] - c["box"][2] for c in row]
                 uniform = max(row_heights) - min(row_heights) <= 1e-6 * max(row_heights)
                 lines.append((body, y, side, cell_force, nodal_force, uniform))
@@ -156,7 +156,7 @@ def main():
     worst = {"cell": 0.0, "nodal": 0.0, "cell, other rows": 0.0, "nodal, other rows": 0.0}
     scale = abs(args.resultant)
     for time, name in steps:
-        lines = check_step(read_step(os.path.join(args.directory, name)), args.resultant)
+        lines = check_step(read_step(os.path.join(args.directory, name)))
         error = {}
         for key, index, uniform in (("cell", 3, True), ("nodal", 4, True),
                                     ("cell, other rows", 3, False),
