@@ -430,8 +430,9 @@ namespace ContactStefan
                                               "cell_strain_yy",
                                               "cell_strain_xy"};
     output_cell_data.assign(cell_names.size(), dealii::Vector<double>(stresses.size()));
-    std::array<std::vector<std::array<double, 2>>, 4> pairs;
-    for (auto &p : pairs)
+    // The strain pairs of the recovery (the stress pairs: recover_stresses()).
+    std::array<std::vector<std::array<double, 2>>, 2> strain_pairs;
+    for (auto &p : strain_pairs)
       p.assign(stresses.size(), {{0., 0.}});
     for (unsigned int c = 0; c < stresses.size(); ++c)
       {
@@ -450,19 +451,21 @@ namespace ContactStefan
                                         s.strain[0][1]};
         for (unsigned int k = 0; k < cell_names.size(); ++k)
           output_cell_data[k](c) = values[k];
-        pairs[0][c] = {{s.sigma[0][0], s.sigma[1][1]}};
-        pairs[1][c] = {{s.sigma[0][1], s.sigma_zz}};
-        pairs[2][c] = {{s.strain[0][0], s.strain[1][1]}};
-        pairs[3][c] = {{s.strain[0][1], 0.}};
+        strain_pairs[0][c] = {{s.strain[0][0], s.strain[1][1]}};
+        strain_pairs[1][c] = {{s.strain[0][1], 0.}};
       }
     for (unsigned int k = 0; k < cell_names.size(); ++k)
       data_out.add_data_vector(output_cell_data[k], cell_names[k], DataOut<dim>::type_cell_data);
 
     // Point data: the recovered field of each body (never averaged across a
-    // contact interface or a body boundary: each body has its own DoFs there).
-    std::array<Vector, 4> nodal;
-    for (unsigned int k = 0; k < 4; ++k)
-      recover_nodal_pair(pairs[k], nodal[k]);
+    // contact interface or a body boundary: each body has its own DoFs there):
+    // (xx, yy) and (xy, zz) of the stress, (xx, yy) and (xy, von Mises) of the
+    // strain.
+    std::array<Vector, 2> stress_ghosted;
+    recover_stresses(stresses, stress_ghosted);
+    std::array<Vector, 2> strain_nodal;
+    for (unsigned int k = 0; k < 2; ++k)
+      recover_nodal_pair(strain_pairs[k], strain_nodal[k]);
     // The von Mises stress of the recovered components, node by node, in the
     // free y component of the last pair.
     std::vector<types::global_dof_index> dofs;
@@ -478,15 +481,20 @@ namespace ContactStefan
               const types::global_dof_index x = dofs[cell_fe.component_to_system_index(c0, v)];
               const types::global_dof_index y = dofs[cell_fe.component_to_system_index(c0 + 1, v)];
               if (owned.is_element(y) && !hanging_node_constraints.is_constrained(y))
-                nodal[3][y] = von_mises(nodal[0][x], nodal[0][y], nodal[1][x], nodal[1][y]);
+                strain_nodal[1][y] = von_mises(stress_ghosted[0][x],
+                                               stress_ghosted[0][y],
+                                               stress_ghosted[1][x],
+                                               stress_ghosted[1][y]);
             }
         }
-    nodal[3].compress(VectorOperation::insert);
-    hanging_node_constraints.distribute(nodal[3]);
-    for (unsigned int k = 0; k < 4; ++k)
+    strain_nodal[1].compress(VectorOperation::insert);
+    hanging_node_constraints.distribute(strain_nodal[1]);
+    output_recovered[0].swap(stress_ghosted[0]);
+    output_recovered[1].swap(stress_ghosted[1]);
+    for (unsigned int k = 0; k < 2; ++k)
       {
-        output_recovered[k].reinit(owned, relevant, mpi_communicator);
-        output_recovered[k] = nodal[k];
+        output_recovered[2 + k].reinit(owned, relevant, mpi_communicator);
+        output_recovered[2 + k] = strain_nodal[k];
       }
     const std::vector<std::vector<std::string>> point_names{{"stress_xx", "stress_yy"},
                                                             {"stress_xy", "stress_zz"},
