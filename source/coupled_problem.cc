@@ -243,6 +243,7 @@ namespace ContactStefan
   template <int dim>
   AdaptationReport CoupledProblem<dim>::mark_for_adaptation()
   {
+    TimerOutput::Scope    t(timer, "adapt: mark");
     const MPI_Comm        comm = triangulation.get_communicator();
     dealii::Vector<float> indicator(triangulation.n_active_cells()), part;
     // Each indicator divided by its largest value, so that the weights are
@@ -329,6 +330,7 @@ namespace ContactStefan
       for (unsigned int i = 0; i < state.size(); ++i)
         *state[i] = results[i];
     };
+    TimerOutput::Scope t(timer, "adapt: refine and transfer");
     if (transfer && thermal)
       prepare(thermal->get_dof_handler(), thermal->primary_state(), carried_thermal);
     if (transfer && mechanical)
@@ -370,6 +372,7 @@ namespace ContactStefan
   template <int dim>
   void CoupledProblem<dim>::after_mesh_change()
   {
+    TimerOutput::Scope t(timer, "adapt: derived state");
     if (thermal)
       thermal->after_transfer();
     if (prm.elasticity_depends_on_phase())
@@ -425,11 +428,26 @@ namespace ContactStefan
     const double           before     = thermal ? thermal->total_enthalpy() : 0.;
     const unsigned int     old_cells  = triangulation.n_global_active_cells();
     const AdaptationReport report     = mark_for_adaptation();
-    bool                   coarsening = false;
+    bool                   coarsening = false, refinement = false;
     for (const auto &cell : triangulation.active_cell_iterators())
-      if (cell->is_locally_owned() && cell->coarsen_flag_set())
-        coarsening = true;
+      if (cell->is_locally_owned())
+        {
+          coarsening = coarsening || cell->coarsen_flag_set();
+          refinement = refinement || cell->refine_flag_set();
+        }
     coarsening = Utilities::MPI::logical_or(coarsening, triangulation.get_communicator());
+    refinement = Utilities::MPI::logical_or(refinement, triangulation.get_communicator());
+    // No flag left after the limits and the smoothing: the mesh stays as it is,
+    // and so does everything built on it (DoFs, matrices, factorisations).
+    if (!coarsening && !refinement)
+      {
+        postprocessor->record_adaptation(0., false);
+        if (prm.output.verbosity >= 1 || report.capped)
+          pcout << "    adapted: no cell flagged, mesh unchanged (" << old_cells << " cells)"
+                << (report.capped ? ", refinement capped by 'Mesh refinement/Max cells'" : "")
+                << std::endl;
+        return;
+      }
     execute_and_repair(true);
     after_mesh_change();
     const double after  = thermal ? thermal->total_enthalpy() : 0.;

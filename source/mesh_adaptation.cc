@@ -45,6 +45,17 @@ namespace ContactStefan
   void FeatureCloud<dim>::build()
   {
     tree = pack_rtree(points);
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        lower[d] = std::numeric_limits<double>::infinity();
+        upper[d] = -std::numeric_limits<double>::infinity();
+      }
+    for (const auto &p : points)
+      for (unsigned int d = 0; d < dim; ++d)
+        {
+          lower[d] = std::min(lower[d], p[d]);
+          upper[d] = std::max(upper[d], p[d]);
+        }
   }
 
 
@@ -68,7 +79,11 @@ namespace ContactStefan
   {
     // The relative slack only keeps a point exactly on the rim (a node at a
     // cell's corner is half a diameter from its centre) inside.
-    return distance(centre) <= (buffer + 0.5) * diameter * (1 + 1e-10);
+    const double radius = (buffer + 0.5) * diameter * (1 + 1e-10);
+    for (unsigned int d = 0; d < dim; ++d)
+      if (centre[d] < lower[d] - radius || centre[d] > upper[d] + radius)
+        return false;
+    return distance(centre) <= radius;
   }
 
 

@@ -14,6 +14,7 @@
 
 #include <deal.II/numerics/vector_tools.h>
 
+#include <contact-stefan/q1_kernels.h>
 #include <contact-stefan/thermal_field.h>
 
 #include <set>
@@ -84,7 +85,7 @@ namespace ContactStefan
     SparsityTools::distribute_sparsity_pattern(dsp, owned, mpi_communicator, relevant);
     linear_solver.clear();
     system_matrix.reinit(owned, owned, dsp, mpi_communicator);
-    conductivity_matrix.reinit(owned, owned, dsp, mpi_communicator);
+    conductivity_matrix.reinit(system_matrix); // the same layout, not rebuilt
 
     for (Vector *v : {&system_rhs,
                       &temperature,
@@ -106,54 +107,45 @@ namespace ContactStefan
     for (Vector *v : {&temperature_ghosted, &enthalpy_ghosted, &phase_state_ghosted})
       v->reinit(owned, relevant, mpi_communicator);
 
-    // Lumped mass: the vertex (trapezoidal) rule makes the Q1 mass matrix
-    // diagonal; m_K holds each cell's share of it, m_i is their sum.
-    const QTrapezoid<dim> vertex_rule;
-    FEValues<dim>         fe_values(fe, vertex_rule, update_values | update_JxW_values);
-    const unsigned int    n = fe.n_dofs_per_cell();
+    // Per cell, in closed form (q1_kernels.h): the lumped mass m_K (the vertex
+    // rule makes the Q1 mass matrix diagonal; m_i is the sum of the cells'
+    // shares) and the conductivity shape matrix S_K = int_K (K grad phi_j) .
+    // grad phi_i with the body's shape tensor K: the conductivity of a cell only
+    // rescales it (assemble_cell_conductivities). The support points are the
+    // vertices.
+    const unsigned int                   n = fe.n_dofs_per_cell();
     std::vector<types::global_dof_index> dofs(n);
+    std::vector<std::pair<types::global_dof_index, Point<dim>>> points;
     cell_mass.assign(triangulation.n_active_cells(), dealii::Vector<double>());
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned())
-        {
-          fe_values.reinit(cell);
-          auto &m = cell_mass[cell->active_cell_index()];
-          m.reinit(n);
-          for (unsigned int q = 0; q < vertex_rule.size(); ++q)
-            for (unsigned int i = 0; i < n; ++i)
-              m(i) += fe_values.shape_value(i, q) * fe_values.JxW(q);
-          cell->get_dof_indices(dofs);
-          hanging_node_constraints.distribute_local_to_global(m, dofs, lumped_mass);
-        }
-    lumped_mass.compress(VectorOperation::add);
-
-    // Conductivity shape matrices S_K = int K grad phi_j . grad phi_i: the
-    // conductivity of a cell only rescales them (assemble_cell_conductivities).
-    const QGauss<dim> quadrature(fe.degree + 1);
-    FEValues<dim>     gradients(fe, quadrature, update_gradients | update_JxW_values);
     cell_shape_conductivity.assign(triangulation.n_active_cells(), LocalMatrix());
     cell_conductivity.assign(triangulation.n_active_cells(), LocalMatrix());
     cell_load.assign(triangulation.n_active_cells(), dealii::Vector<double>());
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
-          const Tensor<2, dim> K = materials[cell->material_id()].conductivity_shape;
-          gradients.reinit(cell);
-          LocalMatrix &S = cell_shape_conductivity[cell->active_cell_index()];
-          S.reinit(n, n);
-          for (unsigned int q = 0; q < quadrature.size(); ++q)
-            for (unsigned int i = 0; i < n; ++i)
-              {
-                const Tensor<1, dim> flux_i = K * gradients.shape_grad(i, q);
-                for (unsigned int j = 0; j < n; ++j)
-                  S(i, j) += flux_i * gradients.shape_grad(j, q) * gradients.JxW(q);
-              }
+          Point<2> v[4];
+          cell_vertices(cell, v);
+          const auto mass = q1_lumped_mass(v);
+          auto      &m    = cell_mass[cell->active_cell_index()];
+          m.reinit(n);
+          std::copy(mass.begin(), mass.end(), m.begin());
+          cell->get_dof_indices(dofs);
+          hanging_node_constraints.distribute_local_to_global(m, dofs, lumped_mass);
+          cell_shape_conductivity[cell->active_cell_index()] =
+            q1_shape_matrix(v, materials[cell->material_id()].conductivity_shape);
+          for (unsigned int i = 0; i < n; ++i)
+            points.emplace_back(dofs[i], v[i]);
         }
+    lumped_mass.compress(VectorOperation::add);
+    std::sort(points.begin(), points.end(), [](const auto &a, const auto &b) {
+      return a.first < b.first;
+    });
+    support_points.clear();
+    for (const auto &[dof, point] : points)
+      support_points.emplace_hint(support_points.end(), dof, point);
 
     setup_nodal_enthalpy_laws();
     index_local_entries();
-    support_points.clear();
-    DoFTools::map_dofs_to_support_points(MappingQ1<dim>(), dof_handler, support_points);
     setup_coupling();
   }
 

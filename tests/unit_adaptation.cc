@@ -56,6 +56,13 @@ int main(int argc, char *argv[])
     check(corner.within(Point<2>(0.05, 0.05), d, 0), "a node at a cell's corner is in that cell");
     check(!none.within(Point<2>(0, 0), 1e9, 100), "no points: no cell is near");
     check(std::isinf(none.distance(Point<2>(0, 0))), "no points: infinite distance");
+    // Near a corner of the points' bounding box, the distance decides, not the box:
+    // (1.3, 0.3) is 0.424 from (1, 0).
+    const FeatureCloud<2> pair(std::vector<Point<2>>{Point<2>(0, 0), Point<2>(1, 0)});
+    check(!pair.within(Point<2>(1.3, 0.3), 0.8, 0), "0.424 away, radius 0.40: out");
+    check(pair.within(Point<2>(1.3, 0.3), 0.9, 0), "0.424 away, radius 0.45: in");
+    check(pair.within(Point<2>(0.5, 0.3), 1.2, 0), "between the points, 0.583 away, radius 0.6: in");
+    check(!pair.within(Point<2>(0.5, -0.7), 1.2, 0), "below the box by more than the radius: out");
     const FeatureCloud<2> many(
       std::vector<Point<2>>{Point<2>(3, 4), Point<2>(-1, 0), Point<2>(0.5, 0.5)});
     check(std::abs(many.distance(Point<2>(0, 0)) - std::sqrt(0.5)) < 1e-15,

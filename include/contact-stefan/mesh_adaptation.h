@@ -70,6 +70,9 @@ namespace ContactStefan
 
     std::vector<Point<dim>> points;
     RTree<Point<dim>>       tree;
+    // The bounding box of the points: most cells of a mesh are farther from it
+    // than any buffer, and are answered without a query of the tree.
+    Point<dim> lower, upper;
   };
 
   // What mark_cells() was given and what it decided, for the statistics.
