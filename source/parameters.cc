@@ -1380,7 +1380,12 @@ namespace ContactStefan
                         "fixed). Cells are marked by the error indicators below, cells at a "
                         "phase front or in an active contact zone are refined to Maximum "
                         "level, and the primary state (enthalpy, displacement, both time "
-                        "levels) is carried over to the new mesh (doc/adaptivity.md).");
+                        "levels) is carried over to the new mesh (doc/adaptivity.md). An "
+                        "adaptation costs a few steps' work (the p4est refinement, a new "
+                        "set-up, fresh factorisations): on Neumann A at level 4, adapting "
+                        "every 3 steps with Front buffer = 4 took 1.8x less time than every "
+                        "step with Front buffer = 2, for an error 0.29 % instead of 0.12 % "
+                        "above the global mesh's (doc/adaptivity.md, section 5).");
       prm.declare_entry("Initial adaptive refinements",
                         "0",
                         Patterns::Integer(0, 20),
