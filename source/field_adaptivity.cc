@@ -1,8 +1,8 @@
 // What the fields tell the mesh adaptation (mesh_adaptation.h): where the phase
 // fronts and the contact zones are, and the jump indicators of the temperature
 // and the displacement (doc/adaptivity.md).
-#include <contact-stefan/q1_kernels.h>
 #include <contact-stefan/mechanical_field.h>
+#include <contact-stefan/q1_kernels.h>
 #include <contact-stefan/thermal_field.h>
 
 #include <cmath>

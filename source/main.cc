@@ -3,61 +3,17 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/parameter_handler.h>
 
+#include <contact-stefan/command_line.h>
 #include <contact-stefan/coupled_problem.h>
 #include <contact-stefan/parameters.h>
 #include <contact-stefan/run_guard.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <iostream>
 #include <string>
 #include <thread>
 #include <vector>
-
-namespace ContactStefan
-{
-  extern const char *build_commit; // build_info.cc, written at build time
-}
-
-namespace
-{
-  const char *usage =
-    "Usage: contact-stefan [options] scene.prm\n"
-    "       mpirun -np N contact-stefan scene.prm\n"
-    "\n"
-    "Runs the scene described by the parameter file scene.prm (deal.II\n"
-    "ParameterHandler format; see prm/ for examples and doc/parameters.prm for\n"
-    "every parameter with its default and documentation).\n"
-    "\n"
-    "Options:\n"
-    "  -h, --help                 this text\n"
-    "  -V, --version              the commit this program was built from, its\n"
-    "                             compiler, build type and deal.II version\n"
-    "  -p, --print-parameters     print every parameter with its default and\n"
-    "                             documentation, in .prm format, and exit\n"
-    "  -c, --check                read and check scene.prm, then exit\n"
-    "  -r, --resume               continue from the checkpoint in the scene's\n"
-    "                             output directory (Checkpoint/Resume = true)\n"
-    "\n"
-    "A run writes VTU/PVD files and a statistics table into 'Output/Directory';\n"
-    "runs with an exact solution end with 'RESULT <name> = <value>' lines; a\n"
-    "record of what made the run (version, command line, ranks, the parameter\n"
-    "text as read, start and end time, exit code) goes to provenance.json there.\n"
-    "Errors in the input stop the run before any work with one line naming the\n"
-    "parameter and the reason.\n"
-    "\n"
-    "Exit codes: 0 success; 1 bad input; 2 a failure at run time; 3 finished,\n"
-    "but a self-check failed (named on stderr); 128 + N stopped by signal N\n"
-    "(SIGTERM 143, SIGINT 130, SIGUSR1 138) between two steps, output complete\n"
-    "up to there (under mpirun send SIGUSR1: mpirun kills on SIGTERM).\n";
-
-  // "contact-stefan <commit> (<compiler>, <build type>, deal.II <version>)".
-  std::string version_line()
-  {
-    return std::string("contact-stefan ") + ContactStefan::build_commit + " (" +
-           CONTACT_STEFAN_COMPILER + ", " + CONTACT_STEFAN_BUILD_TYPE + " build, deal.II " +
-           DEAL_II_PACKAGE_VERSION + ")";
-  }
-} // namespace
 
 int main(int argc, char *argv[])
 {
@@ -67,6 +23,26 @@ int main(int argc, char *argv[])
   // of its own, and the threads it starts inherit the blocked mask, so that
   // the signals reach this thread only), then handled; a signal that arrived
   // meanwhile is delivered then.
+  // --help and --version are answered by the launcher (source/launcher.cc)
+  // before this program is started; run directly, it answers them too, before
+  // MPI starts.
+  if (const std::string option = CommandLine::information_option(argc, argv); !option.empty())
+    {
+      if (!CommandLine::first_rank())
+        return 0;
+      if (option == "-h" || option == "--help")
+        std::cout << CommandLine::usage;
+      else if (option == "-V" || option == "--version")
+        std::cout << CommandLine::version_line() << std::endl;
+      else
+        {
+          ParameterHandler prm;
+          AllParameters::declare_defaults(prm);
+          prm.print_parameters(std::cout, ParameterHandler::PRM);
+        }
+      return 0;
+    }
+
   StopSignals::block();
   Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   StopSignals::install();
@@ -78,28 +54,6 @@ int main(int argc, char *argv[])
   for (int i = 1; i < argc; ++i)
     {
       const std::string arg = argv[i];
-      if (arg == "-h" || arg == "--help")
-        {
-          if (root)
-            std::cout << usage;
-          return 0;
-        }
-      if (arg == "-V" || arg == "--version")
-        {
-          if (root)
-            std::cout << version_line() << std::endl;
-          return 0;
-        }
-      if (arg == "-p" || arg == "--print-parameters")
-        {
-          if (root)
-            {
-              ParameterHandler prm;
-              AllParameters::declare_defaults(prm);
-              prm.print_parameters(std::cout, ParameterHandler::PRM);
-            }
-          return 0;
-        }
       if (arg == "-c" || arg == "--check")
         check_only = true;
       else if (arg == "-r" || arg == "--resume")
@@ -172,7 +126,9 @@ int main(int argc, char *argv[])
     return code;
   };
 
-  RunRecord::begin(version_line(), std::vector<std::string>(argv, argv + argc), n_ranks);
+  RunRecord::begin(CommandLine::version_line(),
+                   std::vector<std::string>(argv, argv + argc),
+                   n_ranks);
   AllParameters parameters;
   try
     {

@@ -7,15 +7,16 @@
 
 namespace ContactStefan
 {
-  Tensor<1, 2> q1_gradient(const Point<2> (&v)[4], const double *u, const double xi, const double eta)
+  Tensor<1, 2>
+  q1_gradient(const Point<2> (&v)[4], const double *u, const double xi, const double eta)
   {
     // x(xi, eta) and u(xi, eta) are bilinear in the reference coordinates;
     // grad u = J^-T (du/dxi, du/deta) with the columns dx/dxi, dx/deta of J.
-    const Tensor<1, 2> x_xi   = (v[1] - v[0]) * (1 - eta) + (v[3] - v[2]) * eta;
-    const Tensor<1, 2> x_eta  = (v[2] - v[0]) * (1 - xi) + (v[3] - v[1]) * xi;
-    const double       u_xi   = (u[1] - u[0]) * (1 - eta) + (u[3] - u[2]) * eta;
-    const double       u_eta  = (u[2] - u[0]) * (1 - xi) + (u[3] - u[1]) * xi;
-    const double       det    = x_xi[0] * x_eta[1] - x_xi[1] * x_eta[0];
+    const Tensor<1, 2> x_xi  = (v[1] - v[0]) * (1 - eta) + (v[3] - v[2]) * eta;
+    const Tensor<1, 2> x_eta = (v[2] - v[0]) * (1 - xi) + (v[3] - v[1]) * xi;
+    const double       u_xi  = (u[1] - u[0]) * (1 - eta) + (u[3] - u[2]) * eta;
+    const double       u_eta = (u[2] - u[0]) * (1 - xi) + (u[3] - u[1]) * xi;
+    const double       det   = x_xi[0] * x_eta[1] - x_xi[1] * x_eta[0];
     Tensor<1, 2>       result;
     result[0] = (u_xi * x_eta[1] - u_eta * x_xi[1]) / det;
     result[1] = (u_eta * x_xi[0] - u_xi * x_eta[0]) / det;
@@ -95,11 +96,11 @@ namespace ContactStefan
       // by projection (faces 0, 1 at xi = 0, 1; faces 2, 3 at eta = 0, 1).
       void reference_point(const Point<2> &x, double &xi, double &eta) const
       {
-        const Point<2>     &p0 = v[GeometryInfo<2>::face_to_cell_vertices(face, 0)];
-        const Point<2>     &p1 = v[GeometryInfo<2>::face_to_cell_vertices(face, 1)];
-        const Tensor<1, 2>  d  = p1 - p0;
-        const double        t  = ((x - p0) * d) / d.norm_square();
-        const double        fixed = (face % 2 == 0) ? 0. : 1.;
+        const Point<2>    &p0    = v[GeometryInfo<2>::face_to_cell_vertices(face, 0)];
+        const Point<2>    &p1    = v[GeometryInfo<2>::face_to_cell_vertices(face, 1)];
+        const Tensor<1, 2> d     = p1 - p0;
+        const double       t     = ((x - p0) * d) / d.norm_square();
+        const double       fixed = (face % 2 == 0) ? 0. : 1.;
         if (face < 2)
           xi = fixed, eta = t;
         else
@@ -109,19 +110,19 @@ namespace ContactStefan
 
     // int over the segment [a, b] of sum_components ((grad u_K - grad u_N) n)^2
     // by the two-point Gauss rule.
-    double face_integral(const Point<2>        &a,
-                         const Point<2>        &b,
-                         const Side            &mine,
-                         const double          *u_mine,
-                         const Side            &theirs,
-                         const double          *u_theirs,
-                         const unsigned int     n_components)
+    double face_integral(const Point<2>    &a,
+                         const Point<2>    &b,
+                         const Side        &mine,
+                         const double      *u_mine,
+                         const Side        &theirs,
+                         const double      *u_theirs,
+                         const unsigned int n_components)
     {
       const Tensor<1, 2> edge   = b - a;
       const double       length = edge.norm();
       const Tensor<1, 2> normal({edge[1] / length, -edge[0] / length}); // sign irrelevant
-      const double       g      = 0.5 / std::sqrt(3.);
-      double             sum    = 0;
+      const double       g   = 0.5 / std::sqrt(3.);
+      double             sum = 0;
       for (const double s : {0.5 - g, 0.5 + g})
         {
           const Point<2> x = a + s * edge;

@@ -113,8 +113,8 @@ namespace ContactStefan
     // grad phi_i with the body's shape tensor K: the conductivity of a cell only
     // rescales it (assemble_cell_conductivities). The support points are the
     // vertices.
-    const unsigned int                   n = fe.n_dofs_per_cell();
-    std::vector<types::global_dof_index> dofs(n);
+    const unsigned int                                          n = fe.n_dofs_per_cell();
+    std::vector<types::global_dof_index>                        dofs(n);
     std::vector<std::pair<types::global_dof_index, Point<dim>>> points;
     cell_mass.assign(triangulation.n_active_cells(), dealii::Vector<double>());
     cell_shape_conductivity.assign(triangulation.n_active_cells(), LocalMatrix());

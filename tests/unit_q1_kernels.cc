@@ -27,9 +27,9 @@
 
 #include <contact-stefan/q1_kernels.h>
 
-#include "unit_test_tools.h"
-
 #include <random>
+
+#include "unit_test_tools.h"
 
 using namespace ContactStefan;
 using UnitTest::check;
@@ -64,8 +64,9 @@ namespace
         for (unsigned int i = 0; i < dofs.size(); ++i)
           {
             const auto [component, vertex] = fe.system_to_component_index(i);
-            field.values[(cell->active_cell_index() * field.n_components + component) * 4 +
-                         vertex] = u[dofs[i]];
+            field
+              .values[(cell->active_cell_index() * field.n_components + component) * 4 + vertex] =
+              u[dofs[i]];
           }
       }
     return field;
@@ -125,7 +126,7 @@ int main()
   // The lumped mass and the conductivity shape matrix of every cell against
   // FEValues (vertex rule; 2 x 2 Gauss rule) with an anisotropic tensor.
   {
-    const FE_Q<2>      fe(1);
+    const FE_Q<2>       fe(1);
     const QTrapezoid<2> vertex_rule;
     const QGauss<2>     gauss(2);
     FEValues<2>         mass_values(fe, vertex_rule, update_values | update_JxW_values);
@@ -157,8 +158,8 @@ int main()
                 for (unsigned int q = 0; q < 4; ++q)
                   reference_ij += (K * gradients.shape_grad(i, q)) * gradients.shape_grad(j, q) *
                                   gradients.JxW(q);
-                scale        = std::max(scale, std::abs(reference_ij));
-                cell_error   = std::max(cell_error, std::abs(S(i, j) - reference_ij));
+                scale      = std::max(scale, std::abs(reference_ij));
+                cell_error = std::max(cell_error, std::abs(S(i, j) - reference_ij));
               }
           }
         matrix_error = std::max(matrix_error, cell_error / scale);
@@ -206,7 +207,7 @@ int main()
     dealii::Vector<float> across, within;
     q1_jump_indicator(bodies, field, false, across);
     q1_jump_indicator(bodies, field, true, within);
-    unsigned int marked = 0;
+    unsigned int marked           = 0;
     bool         only_at_the_line = true;
     for (const auto &cell : bodies.active_cell_iterators())
       {

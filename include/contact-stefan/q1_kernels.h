@@ -34,7 +34,6 @@
 #include <deal.II/lac/vector.h>
 
 #include <array>
-
 #include <vector>
 
 namespace ContactStefan
