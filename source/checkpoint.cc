@@ -50,9 +50,10 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
+#include <map>
 #include <random>
 #include <regex>
+#include <sstream>
 
 namespace ContactStefan
 {
@@ -63,7 +64,7 @@ namespace ContactStefan
   // contact reports; 3: the manifest and the checkpoint's id; 4: the section-force and
   // stress-output errors of the postprocessor), so that an
   // older checkpoint is refused by name, not misread.
-  const std::string checkpoint_format = "contact-stefan checkpoint 4";
+  const std::string checkpoint_format = "contact-stefan checkpoint 5";
 
   namespace
   {
@@ -186,6 +187,62 @@ namespace ContactStefan
       if (!out)
         throw std::runtime_error("cannot write '" + directory + "/manifest'");
     }
+
+    // The entries of two parameter listings (AllParameters::solution_parameters:
+    // "subsection", "set Name = value" and "end" lines) that differ, as
+    // "'Path/Name' was <old>, is <new>", in the order of the listing.
+    std::vector<std::string> parameter_differences(const std::string &old_text,
+                                                   const std::string &new_text)
+    {
+      const auto entries = [](const std::string &text) {
+        std::vector<std::pair<std::string, std::string>> result;
+        std::vector<std::string>                         path;
+        std::istringstream                               lines(text);
+        for (std::string line; std::getline(lines, line);)
+          if (line.rfind("subsection ", 0) == 0)
+            path.push_back(line.substr(11));
+          else if (line == "end" && !path.empty())
+            path.pop_back();
+          else if (line.rfind("set ", 0) == 0)
+            {
+              const auto  equals = line.find(" = ");
+              std::string name =
+                line.substr(4, equals == std::string::npos ? std::string::npos : equals - 4);
+              while (!name.empty() && name.back() == ' ')
+                name.pop_back();
+              std::string full;
+              for (const auto &p : path)
+                full += p + "/";
+              result.emplace_back(full + name,
+                                  equals == std::string::npos ? "" : line.substr(equals + 3));
+            }
+        return result;
+      };
+      const auto                         before = entries(old_text), after = entries(new_text);
+      std::map<std::string, std::string> old_values(before.begin(), before.end()),
+        new_values(after.begin(), after.end());
+      const auto shown = [](const std::string &value) {
+        return value.empty() ? std::string("empty") : "'" + value + "'";
+      };
+      std::vector<std::string> differences;
+      for (const auto &[name, value] : after)
+        {
+          const auto old = old_values.find(name);
+          if (old == old_values.end())
+            differences.push_back("'" + name + "' is " + shown(value) +
+                                  ", the checkpoint's scene has no such entry");
+          else if (old->second != value)
+            differences.push_back("'" + name + "' was " + shown(old->second) + ", is " +
+                                  shown(value));
+        }
+      for (const auto &[name, value] : before)
+        if (new_values.count(name) == 0)
+          differences.push_back("'" + name + "' was " + shown(value) +
+                                ", this scene has no such entry");
+      return differences;
+    }
+
+
 
     // The format tag at the start of a state.txt (boost writes the string
     // as '<length> <characters>' after its own header); "" if there is none.
@@ -421,13 +478,10 @@ namespace ContactStefan
                        (mechanical ? " and mechanical" : " and no mechanical") + " fields, bodies";
     for (const unsigned int b : prm.body_ids)
       text += " " + std::to_string(b);
-    // The parameters that determine the solution (AllParameters::
-    // solution_parameters: all but Checkpoint, Output and the end time; the
-    // values of included parameter files are in it, as read).
-    Checksum parameters;
-    parameters.add(prm.solution_parameters);
-    return text + ", " + std::to_string(triangulation.n_cells(0)) + " coarse cells, parameters " +
-           parameters.hex() + ", mesh file " + mesh_file_content;
+    // (The parameters that determine the solution are compared one by one:
+    // parameter_differences().)
+    return text + ", " + std::to_string(triangulation.n_cells(0)) + " coarse cells, mesh file " +
+           mesh_file_content;
   }
 
 
@@ -570,8 +624,8 @@ namespace ContactStefan
         const unsigned int            n_ranks = Utilities::MPI::n_mpi_processes(comm);
         std::vector<double>           thermal_scalars =
           thermal ? thermal->restart_state() : std::vector<double>();
-        archive << format << id << fields_fingerprint() << n_ranks << time << time_step
-                << step_number << thermal_scalars << wall;
+        archive << format << id << fields_fingerprint() << prm.solution_parameters << n_ranks
+                << time << time_step << step_number << thermal_scalars << wall;
         archive << *postprocessor;
         out.flush();
         if (!out)
@@ -675,7 +729,8 @@ namespace ContactStefan
       // judged) and parsed by every rank from that text: ranks with other
       // cached views of a shared file system must not disagree on it (one
       // rank refusing while the others load the mesh would hang the run).
-      std::string text;
+      std::string              text;
+      std::vector<std::string> differences;
       if (Utilities::MPI::this_mpi_process(comm) == 0)
         {
           std::ifstream in(directory + "/state.txt", std::ios::binary);
@@ -686,7 +741,7 @@ namespace ContactStefan
       try
         {
           boost::archive::text_iarchive archive(in);
-          std::string                   format, id, fields;
+          std::string                   format, id, fields, parameters;
           archive >> format;
           if (format != checkpoint_format)
             throw std::runtime_error("not a contact-stefan checkpoint of the format '" +
@@ -699,13 +754,33 @@ namespace ContactStefan
           if (fields != fields_fingerprint())
             throw std::runtime_error("it was written by a scene with " + fields +
                                      ", this one has " + fields_fingerprint());
-          archive >> n_ranks >> time >> time_step >> step_number >> thermal_scalars >> wall;
-          archive >> *postprocessor;
+          archive >> parameters;
+          differences = parameter_differences(parameters, prm.solution_parameters);
+          if (differences.empty())
+            {
+              archive >> n_ranks >> time >> time_step >> step_number >> thermal_scalars >> wall;
+              archive >> *postprocessor;
+            }
         }
       catch (const std::exception &e)
         {
           throw InputError("Checkpoint/Resume",
                            "cannot read '" + directory + "/state.txt' (" + e.what() + ")");
+        }
+      // The same scene with other parameters: what to do first, then which.
+      if (!differences.empty())
+        {
+          std::string        list;
+          const unsigned int shown = 6;
+          for (unsigned int i = 0; i < differences.size() && i < shown; ++i)
+            list += (i ? "; " : "") + differences[i];
+          if (differences.size() > shown)
+            list += "; and " + std::to_string(differences.size() - shown) + " more";
+          throw InputError("Checkpoint/Resume",
+                           "to continue the checkpoint in '" + directory +
+                             "', run with the parameters it was written with, or start afresh "
+                             "(without --resume and Checkpoint/Resume = false). " +
+                             std::to_string(differences.size()) + " differ: " + list);
         }
     }
 

@@ -162,6 +162,10 @@ namespace ContactStefan
                            "Mechanics: off (no contact step, no displacement DoFs)")
           << '\n'
           << describe_coupling() << std::endl;
+    if (thermal)
+      if (const std::string warning = thermal->mesh_warning(); !warning.empty())
+        if (Utilities::MPI::this_mpi_process(comm) == 0)
+          std::cerr << "contact-stefan: warning: " << warning << std::endl;
 
     // A stop signal during the set-up: nothing but the initial state is
     // written; stop before the first step.

@@ -151,6 +151,64 @@ namespace ContactStefan
 
 
 
+  // The enthalpy step's active-set method converges in finitely many steps
+  // when the conductivity matrix is an M-matrix (doc/model.md); a Q1 cell adds
+  // a positive off-diagonal entry when it is far from square (a rectangle with
+  // an aspect ratio above sqrt(2), for an isotropic conductivity). Such a mesh
+  // runs, but the method may cycle and fall back to relaxation: a warning, not
+  // an error.
+  template <int dim>
+  std::string ThermalField<dim>::mesh_warning() const
+  {
+    unsigned int count = 0;
+    double       worst = 0;
+    Point<dim>   where;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const LocalMatrix &S     = cell_shape_conductivity[cell->active_cell_index()];
+          double             scale = 0, largest = 0;
+          for (unsigned int i = 0; i < S.m(); ++i)
+            for (unsigned int j = 0; j < S.n(); ++j)
+              {
+                scale = std::max(scale, std::abs(S(i, j)));
+                if (i != j)
+                  largest = std::max(largest, S(i, j));
+              }
+          if (!(largest > 1e-12 * scale))
+            continue;
+          ++count;
+          double longest = 0, shortest = std::numeric_limits<double>::infinity();
+          for (const auto &[a, b] :
+               {std::pair(0, 1), std::pair(2, 3), std::pair(0, 2), std::pair(1, 3)})
+            {
+              const double length = cell->vertex(a).distance(cell->vertex(b));
+              longest             = std::max(longest, length);
+              shortest            = std::min(shortest, length);
+            }
+          if (longest / shortest > worst)
+            worst = longest / shortest, where = cell->center();
+        }
+    count = Utilities::MPI::sum(count, mpi_communicator);
+    if (count == 0)
+      return "";
+    // The worst cell of all ranks, and its centre.
+    const auto largest = Utilities::MPI::min_max_avg(worst, mpi_communicator);
+    if (Utilities::MPI::this_mpi_process(mpi_communicator) != largest.max_index)
+      where = Point<dim>();
+    for (unsigned int d = 0; d < dim; ++d)
+      where[d] = Utilities::MPI::sum(where[d], mpi_communicator);
+    return std::to_string(count) + " of " + std::to_string(triangulation.n_global_active_cells()) +
+           " cells give the conductivity matrix positive off-diagonal entries (cells far from "
+           "square; the worst, at (" +
+           number(where[0]) + ", " + number(where[1]) + "), has an aspect ratio of " +
+           number(largest.max) +
+           "): the enthalpy step's active-set method may cycle and fall back to relaxation; "
+           "keep the cells' aspect ratio below sqrt(2) ('Geometry/Subdivisions')";
+  }
+
+
+
   // The absolute reference temperature at the vertices of each cell (the
   // heating coefficient) and the coupling strength gamma / rho c of each body
   // and phase; both refused where they make no sense, before any work.

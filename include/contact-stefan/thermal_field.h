@@ -186,6 +186,9 @@ namespace ContactStefan
     double melt_area() const;
     // A one-line description of what the field will do, for the start of a run.
     std::string describe() const;
+    // A warning if cells give the conductivity matrix positive off-diagonal
+    // entries (cells far from square), empty if none do. Collective.
+    std::string mesh_warning() const;
     // result = A theta (hanging-node condensed), integrated cell by cell from
     // the A_K, independently of the assembled matrix the step itself uses (the
     // field tests probe the conductivity with it).
