@@ -443,9 +443,9 @@ namespace ContactStefan
     refinement = Utilities::MPI::logical_or(refinement, triangulation.get_communicator());
     // No flag left after the limits and the smoothing: the mesh stays as it is,
     // and so does everything built on it (DoFs, matrices, factorisations).
+    // (Not counted as an adaptation: 'mesh adaptations' counts mesh changes.)
     if (!coarsening && !refinement)
       {
-        postprocessor->record_adaptation(0., false);
         if (prm.output.verbosity >= 1 || report.capped)
           pcout << "    adapted: no cell flagged, mesh unchanged (" << old_cells << " cells)"
                 << (report.capped ? ", refinement capped by 'Mesh refinement/Max cells'" : "")

@@ -97,7 +97,8 @@ int main()
 {
   // A 6 x 5 mesh of [0, 1.5] x [0, 1], three rounds of random refinement (so
   // that cells meet cells one level finer or coarser on every side), the
-  // interior vertices moved at random by up to 20 % of the local width.
+  // vertices (boundary ones too) moved at random by up to 20 % of the local
+  // width.
   Triangulation<2> tria;
   GridGenerator::subdivided_hyper_rectangle(tria, {6, 5}, Point<2>(0, 0), Point<2>(1.5, 1));
   std::mt19937 random(7);
