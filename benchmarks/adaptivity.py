@@ -176,10 +176,10 @@ def stefan(binary, levels, workdir, interval, buffer, repeat):
                         per_step(a), dofs_of(a),
                         per_step_at(step_cost, dofs_of(a))))
     notes = []
-    for level, error_ratio, time_ratio, per_step, dofs, same_dofs in summary:
+    for level, error_ratio, time_ratio, adapted_step, dofs, same_dofs in summary:
         notes.append(f"level {level}: adaptive error {100 * (error_ratio - 1):+.2f} % against "
                      f"global, wall time {time_ratio:.3f} of global; an adapted step costs "
-                     f"{per_step / same_dofs:.2f}x a global step of the same DoFs "
+                     f"{adapted_step / same_dofs:.2f}x a global step of the same DoFs "
                      f"({1e3 * same_dofs:.2f} ms at {dofs:.0f} DoFs and the same tau, interpolated)")
     global ERROR_RATIOS
     ERROR_RATIOS = [(level, ratio) for level, ratio, *_ in summary]
