@@ -27,17 +27,7 @@ int main(int argc, char *argv[])
 {
   using namespace ContactStefan;
   if (const std::string option = CommandLine::information_option(argc, argv); !option.empty())
-    {
-      if (!CommandLine::first_rank())
-        return 0;
-      if (option == "-h" || option == "--help")
-        std::cout << CommandLine::usage;
-      else if (option == "-V" || option == "--version")
-        std::cout << CommandLine::version_line() << std::endl;
-      else
-        std::cout << parameters_text;
-      return std::cout.flush() ? 0 : 1;
-    }
+    return CommandLine::answer(option, []() { std::cout << parameters_text; });
 
   // The solver beside this program's own file (not on PATH: a build directory
   // holds the pair that belongs together).

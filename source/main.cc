@@ -27,21 +27,11 @@ int main(int argc, char *argv[])
   // before this program is started; run directly, it answers them too, before
   // MPI starts.
   if (const std::string option = CommandLine::information_option(argc, argv); !option.empty())
-    {
-      if (!CommandLine::first_rank())
-        return 0;
-      if (option == "-h" || option == "--help")
-        std::cout << CommandLine::usage;
-      else if (option == "-V" || option == "--version")
-        std::cout << CommandLine::version_line() << std::endl;
-      else
-        {
-          ParameterHandler prm;
-          AllParameters::declare_defaults(prm);
-          prm.print_parameters(std::cout, ParameterHandler::PRM);
-        }
-      return 0;
-    }
+    return CommandLine::answer(option, []() {
+      ParameterHandler prm;
+      AllParameters::declare_defaults(prm);
+      prm.print_parameters(std::cout, ParameterHandler::PRM);
+    });
 
   StopSignals::block();
   Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);

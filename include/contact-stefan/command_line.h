@@ -6,6 +6,7 @@
 #define contact_stefan_command_line_h
 
 #include <cstdlib>
+#include <iostream>
 #include <string>
 
 namespace ContactStefan
@@ -76,6 +77,22 @@ namespace ContactStefan
           if (std::string(value) != "0")
             return false;
       return true;
+    }
+
+    // Answers an information option (on the first rank only); the parameter
+    // text comes from print_parameters(). The exit code.
+    template <typename PrintParameters>
+    int answer(const std::string &option, const PrintParameters &print_parameters)
+    {
+      if (!first_rank())
+        return 0;
+      if (option == "-h" || option == "--help")
+        std::cout << usage;
+      else if (option == "-V" || option == "--version")
+        std::cout << version_line() << std::endl;
+      else
+        print_parameters();
+      return std::cout.flush() ? 0 : 1;
     }
   } // namespace CommandLine
 } // namespace ContactStefan
