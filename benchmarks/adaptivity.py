@@ -96,7 +96,7 @@ def time_loop_seconds(path):
     initial state and the final output are outside it). None without the file."""
     try:
         with open(path) as f:
-            lines = [line.split() for line in f if line.strip()]
+            lines = [line.split() for line in f if line.strip() and not line.startswith("#")]
     except OSError:
         return None
     column = lines[0].index("wall_time")

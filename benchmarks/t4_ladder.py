@@ -53,7 +53,8 @@ def run(binary, n, np_ranks, work):
     if out.returncode != 0:
         sys.exit("run n = %d failed: %s" % (n, (out.stderr or out.stdout).strip().splitlines()[-1]))
     results = dict(re.findall(r"^RESULT (.*?) = (\S+)$", out.stdout, re.M))
-    rows = [line.split() for line in open(os.path.join(work, "out-%d" % n, "statistics.txt"))]
+    rows = [line.split() for line in open(os.path.join(work, "out-%d" % n, "statistics.txt"))
+            if not line.startswith("#")]
     header, rows = rows[0], rows[1:]
     time, force = header.index("time"), header.index("force_interface_0-1")
     length = 2 * n * 2 * B * math.sin(math.pi / (8 * n))  # the polygon of 2n chords

@@ -29,16 +29,11 @@ import tempfile
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 
-try:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    import matplotlib.tri as mtri
-    import meshio
-    import numpy as np
-except ImportError as e:
-    sys.exit("make_pictures.py: %s (install python3-matplotlib python3-meshio, "
-             "e.g. ./setup.sh pictures, and run with /usr/bin/python3)" % e)
+# The readers and the field picture are those of the generic plotting script
+# (benchmarks/plot_run.py, which turns any run into pictures); this script adds
+# the scenes' interface profiles and their chosen statistics.
+sys.path.insert(0, os.path.join(ROOT, "benchmarks"))
+from plot_run import fields_figure, np, plt, read_pieces, read_pvd  # noqa: E402
 
 YEAR = 3.15576e7
 
@@ -71,85 +66,6 @@ SCENES = {
 }
 
 
-def read_pvd(path):
-    import xml.etree.ElementTree as ET
-    records = []
-    for ds in ET.parse(path).getroot().iter("DataSet"):
-        records.append((float(ds.get("timestep")), ds.get("file")))
-    return records
-
-
-def read_pieces(directory, pvtu):
-    # The .pvtu names its pieces; read and stack them (one per MPI rank).
-    import xml.etree.ElementTree as ET
-    pieces = [p.get("Source") for p in ET.parse(os.path.join(directory, pvtu)).getroot()
-              .iter("Piece")]
-    points, data, quads, offset = [], {}, [], 0
-    for piece in pieces:
-        m = meshio.read(os.path.join(directory, piece))
-        points.append(m.points[:, :2])
-        quads.append(m.cells_dict["quad"] + offset)
-        offset += len(m.points)
-        for k, v in m.point_data.items():
-            data.setdefault(k, []).append(v)
-    return np.vstack(points), np.vstack(quads), {k: np.concatenate(v) for k, v in data.items()}
-
-
-def triangulation(points, quads, shift=None):
-    xy = points if shift is None else points + shift
-    # VTK quads run counter-clockwise (0, 1, 2, 3).
-    triangles = np.vstack([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]])
-    return mtri.Triangulation(xy[:, 0], xy[:, 1], triangles)
-
-
-def fields_figure(name, scene, frames, path):
-    # Rows: the three times; columns: temperature with the transition isotherms,
-    # liquid fraction, von Mises stress on the deformed shape.
-    L = scene["length"]
-    fig, axes = plt.subplots(len(frames), 3, figsize=scene["figsize"], squeeze=False)
-    # One magnification for all times: the largest displacement becomes 3 % of
-    # the section's size.
-    size = max(np.ptp(frames[0][1][:, 0]), np.ptp(frames[0][1][:, 1]))
-    umax = max(np.abs(f[3]["displacement"][:, :2]).max() for f in frames) or 1.0
-    magnify = 0.03 * size / umax
-    t_lo = min(f[3]["temperature"].min() for f in frames)
-    t_hi = max(f[3]["temperature"].max() for f in frames)
-    pad = 1e-6 * (t_hi - t_lo + 1)
-    # The colour scale of the stress ends at its 99th percentile: an elastic
-    # corner (the interface's end, a roller corner) concentrates stress in a
-    # few cells and would flatten the rest.
-    vm_hi = max(np.percentile(f[3]["von_mises"], 99) for f in frames) / 1e6 or 1.0
-    for row, (t, points, quads, d) in enumerate(frames):
-        tri = triangulation(points / L, quads)
-        when = "t = %.3g %s" % (t / scene["time_scale"], scene["time_unit"])
-        ax = axes[row][0]
-        c = ax.tricontourf(tri, d["temperature"], levels=np.linspace(t_lo - pad, t_hi + pad, 21),
-                           cmap="inferno")
-        ax.tricontour(tri, d["temperature"], levels=scene["temperature_levels"],
-                      colors="cyan", linewidths=1.0)
-        fig.colorbar(c, ax=ax, shrink=0.85, label="degC")
-        ax.set_title(when + ": temperature, transition isotherms (cyan)", fontsize=9)
-        ax = axes[row][1]
-        c = ax.tricontourf(tri, np.clip(d["liquid_fraction"], 0, 1),
-                           levels=np.linspace(-1e-9, 1 + 1e-9, 11), cmap="Blues")
-        fig.colorbar(c, ax=ax, shrink=0.85, label="-")
-        ax.set_title(when + ": liquid fraction", fontsize=9)
-        ax = axes[row][2]
-        tri_d = triangulation(points / L, quads, d["displacement"][:, :2] * magnify / L)
-        c = ax.tricontourf(tri_d, np.minimum(d["von_mises"] / 1e6, vm_hi),
-                           levels=np.linspace(0, vm_hi * (1 + 1e-9), 21), cmap="viridis")
-        fig.colorbar(c, ax=ax, shrink=0.85, label="MPa")
-        ax.set_title(when + ": von Mises stress, shape deformed x %.3g" % magnify, fontsize=9)
-        for col in range(3):
-            axes[row][col].set_aspect("equal")
-            axes[row][col].set_xlabel("x (%s)" % scene["length_unit"], fontsize=8)
-            axes[row][col].tick_params(labelsize=7)
-    fig.suptitle(name, fontsize=12)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-
-
 def interface_figure(name, scene, frames, path):
     fig, ax = plt.subplots(figsize=(7, 4))
     for t, points, quads, d in frames:
@@ -174,7 +90,7 @@ def interface_figure(name, scene, frames, path):
 
 
 def series_figure(name, scene, statistics, path):
-    rows = [line.split() for line in open(statistics)]
+    rows = [line.split() for line in open(statistics) if not line.startswith("#")]
     header, rows = rows[0], [r for r in rows[1:] if r]
     col = {h: i for i, h in enumerate(header)}
     t = np.array([float(r[col["time"]]) for r in rows]) / scene["time_scale"]
@@ -220,7 +136,9 @@ def main():
         records = read_pvd(os.path.join(directory, "solution.pvd"))
         chosen = [records[0], records[len(records) // 2], records[-1]]
         frames = [(t,) + read_pieces(directory, f) for t, f in chosen]
-        fields_figure(name, scene, frames, os.path.join(args.output, name + "_fields.png"))
+        fields_figure(name, frames, os.path.join(args.output, name + "_fields.png"),
+                      scene["temperature_levels"], (scene["time_unit"], scene["time_scale"]),
+                      length=(scene["length_unit"], scene["length"]), figsize=scene["figsize"])
         interface_figure(name, scene, frames, os.path.join(args.output, name + "_interface.png"))
         series_figure(name, scene, os.path.join(directory, "statistics.txt"),
                       os.path.join(args.output, name + "_series.png"))

@@ -388,7 +388,8 @@ namespace ContactStefan
       return "";
     }
 
-    // Checks the statistics copy against the state: a header line, then the
+    // Checks the statistics copy against the state: the header (comment lines,
+    // then the line of column names), then the
     // rows of steps 0, 1, ..., step, each with the header's number of
     // columns, the last one at the checkpoint's time.
     std::string
@@ -396,7 +397,10 @@ namespace ContactStefan
     {
       std::ifstream in(path);
       std::string   line;
-      std::getline(in, line);
+      // The comment lines of the header (column units and meanings) first.
+      while (std::getline(in, line) && !line.empty() && line[0] == '#')
+        {
+        }
       std::istringstream header(line);
       std::string        first, second, word;
       header >> first >> second;

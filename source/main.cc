@@ -8,9 +8,11 @@
 #include <contact-stefan/parameters.h>
 #include <contact-stefan/run_guard.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -33,11 +35,23 @@ int main(int argc, char *argv[])
       prm.print_parameters(std::cout, ParameterHandler::PRM);
     });
 
+  // --check started by itself (not by mpirun) reads and checks the file on one
+  // process and needs no MPI: skipping MPI_Init halves its time (0.7 s to 0.35
+  // s on the development machine; the rest is loading deal.II's ~200 shared
+  // libraries). Under mpirun every rank starts MPI as usual.
+  const bool check_requested = std::any_of(argv + 1, argv + argc, [](const char *arg) {
+    return std::string(arg) == "-c" || std::string(arg) == "--check";
+  });
+  const bool started_by_mpirun = std::getenv("OMPI_COMM_WORLD_SIZE") != nullptr ||
+                                 std::getenv("PMI_SIZE") != nullptr ||
+                                 std::getenv("PMIX_RANK") != nullptr;
   StopSignals::block();
-  Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  std::optional<Utilities::MPI::MPI_InitFinalize> mpi;
+  if (!check_requested || started_by_mpirun)
+    mpi.emplace(argc, argv, 1);
   StopSignals::install();
   StopSignals::unblock();
-  const bool root = Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
+  const bool root = !mpi || Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
 
   std::string filename;
   bool        check_only = false, resume = false;
@@ -81,7 +95,7 @@ int main(int argc, char *argv[])
   // run's collectives): if every rank arrives within the grace time, rank 0
   // prints the one line and all return the code; else the failure was local,
   // and its rank prints it with its number and aborts the run.
-  const unsigned int n_ranks       = Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD);
+  const unsigned int n_ranks       = mpi ? Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) : 1;
   MPI_Comm           failure_comm  = MPI_COMM_NULL;
   const double       grace_seconds = 5;
   if (n_ranks > 1)

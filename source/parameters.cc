@@ -1263,11 +1263,14 @@ namespace ContactStefan
                                                          LinearSolverType::cg_amg;
       automatic_direct_limit   = prm.get_integer("Automatic direct limit");
       direct_solver_type       = prm.get("Direct solver type");
+      // (Without MPI, --check alone: one process.)
+      const unsigned int n_ranks =
+        Utilities::MPI::job_supports_mpi() ? Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) : 1;
       if (direct_solver_type == "cholmod")
-        require(Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) == 1,
+        require(n_ranks == 1,
                 "Solver/Direct solver type",
-                "'cholmod' runs on one MPI rank only (this run has " +
-                  std::to_string(Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD)) + ")");
+                "'cholmod' runs on one MPI rank only (this run has " + std::to_string(n_ranks) +
+                  ")");
       else if (direct_solver_type != "automatic")
         require(Amesos().Query(direct_solver_type.c_str()),
                 "Solver/Direct solver type",

@@ -14,6 +14,7 @@
 #include <contact-stefan/postprocessor.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -290,25 +291,92 @@ namespace ContactStefan
     };
     if (step == 0)
       {
-        out << "step time";
+        // The header: one comment line per column (name, unit, meaning), then
+        // the line of column names. numpy.loadtxt, gnuplot and pandas
+        // (comment='#') skip the comments; the names line stays the first
+        // line that is not one.
+        std::vector<std::array<std::string, 3>> columns{
+          {"step", "-", "time step number (0: the initial state)"},
+          {"time", "s", "time at the end of the step"}};
         if (thermal)
-          out << " dofs pdas_iterations state_changes damped_steps fallback_iterations "
-                 "plateau_nodes liquid_area energy_residual";
-        if (coupled)
-          out << " coupling_iterations thermoelastic_heat restiffened_cells";
+          {
+            columns.push_back({"dofs", "-", "temperature degrees of freedom"});
+            columns.push_back(
+              {"pdas_iterations", "-", "active-set iterations (linear solves) of the enthalpy step"});
+            columns.push_back(
+              {"state_changes", "-", "nodal phase-state changes, summed over the iterations"});
+            columns.push_back(
+              {"damped_steps", "-", "enthalpy iterations whose Newton step was shortened"});
+            columns.push_back(
+              {"fallback_iterations", "-", "iterations of the relaxation fallback (0: not needed)"});
+            columns.push_back(
+              {"plateau_nodes", "-", "nodes on a transition plateau (mushy) at the end of the step"});
+            columns.push_back({"liquid_area",
+                               "m^2",
+                               "melt area: lumped-mass weighted liquid fraction through the last "
+                               "transition, per unit thickness"});
+            columns.push_back({"energy_residual",
+                               "1",
+                               "enthalpy balance of the step relative to the size of its terms "
+                               "(doc/coupling.md 6)"});
+            if (coupled)
+              {
+                columns.push_back(
+                  {"coupling_iterations", "-", "passes of contact and enthalpy step (1: staggered)"});
+                columns.push_back({"thermoelastic_heat",
+                                   "J/m",
+                                   "heat released by the step's strain increment, per unit "
+                                   "thickness (> 0 under compression)"});
+                columns.push_back({"restiffened_cells",
+                                   "-",
+                                   "cells whose stiffness was re-assembled for a phase change"});
+              }
+          }
         if (mechanical)
           {
-            out << " displacement_dofs contact_iterations active_nodes";
+            columns.push_back({"displacement_dofs", "-", "displacement degrees of freedom"});
+            columns.push_back(
+              {"contact_iterations", "-", "active-set iterations (linear solves) of the contact step"});
+            columns.push_back({"active_nodes", "-", "contact nodes in the active set"});
             for (std::string group : mechanical->get_contact_groups())
               {
+                const std::string what = "resultant normal contact force on '" + group +
+                                         "' per unit thickness (> 0 compressive)";
                 std::replace(group.begin(), group.end(), ' ', '_');
-                out << " force_" << group;
+                columns.push_back({"force_" + group, "N/m", what});
               }
-            out << " max_pressure elastic_energy contact_work";
+            columns.push_back(
+              {"max_pressure", "Pa", "largest nodal contact pressure (singular at corners)"});
+            columns.push_back({"elastic_energy",
+                               "J/m",
+                               "stored elastic energy, thermal part included, per unit thickness"});
+            columns.push_back({"contact_work",
+                               "J/m",
+                               "work of the contact forces since t0, per unit thickness"});
           }
         if (prm.refinement.adaptive())
-          out << " cells adapt_enthalpy_change";
-        out << " wall_time\n";
+          {
+            columns.push_back({"cells", "-", "active cells"});
+            columns.push_back({"adapt_enthalpy_change",
+                               "1",
+                               "relative change of sum m_i h_i by the adaptation before the step"});
+          }
+        columns.push_back(
+          {"wall_time", "s", "wall-clock time since the run started (resumed: since the first)"});
+        out << "# contact-stefan statistics, one row per time step. Units for a scene given in SI "
+               "units (m, kg, s, K or degC); a dimensionless scene's columns are dimensionless.\n";
+        std::size_t width = 0;
+        for (const auto &c : columns)
+          width = std::max(width, c[0].size() + c[1].size() + 3);
+        for (const auto &c : columns)
+          {
+            const std::string name_unit = c[0] + " [" + c[1] + "]";
+            out << "# " << name_unit << std::string(width - name_unit.size() + 1, ' ') << c[2]
+                << '\n';
+          }
+        for (std::size_t i = 0; i < columns.size(); ++i)
+          out << (i == 0 ? "" : " ") << columns[i][0];
+        out << '\n';
       }
     out << step;
     add("%.10e", time);

@@ -20,6 +20,18 @@ if ! grep -qF -- "$expected" stderr.txt; then
   echo "stderr does not contain '$expected':"; cat stderr.txt; exit 1
 fi
 if [ -s stdout.txt ]; then echo "unexpected output on stdout:"; cat stdout.txt; exit 1; fi
+# --check must refuse the file with the same line, or pass it where the
+# problem is one that only setting up the run finds (a mesh, a load); a
+# check started without mpirun runs without MPI (source/main.cc).
+"$binary" --check "$scene" > check_stdout.txt 2> check_stderr.txt
+check_status=$?
+if [ $check_status -eq 1 ]; then
+  cmp -s stderr.txt check_stderr.txt ||
+    { echo "--check reports another line:"; cat check_stderr.txt; exit 1; }
+elif [ $check_status -ne 0 ]; then
+  echo "--check: exit code $check_status"; cat check_stderr.txt; exit 1
+fi
+rm -f check_stdout.txt check_stderr.txt
 files=$(find . -type f ! -name stdout.txt ! -name stderr.txt)
 if [ -n "$files" ]; then echo "files were written: $files"; exit 1; fi
 echo "OK: $(cat stderr.txt)"

@@ -145,7 +145,8 @@ def snapshot(directory):
 
 def deterministic(statistics):
     """The statistics table without its wall_time column, as rows of tokens."""
-    lines = [line.split() for line in statistics.decode().splitlines()]
+    lines = [line.split() for line in statistics.decode().splitlines()
+             if not line.startswith("#")]
     keep = [i for i, word in enumerate(lines[0]) if word != "wall_time"]
     return [[row[i] for i in keep if i < len(row)] for row in lines]
 
@@ -330,7 +331,9 @@ def main():
                 text = text[:m.start()] + m.group(0).replace(" 12 ", " 13 ") + text[m.end():]
             elif action[2] == "rows":
                 lines = text.splitlines(True)
-                text = lines[0] + "".join(lines[5:])
+                # The header: its comment lines and the line of column names.
+                header = next(k for k, line in enumerate(lines) if not line.startswith("#")) + 1
+                text = "".join(lines[:header]) + "".join(lines[header + 4:])
             else:
                 text = ""
             open(path, "w").write(text)

@@ -105,7 +105,10 @@ def statistics_problem(directory, rows_expected=None):
     lines = open(path, encoding="latin-1").read().split("\n")
     if lines[-1] != "":
         return "the statistics table does not end with a complete line"
-    lines = lines[:-1]
+    # Without the header's comment lines (column units and meanings).
+    lines = [line for line in lines[:-1] if not line.startswith("#")]
+    if not lines:
+        return "the statistics table has no line of column names"
     n = len(lines[0].split())
     for k, line in enumerate(lines[1:]):
         fields = line.split()
@@ -263,7 +266,8 @@ def main():
         print("FAIL setup: the uninterrupted run: exit %s %r" % (code, err[:300]))
         return 1
     reference = errors(out)
-    ROWS = sum(1 for _ in open(os.path.join(root, "whole", OUTPUT, "statistics.txt"))) - 1
+    ROWS = sum(1 for line in open(os.path.join(root, "whole", OUTPUT, "statistics.txt"))
+               if not line.startswith("#")) - 1
 
     # On 2 ranks: SIGUSR1 to mpirun, which forwards it (SIGTERM it follows by
     # SIGKILL after a second), at fractions of the 2-rank run's own time.

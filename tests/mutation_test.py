@@ -907,7 +907,9 @@ def check_statistics(path):
         return problems
     if not text.endswith("\n"):
         problems.append("%s: last line incomplete" % os.path.basename(path))
-    lines = text.splitlines()
+    lines = [line for line in text.splitlines() if not line.startswith("#")]
+    if not lines:
+        return problems
     ncol = len(lines[0].split())
     for k, line in enumerate(lines[1:], 2):
         fields = line.split()

@@ -46,7 +46,8 @@ solver_lines='^RESULT [a-z]* solver: '
 [ "$np" = "$np_resume" ] && solver_lines='^$^'
 deterministic() { # deterministic STDOUT STATISTICS
   grep '^RESULT' "$1" | grep -v -e 'RESULT wall time' -e 'RESULT calls ' -e "$solver_lines"
-  awk 'NR == 1 { for (i = 1; i <= NF; ++i) if ($i != "wall_time") keep[i] = 1 }
+  awk '/^#/ { next }
+       !names++ { for (i = 1; i <= NF; ++i) if ($i != "wall_time") keep[i] = 1 }
        { line = ""
          for (i = 1; i <= NF; ++i) if (i in keep) line = line (line == "" ? "" : " ") $i
          print line }' "$2"

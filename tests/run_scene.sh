@@ -57,7 +57,8 @@ if [ ! -s "$directory/$statistics" ]; then
 fi
 {
   grep '^RESULT' stdout.txt | grep -v 'RESULT wall time'
-  awk 'NR == 1 { for (i = 1; i <= NF; ++i) if ($i != "wall_time") keep[i] = 1 }
+  awk '/^#/ { next }
+       !names++ { for (i = 1; i <= NF; ++i) if ($i != "wall_time") keep[i] = 1 }
        { line = ""
          for (i = 1; i <= NF; ++i) if (i in keep) line = line (line == "" ? "" : " ") $i
          print line }' \
