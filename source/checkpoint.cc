@@ -62,9 +62,10 @@ namespace ContactStefan
   // The first line of a checkpoint's manifest and of its state.txt. Raised
   // whenever what they hold changes (2: the linear solver statistics of the
   // contact reports; 3: the manifest and the checkpoint's id; 4: the section-force and
-  // stress-output errors of the postprocessor), so that an
+  // stress-output errors of the postprocessor; 5: the parameters the run was
+  // started with; 6: the largest von Mises stress over the steps), so that an
   // older checkpoint is refused by name, not misread.
-  const std::string checkpoint_format = "contact-stefan checkpoint 5";
+  const std::string checkpoint_format = "contact-stefan checkpoint 6";
 
   namespace
   {

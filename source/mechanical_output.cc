@@ -156,6 +156,42 @@ namespace ContactStefan
 
 
   template <int dim>
+  std::pair<double, Point<dim>> MechanicalField<dim>::max_cell_von_mises() const
+  {
+    const std::vector<CellStress> stresses = cell_centre_stresses();
+    double                        local    = 0;
+    for (const auto &cell : triangulation.active_cell_iterators())
+      if (cell->is_locally_owned())
+        local = std::max(local, stresses[cell->active_cell_index()].von_mises());
+    const double global = Utilities::MPI::max(local, mpi_communicator);
+    // Where: of the cells within round-off of the maximum (a symmetric scene
+    // has several, and which of them is largest depends on the partition and
+    // the order of the sums), the one whose centre comes first by x, then y:
+    // the same on any number of ranks.
+    const auto before = [](const Point<dim> &a, const Point<dim> &b) {
+      for (unsigned int d = 0; d < dim; ++d)
+        if (a[d] != b[d])
+          return a[d] < b[d];
+      return false;
+    };
+    std::vector<double> first(dim, std::numeric_limits<double>::max());
+    for (const auto &cell : triangulation.active_cell_iterators())
+      if (cell->is_locally_owned() &&
+          stresses[cell->active_cell_index()].von_mises() >= global * (1 - 1e-10))
+        if (const Point<dim> c = cell->center(); first[0] == std::numeric_limits<double>::max() ||
+                                                 before(c, Point<dim>(first[0], first[1])))
+          for (unsigned int d = 0; d < dim; ++d)
+            first[d] = c[d];
+    Point<dim> where(first[0], first[1]);
+    for (const auto &candidate : Utilities::MPI::all_gather(mpi_communicator, first))
+      if (before(Point<dim>(candidate[0], candidate[1]), where))
+        where = Point<dim>(candidate[0], candidate[1]);
+    return {global, where};
+  }
+
+
+
+  template <int dim>
   void
   MechanicalField<dim>::recover_nodal_pair(const std::vector<std::array<double, 2>> &cell_values,
                                            Vector                                   &nodal) const

@@ -14,7 +14,6 @@
 #include <contact-stefan/postprocessor.h>
 
 #include <algorithm>
-#include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -270,6 +269,7 @@ namespace ContactStefan
       {"liquid_area", area},
       {"energy_residual", report.energy_residual},
       {"max_pressure", contact_report.max_pressure},
+      {"max_von_mises", mechanical ? max_von_mises : 0.},
       {"thermoelastic_heat", report.thermoelastic_heat},
       {"elastic_energy", elastic_energy},
       {"contact_work", total_contact_work}};
@@ -295,7 +295,11 @@ namespace ContactStefan
         // the line of column names. numpy.loadtxt, gnuplot and pandas
         // (comment='#') skip the comments; the names line stays the first
         // line that is not one.
-        std::vector<std::array<std::string, 3>> columns{
+        struct Column
+        {
+          std::string name, unit, meaning;
+        };
+        std::vector<Column> columns{
           {"step", "-", "time step number (0: the initial state)"},
           {"time", "s", "time at the end of the step"}};
         if (thermal)
@@ -347,6 +351,10 @@ namespace ContactStefan
               }
             columns.push_back(
               {"max_pressure", "Pa", "largest nodal contact pressure (singular at corners)"});
+            columns.push_back({"max_von_mises",
+                               "Pa",
+                               "largest von Mises stress at the cell centres (sigma_zz of plane "
+                               "strain included)"});
             columns.push_back({"elastic_energy",
                                "J/m",
                                "stored elastic energy, thermal part included, per unit thickness"});
@@ -367,15 +375,15 @@ namespace ContactStefan
                "units (m, kg, s, K or degC); a dimensionless scene's columns are dimensionless.\n";
         std::size_t width = 0;
         for (const auto &c : columns)
-          width = std::max(width, c[0].size() + c[1].size() + 3);
+          width = std::max(width, c.name.size() + c.unit.size() + 3);
         for (const auto &c : columns)
           {
-            const std::string name_unit = c[0] + " [" + c[1] + "]";
-            out << "# " << name_unit << std::string(width - name_unit.size() + 1, ' ') << c[2]
+            const std::string name_unit = c.name + " [" + c.unit + "]";
+            out << "# " << name_unit << std::string(width - name_unit.size() + 1, ' ') << c.meaning
                 << '\n';
           }
         for (std::size_t i = 0; i < columns.size(); ++i)
-          out << (i == 0 ? "" : " ") << columns[i][0];
+          out << (i == 0 ? "" : " ") << columns[i].name;
         out << '\n';
       }
     out << step;
@@ -405,6 +413,7 @@ namespace ContactStefan
         for (const auto &group : mechanical->get_contact_groups())
           add("%.10e", contact_report.forces.count(group) ? contact_report.forces.at(group) : 0.);
         add("%.10e", contact_report.max_pressure);
+        add("%.10e", max_von_mises);
         add("%.10e", elastic_energy);
         add("%.10e", total_contact_work);
       }
@@ -788,6 +797,16 @@ namespace ContactStefan
     const auto         elastic = mechanical->elastic_statistics();
     elastic_energy             = elastic.energy;
     max_strain                 = std::max(max_strain, elastic.max_strain);
+    const auto [von_mises, where] = mechanical->max_cell_von_mises();
+    max_von_mises                 = von_mises;
+    // (A later step counts only if it is larger beyond round-off: the time and
+    // place must not depend on the partition.)
+    if (von_mises > max_von_mises_over_steps * (1 + 1e-10))
+      {
+        max_von_mises_over_steps = von_mises;
+        max_von_mises_time       = time;
+        max_von_mises_point      = where;
+      }
     total_contact_work += mechanical->contact_work();
     for (const auto &[group, force] : contact_report.forces)
       {
@@ -988,6 +1007,11 @@ namespace ContactStefan
     add_result("min contact pressure at active nodes", last_contact_report.min_active_pressure);
     add_result("contact matrix factorisations", contact_factorisations);
     add_result("contact solves skipped (unchanged data)", reused_contact_steps);
+    // From the cell-centre stresses, where Q1 is accurate (doc/output.md).
+    add_result("max von Mises stress (cell centres)", max_von_mises_over_steps);
+    add_result("max von Mises stress time", max_von_mises_time);
+    add_result("max von Mises stress x", max_von_mises_point[0]);
+    add_result("max von Mises stress y", max_von_mises_point[1]);
     // The iterative path's work. It depends on the preconditioner's settings
     // and on the partition (ML aggregates per rank), not only on the problem:
     // the regression tests bound these lines ('... solver: ') instead of

@@ -91,7 +91,9 @@ namespace ContactStefan
                                 &max_section_error_recovered &max_section_error_cell_uniform
                                   &max_exact_section_force &max_relative_stress_error_cell
                                     &max_relative_stress_error_recovered &section_sides_checked
-                                      &section_sides_uniform;
+                                      &section_sides_uniform &max_von_mises &
+                                        max_von_mises_over_steps &max_von_mises_time &
+                                          max_von_mises_point;
     }
     // The RESULT lines.
     void print_results(const unsigned int n_steps, const double time) const;
@@ -182,6 +184,11 @@ namespace ContactStefan
     unsigned int           reused_contact_steps = 0, max_active_nodes = 0;
     double                 total_thermoelastic_heat = 0, total_contact_work = 0, elastic_energy = 0;
     double                 max_strain = 0; // over the steps, for the small-strain check
+    // The largest von Mises stress of the cell-centre values: of the last step
+    // (statistics), and over the steps with its time and the centre of its cell
+    // (RESULT lines).
+    double     max_von_mises = 0, max_von_mises_over_steps = 0, max_von_mises_time = 0;
+    Point<dim> max_von_mises_point;
     // Exact stress: the largest L2 error over the steps relative to
     // the exact stress plus the thermal stress; exact contact pressure: the
     // largest nodal error and the largest exact pressure.
