@@ -1558,6 +1558,13 @@ namespace ContactStefan
                         "must be a line of the coarse mesh (it cuts no cell). The forces at "
                         "the end are RESULT lines; with 'Exact solution/Section normal "
                         "force' their largest error over the steps is too.");
+      prm.declare_entry("VTU compression",
+                        "best speed",
+                        Patterns::Selection("none|best speed|default|best compression"),
+                        "zlib compression of the data in the VTU files. 'best speed' "
+                        "writes files about 10 % larger than 'best compression' in a "
+                        "fraction of its time (doc/performance.md, output); 'none' the "
+                        "largest files, for tools that cannot read compressed VTU.");
       prm.declare_entry("Small-strain limit",
                         "1",
                         Patterns::Double(0),
@@ -1579,6 +1586,12 @@ namespace ContactStefan
       statistics_file         = prm.get("Statistics file");
       verbosity               = prm.get_integer("Verbosity");
       small_strain_limit      = get_finite(prm, "Output/", "Small-strain limit");
+      const std::string compression = prm.get("VTU compression");
+      vtu_compression = compression == "none"           ? DataOutBase::VtkFlags::no_compression :
+                        compression == "best speed"     ? DataOutBase::VtkFlags::best_speed :
+                        compression == "best compression" ?
+                                                          DataOutBase::VtkFlags::best_compression :
+                                                          DataOutBase::VtkFlags::default_compression;
       const std::string lines = prm.get("Section lines");
       prm.leave_subsection();
       section_lines.clear();

@@ -230,6 +230,9 @@ namespace ContactStefan
     data_out.add_data_vector(body, "body_id", DataOut<dim>::type_cell_data);
     data_out.add_data_vector(rank, "mpi_rank", DataOut<dim>::type_cell_data);
     data_out.build_patches();
+    DataOutBase::VtkFlags flags;
+    flags.compression_level = prm.output.vtu_compression;
+    data_out.set_flags(flags);
 
     const std::string directory = prm.output.directory + "/";
     const std::string name =

@@ -12,6 +12,7 @@
 #ifndef contact_stefan_parameters_h
 #define contact_stefan_parameters_h
 
+#include <deal.II/base/data_out_base.h>
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/point.h>
 
@@ -398,6 +399,8 @@ namespace ContactStefan
       std::string              statistics_file;
       unsigned int             verbosity;
       double                   small_strain_limit;
+      // zlib level of the VTU files' data (DataOutBase::VtkFlags::ZlibCompressionLevel).
+      DataOutBase::VtkFlags::ZlibCompressionLevel vtu_compression;
 
       static void declare(ParameterHandler &prm);
       void        parse(ParameterHandler &prm);
