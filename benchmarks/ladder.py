@@ -140,6 +140,9 @@ def main():
     parser.add_argument("--binary", default=DEFAULT_BINARY)
     parser.add_argument("--no-refine-time", action="store_true",
                         help="keep the time step (quasi-static scenes: refine h only)")
+    parser.add_argument("--set", action="append", default=[], metavar="PATH=VALUE",
+                        help="set 'Subsection/Entry' to VALUE on every level (e.g. "
+                             "'Time stepping/Time step function=if(t < 0.5, tau, 2 * tau)')")
     parser.add_argument("--markdown", action="store_true", help="print a Markdown table")
     parser.add_argument("--plot", help="write error against wall time to this PNG")
     parser.add_argument("--require-rate", action="append", default=[],
@@ -151,6 +154,11 @@ def main():
 
     with open(args.scene) as f:
         scene_text = f.read()
+    for setting in args.set:
+        path, _, value = setting.partition("=")
+        if not value:
+            sys.exit(f"ladder.py: --set '{setting}' is not PATH=VALUE")
+        scene_text = set_path(scene_text, path.strip(), value.strip())
     rows = []
     with tempfile.TemporaryDirectory() as workdir:
         for level in range(args.levels):

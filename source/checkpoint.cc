@@ -794,22 +794,24 @@ namespace ContactStefan
     // none), so its time is the start time plus step full steps, added up as
     // the time loop adds them: to the last bit.
     {
-      const bool step_valid =
-        step_number == manifest.step && step_number > 0 && step_number <= prm.time.max_steps;
+      const auto &sizes = prm.time.step_sizes;
+      const bool  step_valid =
+        step_number == manifest.step && step_number > 0 && step_number < sizes.size();
       double expected_time = prm.time.start_time;
       for (unsigned int s = 0; step_valid && s < step_number; ++s)
-        expected_time += prm.time.time_step;
+        expected_time += sizes[s];
       std::string       problem;
       const std::size_t n_thermal_scalars = thermal ? thermal->restart_state().size() : 0;
       if (!step_valid)
         problem = "the step " + std::to_string(step_number) + " is not the manifest's step " +
-                  std::to_string(manifest.step) + " or not in [1, Max time steps]";
+                  std::to_string(manifest.step) + " or not one before the schedule's last (" +
+                  std::to_string(sizes.size()) + ")";
       else if (!(time == expected_time))
         problem = "the time t = " + number(time) + " is not the time of step " +
                   std::to_string(step_number) + ", t = " + number(expected_time);
-      else if (!(time_step == prm.time.time_step))
-        problem = "the step size " + number(time_step) +
-                  " is not 'Time stepping/Time step' = " + number(prm.time.time_step);
+      else if (!(time_step == sizes[step_number - 1]))
+        problem = "the step size " + number(time_step) + " is not the schedule's step " +
+                  std::to_string(step_number) + ", tau = " + number(sizes[step_number - 1]);
       else if (n_ranks == 0 || !std::isfinite(wall) || wall < 0)
         problem = "the number of ranks or the wall time is not valid";
       else if (thermal_scalars.size() != n_thermal_scalars ||

@@ -174,21 +174,19 @@ namespace ContactStefan
                             "stopped by " + StopSignals::name(signal) + " before step " +
                               std::to_string(step_number + 1) + " (t = " + number(time) +
                               "); the output holds every step up to it");
-    const double end = prm.time.end_time;
-    // A step that would end within this fraction of a step of the end time is
-    // stretched to end exactly there (round-off, not a parameter).
-    const double end_slack = 1e-9;
-    while (time < end - end_slack * prm.time.time_step)
+    // The step sizes were worked out before the run (Parameters::TimeStepping::
+    // make_schedule(): constant, a function of t, and step end times).
+    const auto &schedule = prm.time.step_sizes;
+    while (step_number < schedule.size())
       {
-        time_step = prm.time.time_step;
-        if (time + time_step > end - end_slack * time_step)
-          time_step = end - time;
+        time_step = schedule[step_number];
         // Checked at parse time; guarded here so that no run can loop forever.
         if (!(time + time_step > time))
           throw std::runtime_error("time does not advance at t = " + std::to_string(time) +
                                    " with tau = " + std::to_string(time_step));
         time += time_step;
         ++step_number;
+        const bool last = step_number == schedule.size();
 
         if (thermal)
           thermal->begin_time_step(time, time_step);
@@ -202,13 +200,12 @@ namespace ContactStefan
         postprocessor->end_step(step_number,
                                 time,
                                 time_step,
-                                time >= end,
+                                last,
                                 thermal_report,
                                 contact_report,
                                 coupling_report,
                                 wall_offset + wall_clock.wall_time());
         print_step_line(thermal_report, contact_report, coupling_report);
-        const bool last = !(time < end - end_slack * time_step);
         if (prm.refinement.adaptive_interval > 0 &&
             step_number % prm.refinement.adaptive_interval == 0 && !last)
           adapt_mesh();

@@ -974,6 +974,24 @@ namespace ContactStefan
                         "0.1",
                         Patterns::Double(),
                         "tau (s), > 0; the last step is shortened to end at T.");
+      prm.declare_entry("Time step function",
+                        "",
+                        Patterns::Anything(),
+                        "Empty: every step is 'Time step' long. Otherwise tau(t), a "
+                        "function of the step's start time t (muparser), in which 'tau' "
+                        "is the 'Time step' value: e.g. 'if(t < 10, tau, 4 * tau)' for two "
+                        "phases, 'min(tau * 1.2^(t / tau), 100 * tau)' for steps that grow "
+                        "(so that halving 'Time step' halves every step). Each value must "
+                        "be finite and > 0; the whole schedule is worked out and checked "
+                        "before the run.");
+      prm.declare_entry("Step end times",
+                        "",
+                        Patterns::Anything(),
+                        "Times, increasing, in (Start time, End time], at which a step must "
+                        "end (e.g. logarithmic times for a diffusion problem, or the times "
+                        "of a measurement): a step that would pass one is shortened to end "
+                        "there; between them the steps are 'Time step' or 'Time step "
+                        "function' long.");
       prm.declare_entry("Max time steps",
                         "1000000",
                         Patterns::Integer(1),
@@ -990,7 +1008,27 @@ namespace ContactStefan
       end_time   = get_finite(prm, "Time stepping/", "End time");
       time_step  = get_finite(prm, "Time stepping/", "Time step");
       max_steps  = prm.get_integer("Max time steps");
+      time_step_function    = Utilities::trim(prm.get("Time step function"));
+      const std::string ends = prm.get("Step end times");
       prm.leave_subsection();
+      step_end_times.clear();
+      for (const std::string &entry : Utilities::split_string_list(ends, ','))
+        {
+          std::size_t used  = 0;
+          double      value = 0;
+          try
+            {
+              value = std::stod(entry, &used);
+            }
+          catch (const std::exception &)
+            {
+              used = 0;
+            }
+          require(used == entry.size() && std::isfinite(value),
+                  "Time stepping/Step end times",
+                  "'" + entry + "' is not a finite number");
+          step_end_times.push_back(value);
+        }
       require(time_step > 0, "Time stepping/Time step", "must be > 0, got " + str(time_step));
       require(std::isnormal(time_step),
               "Time stepping/Time step",
@@ -1005,11 +1043,87 @@ namespace ContactStefan
               str(time_step) + " is below the floating-point resolution of t near " +
                 str(std::max(std::abs(start_time), std::abs(end_time))) +
                 ": time would not advance");
-      const double steps = std::ceil((end_time - start_time) / time_step);
-      require(steps <= max_steps,
-              "Time stepping/Time step",
-              "the run would take " + str(steps) + " steps, more than 'Time stepping/Max time " +
-                "steps' = " + std::to_string(max_steps));
+      for (std::size_t k = 0; k < step_end_times.size(); ++k)
+        require(step_end_times[k] > (k == 0 ? start_time : step_end_times[k - 1]) &&
+                  step_end_times[k] <= end_time,
+                "Time stepping/Step end times",
+                "must increase and lie in (Start time, End time] = (" + str(start_time) + ", " +
+                  str(end_time) + "], got " + str(step_end_times[k]) +
+                  (k == 0 ? std::string() : " after " + str(step_end_times[k - 1])));
+      if (time_step_function.empty() && step_end_times.empty())
+        {
+          const double steps = std::ceil((end_time - start_time) / time_step);
+          require(steps <= max_steps,
+                  "Time stepping/Time step",
+                  "the run would take " + str(steps) + " steps, more than 'Time stepping/Max " +
+                    "time steps' = " + std::to_string(max_steps));
+        }
+      make_schedule();
+    }
+
+
+
+    // The step sizes from t0 to T, added up exactly as the time loop adds
+    // them. A step that would end within a 1e-9 fraction of itself of the end
+    // time or of a step end time is stretched to end exactly there (round-off,
+    // not a parameter); one that would pass such a time is shortened to it.
+    void TimeStepping::make_schedule()
+    {
+      const std::string path = time_step_function.empty() ? "Time stepping/Time step" :
+                                                            "Time stepping/Time step function";
+      std::unique_ptr<FunctionParser<1>> tau_of_t;
+      if (!time_step_function.empty())
+        {
+          std::streambuf *const cerr_buffer = std::cerr.rdbuf(nullptr);
+          try
+            {
+              tau_of_t = std::make_unique<FunctionParser<1>>(1);
+              tau_of_t->initialize("t",
+                                   time_step_function,
+                                   {{"pi", numbers::PI}, {"tau", time_step}});
+              // (muparser parses at the first evaluation.)
+              (void)tau_of_t->value(Point<1>(start_time));
+              std::cerr.rdbuf(cerr_buffer);
+            }
+          catch (...)
+            {
+              std::cerr.rdbuf(cerr_buffer);
+              throw InputError(path, "cannot parse the function '" + time_step_function + "'");
+            }
+        }
+      const double slack = 1e-9;
+      step_sizes.clear();
+      double      t    = start_time;
+      std::size_t next = 0; // the next step end time not yet reached
+      while (true)
+        {
+          double tau = time_step;
+          if (tau_of_t)
+            {
+              tau = tau_of_t->value(Point<1>(t));
+              require(std::isfinite(tau) && tau > 0,
+                      path,
+                      "must be finite and > 0 at every step's start time, is " + str(tau) +
+                        " at t = " + str(t));
+            }
+          if (!(t < end_time - slack * tau))
+            break;
+          const double stop = next < step_end_times.size() ? step_end_times[next] : end_time;
+          if (t + tau > stop - slack * tau)
+            tau = stop - t;
+          require(t + tau > t,
+                  path,
+                  str(tau) + " is below the floating-point resolution of t near " + str(t) +
+                    ": time would not advance");
+          t += tau;
+          step_sizes.push_back(tau);
+          if (next < step_end_times.size() && t >= step_end_times[next])
+            ++next;
+          require(step_sizes.size() <= max_steps,
+                  path,
+                  "the run would take more than 'Time stepping/Max time steps' = " +
+                    std::to_string(max_steps) + " steps (at t = " + str(t) + ")");
+        }
     }
 
 

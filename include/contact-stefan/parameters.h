@@ -266,6 +266,16 @@ namespace ContactStefan
     {
       double       start_time, end_time, time_step;
       unsigned int max_steps;
+      // The schedule (empty: the constant Time step): a function tau(t) of the
+      // step's start time, and the times some steps must end at.
+      std::string         time_step_function;
+      std::vector<double> step_end_times;
+      // Every step's size, from t0 to T, worked out before the run as the time
+      // loop adds them (t += tau, the last step shortened to end at T): the
+      // loop, a resumed run and the checkpoint check read the same numbers.
+      std::vector<double> step_sizes;
+
+      void make_schedule();
 
       static void declare(ParameterHandler &prm);
       void        parse(ParameterHandler &prm);
