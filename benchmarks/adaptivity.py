@@ -40,6 +40,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 from ladder import set_entry, set_path  # noqa: E402
 from performance import run, table  # noqa: E402
+from provenance import provenance_line  # noqa: E402
 
 ROOT = os.path.dirname(HERE)
 DEFAULT_BINARY = os.path.join(ROOT, "build", "contact-stefan")
@@ -317,6 +318,7 @@ def main():
     p.add_argument("--plot", metavar="DIR")
     p.add_argument("--pictures", metavar="DIR")
     args = p.parse_args()
+    print(provenance_line(args.binary), flush=True)
     if not os.access(args.binary, os.X_OK):
         sys.exit(f"adaptivity.py: no executable '{args.binary}' (build first)")
     problems = ["stefan", "hertz", "coupled"] if args.problem == "all" else [args.problem]

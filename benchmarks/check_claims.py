@@ -63,6 +63,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from provenance import provenance_line  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
@@ -359,6 +360,7 @@ def main():
     parser.add_argument("--build-dir", help="check 'ctest:' claims against this build tree")
     parser.add_argument("--keep", action="store_true", help="keep the runs' work directories")
     args = parser.parse_args()
+    print(provenance_line(args.binary), flush=True)
 
     claims = load_claims(args.claims)
     if args.only:

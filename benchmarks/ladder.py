@@ -24,6 +24,7 @@ import re
 import subprocess
 import sys
 import tempfile
+from provenance import provenance_line  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 DEFAULT_BINARY = os.path.join(HERE, "..", "build", "contact-stefan")
@@ -149,6 +150,7 @@ def main():
                         help="'RESULT name>=rate' or '<=': exit 1 unless the least-squares "
                              "rate over the ladder meets it")
     args = parser.parse_args()
+    print(provenance_line(args.binary), flush=True)
     if not os.path.exists(args.binary):
         sys.exit(f"ladder.py: no binary at {args.binary}; build first (see README)")
 

@@ -27,6 +27,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 from ladder import set_entry, set_path  # noqa: E402
 from performance import parse  # noqa: E402
+from provenance import provenance_line  # noqa: E402
 
 DEFAULT_BINARY = os.path.join(HERE, "..", "build", "contact-stefan")
 SCENE = os.path.join(HERE, "..", "prm", "benchmarks", "neumann_A.prm")
@@ -71,6 +72,7 @@ def main():
     parser.add_argument("--markdown", action="store_true")
     parser.add_argument("--plot", metavar="PATH")
     args = parser.parse_args()
+    print(provenance_line(args.binary), flush=True)
     if not os.access(args.binary, os.X_OK):
         sys.exit(f"large_steps.py: no executable '{args.binary}' (build first)")
 

@@ -47,6 +47,7 @@ import tempfile
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 from ladder import get_entry, least_squares_rate, set_entry, set_path  # noqa: E402
+from provenance import provenance_line  # noqa: E402
 
 DEFAULT_BINARY = os.path.join(HERE, "..", "build", "contact-stefan")
 FENICSX_PYTHON = "/usr/bin/python3"
@@ -359,6 +360,7 @@ def main():
                         help="run contact-stefan's ladder again with these settings added "
                              "and compare its CG iterations per elasticity solve")
     args = parser.parse_args()
+    print(provenance_line(args.binary), flush=True)
     if not os.path.exists(args.binary):
         sys.exit(f"performance.py: no binary at {args.binary}; build first (see README)")
     fenicsx = not args.no_fenicsx and fenicsx_available()

@@ -22,6 +22,7 @@ import re
 import subprocess
 import sys
 import tempfile
+from provenance import provenance_line  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
@@ -85,6 +86,7 @@ def main():
     parser.add_argument("--markdown", action="store_true")
     parser.add_argument("--plot", help="PNG of the errors against wall time")
     args = parser.parse_args()
+    print(provenance_line(args.binary), flush=True)
 
     work = tempfile.mkdtemp(prefix="t4-ladder-")
     levels = []

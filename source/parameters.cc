@@ -1145,7 +1145,7 @@ namespace ContactStefan
                         "Linear solver = automatic: systems with fewer unknowns are solved "
                         "directly. Measured on the contact block of doc/results.md: equal "
                         "at 8 450 DoFs, CG + AMG 2.7 times faster at 33 282, 8.2 times at "
-                        "132 098.");
+                        "132 098 (commit 240dff8, 2026-11-22, 2-core development VM).");
       prm.declare_entry("Direct solver type",
                         "automatic",
                         Patterns::Selection(
@@ -1218,7 +1218,8 @@ namespace ContactStefan
                         "ML's 'smoother: sweeps' for the enthalpy system: the degree of the "
                         "Chebyshev smoother. The heat operator needs fewer: on the Stefan "
                         "strip at nx = 800, 1 took 8 % less wall time than deal.II's 2 "
-                        "(31.3 s against 34.1 s, same results; doc/performance.md).");
+                        "(31.3 s against 34.1 s, same results; commit 957f390, 2026-11-24, "
+                        "2-core development VM; doc/performance.md).");
       prm.declare_entry("AMG update",
                         "automatic",
                         Patterns::Selection("automatic|reuse|recompute|rebuild"),
@@ -1263,7 +1264,8 @@ namespace ContactStefan
                         "switches to tight solves. On the Stefan strip at nx = 800: 209 "
                         "AMG recomputations instead of 491, 29.8 s instead of 34.1 s with "
                         "the same smoother (40.0 s with two sweeps), the same results to "
-                        "10 digits (doc/performance.md). 0: every solve to 'CG "
+                        "10 digits (commit 9779a99, 2026-11-24, 2-core development VM; "
+                        "doc/performance.md). 0: every solve to 'CG "
                         "tolerance'. Unused by the direct solver.");
       prm.declare_entry("CG max iterations",
                         "1000",
@@ -1676,9 +1678,10 @@ namespace ContactStefan
                         "best speed",
                         Patterns::Selection("none|best speed|default|best compression"),
                         "zlib compression of the data in the VTU files. 'best speed' "
-                        "writes files about 10 % larger than 'best compression' in a "
-                        "fraction of its time (doc/performance.md, output); 'none' the "
-                        "largest files, for tools that cannot read compressed VTU.");
+                        "writes files 11 % larger than 'best compression' and took half "
+                        "its time on the default scene (doc/performance.md, 'Writing VTU "
+                        "files'); 'none' the largest files, for tools that cannot read "
+                        "compressed VTU.");
       prm.declare_entry("Small-strain limit",
                         "1",
                         Patterns::Double(0),
