@@ -94,12 +94,15 @@ def get_entry(text, name):
 
 
 def run_level(binary, scene_text, scene_dir, level, np_, workdir, refine_time):
-    refinements = int(get_entry(scene_text, "Initial global refinements")) + level
+    # A scene that does not set an entry has its default (0 refinements, the
+    # output written to 'output' every step).
+    base = re.search(r"^\s*set\s+Initial global refinements\s*=\s*(\d+)", scene_text, re.M)
+    refinements = (int(base.group(1)) if base else 0) + level
     tau = float(get_entry(scene_text, "Time step")) / (2**level if refine_time else 1)
-    text = set_entry(scene_text, "Initial global refinements", str(refinements))
+    text = set_path(scene_text, "Mesh refinement/Initial global refinements", str(refinements))
     text = set_entry(text, "Time step", repr(tau))
-    text = set_entry(text, "Directory", os.path.join(workdir, f"level-{level}"))
-    text = set_entry(text, "VTU interval", "0")
+    text = set_path(text, "Output/Directory", os.path.join(workdir, f"level-{level}"))
+    text = set_path(text, "Output/VTU interval", "0")
     prm = os.path.join(scene_dir, f".ladder-level-{level}.prm")
     with open(prm, "w") as f:
         f.write(text)
@@ -144,6 +147,8 @@ def main():
     parser.add_argument("--set", action="append", default=[], metavar="PATH=VALUE",
                         help="set 'Subsection/Entry' to VALUE on every level (e.g. "
                              "'Time stepping/Time step function=if(t < 0.5, tau, 2 * tau)')")
+    parser.add_argument("--result", action="append", default=[], metavar="NAME",
+                        help="also a column of the RESULT line NAME (e.g. 'melt area')")
     parser.add_argument("--markdown", action="store_true", help="print a Markdown table")
     parser.add_argument("--plot", help="write error against wall time to this PNG")
     parser.add_argument("--require-rate", action="append", default=[],
@@ -169,7 +174,11 @@ def main():
             print(f"level {level} done in {rows[-1]['wall time']:.2f} s", file=sys.stderr)
 
     have = []
-    for c in COLUMNS:  # the first DoF column present only
+    extra = [(name, name, "{:>10.4g}", False) for name in args.result]
+    for name in args.result:
+        if name not in rows[0]:
+            sys.exit(f"ladder.py: the runs print no 'RESULT {name} = ...' line")
+    for c in COLUMNS + extra:  # the first DoF column present only
         if c[0] in rows[0] and not (c[1] == "DoFs" and any(h[1] == "DoFs" for h in have)):
             have.append(c)
     headers = ["level", "h", "tau"] + [c[1] for c in have]
