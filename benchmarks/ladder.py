@@ -147,6 +147,9 @@ def main():
     parser.add_argument("--set", action="append", default=[], metavar="PATH=VALUE",
                         help="set 'Subsection/Entry' to VALUE on every level (e.g. "
                              "'Time stepping/Time step function=if(t < 0.5, tau, 2 * tau)')")
+    parser.add_argument("--require-last", action="append", default=[], metavar="NAME<VALUE",
+                        help="exit code 1 unless RESULT NAME of the finest level is below "
+                             "(<) or above (>) VALUE")
     parser.add_argument("--result", action="append", default=[], metavar="NAME",
                         help="also a column of the RESULT line NAME (e.g. 'melt area')")
     parser.add_argument("--markdown", action="store_true", help="print a Markdown table")
@@ -212,6 +215,16 @@ def main():
             ok = rate >= float(m.group(3)) if m.group(2) == ">=" else rate <= float(m.group(3))
             print(f"requirement {'met' if ok else 'FAILED'}: rate of {m.group(1)} = {rate:.3f} "
                   f"{m.group(2)} {m.group(3)}")
+            if not ok:
+                failed.append(requirement)
+        for requirement in args.require_last:
+            m = re.match(r"(.+?)\s*(<|>)\s*(\S+)$", requirement)
+            if not m or m.group(1) not in rows[-1]:
+                sys.exit(f"ladder.py: cannot read the requirement '{requirement}'")
+            value = rows[-1][m.group(1)]
+            ok = value < float(m.group(3)) if m.group(2) == "<" else value > float(m.group(3))
+            print(f"requirement {'met' if ok else 'FAILED'}: {m.group(1)} = {value:g} on the "
+                  f"finest level, {m.group(2)} {m.group(3)}")
             if not ok:
                 failed.append(requirement)
         if "mean active-set iterations" in rows[0]:

@@ -152,7 +152,7 @@ def triangulation(points, quads, shift=None):
 # --- pictures -----------------------------------------------------------------------
 
 def fields_figure(title, frames, path, temperature_levels=(), time_scale=(None, 1.0),
-                  length=None, figsize=None, temperature_unit="degC"):
+                  length=None, figsize=None, temperature_unit="degC", stress_units=True):
     """Rows: the frames (time, points, quads, point data); columns: temperature
     with the transition isotherms, liquid fraction, von Mises stress on the
     deformed shape -- each where the frames have it."""
@@ -182,7 +182,8 @@ def fields_figure(title, frames, path, temperature_levels=(), time_scale=(None, 
         # The colour scale of the stress ends at its 99th percentile: an elastic
         # corner concentrates stress in a few cells and would flatten the rest.
         vm_hi = max(np.percentile(f[3]["von_mises"], 99) for f in frames)
-        vm_scale, vm_unit = (1e6, "MPa") if vm_hi > 1e5 else (1.0, "Pa")
+        vm_scale, vm_unit = ((1e6, "MPa") if vm_hi > 1e5 else (1.0, "Pa")) if stress_units \
+            else (1.0, "")
         vm_hi = vm_hi / vm_scale or 1.0
     for row, (t, points, quads, d) in enumerate(frames):
         tri = triangulation(points / L, quads)
@@ -215,7 +216,7 @@ def fields_figure(title, frames, path, temperature_levels=(), time_scale=(None, 
                 ax.set_title(when + ": von Mises stress, shape deformed x %.3g" % magnify,
                              fontsize=9)
             ax.set_aspect("equal")
-            ax.set_xlabel("x (%s)" % unit_name, fontsize=8)
+            ax.set_xlabel("x (%s)" % unit_name if unit_name else "x", fontsize=8)
             ax.tick_params(labelsize=7)
     fig.suptitle(title, fontsize=12)
     fig.tight_layout()
@@ -289,7 +290,11 @@ def main():
     if not records and statistics is None:
         sys.exit("plot_run.py: %s holds neither solution.pvd nor a statistics table" % directory)
     t_end = records[-1][0] if records else statistics[2][-1, statistics[0].index("time")]
-    scale = time_unit(t_end, args.time_unit)
+    # A dimensionless scene (Coupling/Temperature scale = dimensionless) gets no
+    # units: no s/h/yr on the time axis, no m, no Pa.
+    dimensionless = (parameter(parameters, "Temperature scale") or "").lower() == "dimensionless"
+    scale = time_unit(t_end, "none" if dimensionless and args.time_unit == "auto" else
+                      args.time_unit)
     written = []
     if records:
         k = max(1, min(args.frames, len(records)))
@@ -300,7 +305,9 @@ def main():
         scale_name = (parameter(parameters, "Temperature scale") or "").lower()
         fields_figure(title, frames, os.path.join(output, "fields.png"),
                       transition_temperatures(parameters), scale,
-                      temperature_unit={"kelvin": "K", "celsius": "degC"}.get(scale_name, ""))
+                      length=("", 1.0) if dimensionless else None,
+                      temperature_unit={"kelvin": "K", "celsius": "degC"}.get(scale_name, ""),
+                      stress_units=not dimensionless)
         written.append("fields.png")
     if statistics is not None:
         series_figure(title, statistics, os.path.join(output, "series.png"), scale)

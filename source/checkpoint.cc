@@ -795,7 +795,17 @@ namespace ContactStefan
     // the time loop adds them: to the last bit.
     {
       const auto &sizes = prm.time.step_sizes;
-      const bool  step_valid =
+      // A checkpoint at or after the schedule's end: the End time was moved
+      // before it (not a damaged file).
+      if (step_number == manifest.step && step_number > 0 && step_number >= sizes.size())
+        throw InputError("Checkpoint/Resume",
+                         "set 'Time stepping/End time' after the checkpoint's time, or "
+                         "start afresh: the checkpoint in '" +
+                           directory + "' is at step " + std::to_string(step_number) +
+                           ", t = " + number(time) + ", where the schedule up to End time = " +
+                           number(prm.time.end_time) + " has only " +
+                           std::to_string(sizes.size()) + " steps");
+      const bool step_valid =
         step_number == manifest.step && step_number > 0 && step_number < sizes.size();
       double expected_time = prm.time.start_time;
       for (unsigned int s = 0; step_valid && s < step_number; ++s)

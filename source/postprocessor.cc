@@ -252,7 +252,8 @@ namespace ContactStefan
 
 
 
-  // The statistics table: a header line, then one line per step, appended and
+  // The statistics table: a header (comment lines, then the column names), then
+  // one line per step, appended and
   // flushed as soon as the step is done, so that an interrupted run leaves every
   // finished step on disk and a long run costs O(1) per step. Only rank 0 writes.
   template <int dim>
