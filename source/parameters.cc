@@ -1127,7 +1127,7 @@ namespace ContactStefan
                     ": time would not advance");
           t += tau;
           step_sizes.push_back(tau);
-          if (next < step_end_times.size() && t >= step_end_times[next])
+          while (next < step_end_times.size() && t >= step_end_times[next] - allowance(tau, t))
             ++next;
           require(step_sizes.size() <= max_steps,
                   path,
