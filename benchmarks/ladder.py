@@ -62,28 +62,48 @@ def set_entry(text, name, value):
     return pattern.sub(lambda m: m.group(1) + " " + value, text)
 
 
-def set_path(text, path, value):
-    """Set 'Sub/section/Entry' to value in a .prm text: replace the lines that set
-    it in that subsection path, or append a subsection block if there are none
-    (contact-stefan refuses an entry set twice)."""
-    *sections, key = [p.strip() for p in path.split("/")]
-    stack, lines, found = [], text.splitlines(), False
-    for k, raw in enumerate(lines):
+def _logical_lines(text):
+    """(index, subsection path, 'set' name or None) per line, as deal.II reads
+    them: a comment runs from '#' on, 'subsection'/'end' nest."""
+    stack = []
+    for k, raw in enumerate(text.splitlines()):
         line = raw.split("#", 1)[0].replace("\t", " ").strip()
+        name = None
         if line.startswith(("subsection ", "SUBSECTION ")):
             stack.append(line[len("subsection "):].strip())
         elif line in ("end", "END") and stack:
             stack.pop()
-        elif line.startswith(("set ", "SET ")) and "=" in line and stack == sections \
-                and line[4:].split("=", 1)[0].strip() == key:
-            indent = raw[: len(raw) - len(raw.lstrip())]
-            lines[k] = f"{indent}set {key} = {value}"
+        elif line.startswith(("set ", "SET ")) and "=" in line:
+            name = line[4:].split("=", 1)[0].strip()
+        yield k, list(stack), name, line
+
+
+def set_path(text, path, value):
+    """Set 'Sub/section/Entry' to value: replace the lines that set it in that
+    subsection path, or append a subsection block if there are none
+    (contact-stefan refuses an entry set twice)."""
+    *sections, key = [p.strip() for p in path.split("/")]
+    lines, found = text.splitlines(), False
+    for k, stack, name, _ in _logical_lines(text):
+        if name == key and stack == sections:
+            raw = lines[k]
+            lines[k] = f"{raw[: len(raw) - len(raw.lstrip())]}set {key} = {value}"
             found = True
     text = "\n".join(lines) + "\n"
     if not found:
         text += "".join(f"subsection {s}\n" for s in sections)
         text += f"  set {key} = {value}\n" + "end\n" * len(sections)
     return text
+
+
+def get_path(text, path, default):
+    """The value the scene gives 'Sub/section/Entry' (the last one), else default."""
+    *sections, key = [p.strip() for p in path.split("/")]
+    value = default
+    for _, stack, name, line in _logical_lines(text):
+        if name == key and stack == sections:
+            value = line.split("=", 1)[1].strip()
+    return value
 
 
 def get_entry(text, name):
