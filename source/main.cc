@@ -36,9 +36,9 @@ int main(int argc, char *argv[])
     });
 
   // --check started by itself (not by mpirun) reads and checks the file on one
-  // process and needs no MPI: skipping MPI_Init halves its time (0.7 s to 0.35
-  // s on the development machine; the rest is loading deal.II's ~200 shared
-  // libraries). Under mpirun every rank starts MPI as usual.
+  // process and needs no MPI: skipping MPI_Init took it from 0.65-0.74 s to
+  // 0.26-0.27 s (benchmarks/startup.py; the rest is loading deal.II's ~200
+  // shared libraries). Under mpirun every rank starts MPI as usual.
   const bool check_requested = std::any_of(argv + 1, argv + argc, [](const char *arg) {
     return std::string(arg) == "-c" || std::string(arg) == "--check";
   });

@@ -185,18 +185,19 @@ namespace ContactStefan
           return a[d] < b[d];
       return false;
     };
-    std::vector<double> first(dim, std::numeric_limits<double>::max());
+    // (A rank without such a cell offers the point at +infinity.)
+    Point<dim> first;
+    for (unsigned int d = 0; d < dim; ++d)
+      first[d] = std::numeric_limits<double>::infinity();
     for (const auto &cell : triangulation.active_cell_iterators())
       if (cell->is_locally_owned() &&
-          stresses[cell->active_cell_index()].von_mises() >= global * (1 - 1e-10))
-        if (const Point<dim> c = cell->center(); first[0] == std::numeric_limits<double>::max() ||
-                                                 before(c, Point<dim>(first[0], first[1])))
-          for (unsigned int d = 0; d < dim; ++d)
-            first[d] = c[d];
-    Point<dim> where(first[0], first[1]);
-    for (const auto &candidate : Utilities::MPI::all_gather(mpi_communicator, first))
-      if (before(Point<dim>(candidate[0], candidate[1]), where))
-        where = Point<dim>(candidate[0], candidate[1]);
+          stresses[cell->active_cell_index()].von_mises() >= global * (1 - 1e-10) &&
+          before(cell->center(), first))
+        first = cell->center();
+    Point<dim> where = first;
+    for (const Point<dim> &candidate : Utilities::MPI::all_gather(mpi_communicator, first))
+      if (before(candidate, where))
+        where = candidate;
     return {global, where};
   }
 

@@ -1011,26 +1011,8 @@ namespace ContactStefan
       time_step  = get_finite(prm, "Time stepping/", "Time step");
       max_steps  = prm.get_integer("Max time steps");
       time_step_function    = Utilities::trim(prm.get("Time step function"));
-      const std::string ends = prm.get("Step end times");
+      step_end_times = parse_doubles(prm.get("Step end times"), "Time stepping/Step end times");
       prm.leave_subsection();
-      step_end_times.clear();
-      for (const std::string &entry : Utilities::split_string_list(ends, ','))
-        {
-          std::size_t used  = 0;
-          double      value = 0;
-          try
-            {
-              value = std::stod(entry, &used);
-            }
-          catch (const std::exception &)
-            {
-              used = 0;
-            }
-          require(used == entry.size() && std::isfinite(value),
-                  "Time stepping/Step end times",
-                  "'" + entry + "' is not a finite number");
-          step_end_times.push_back(value);
-        }
       require(time_step > 0, "Time stepping/Time step", "must be > 0, got " + str(time_step));
       require(std::isnormal(time_step),
               "Time stepping/Time step",

@@ -266,115 +266,149 @@ namespace ContactStefan
   {
     const double area    = thermal ? thermal->melt_area() : 0.;
     const bool   coupled = thermal && mechanical;
-    // Every number of the row is the same on every rank: check them all
-    // before any is written, so that no row with a NaN reaches the file.
-    std::vector<std::pair<std::string, double>> values{
-      {"time", time},
-      {"liquid_area", area},
-      {"energy_residual", report.energy_residual},
-      {"max_pressure", contact_report.max_pressure},
-      {"max_von_mises", mechanical ? max_von_mises : 0.},
-      {"thermoelastic_heat", report.thermoelastic_heat},
-      {"elastic_energy", elastic_energy},
-      {"contact_work", total_contact_work}};
-    for (const auto &[group, force] : contact_report.forces)
-      values.emplace_back("force of " + group, force);
-    for (const auto &[name, value] : values)
+    // One list of the columns this scene has: name, unit, meaning (the header's
+    // comment lines, at step 0) and this step's value as written. A real value
+    // is checked before anything is written: every number of the row is the
+    // same on every rank, and no row with a NaN may reach the file.
+    struct Column
+    {
+      std::string name, unit, meaning, value;
+    };
+    std::vector<Column> columns;
+    char                field[64];
+    const auto          count = [&](const std::string &name,
+                           const std::string &meaning,
+                           const unsigned int value) {
+      std::snprintf(field, sizeof(field), "%u", value);
+      columns.push_back({name, "-", meaning, field});
+    };
+    const auto real = [&](const std::string &name,
+                          const std::string &unit,
+                          const std::string &meaning,
+                          const char        *format,
+                          const double       value) {
       if (!std::isfinite(value))
         throw std::runtime_error("step " + std::to_string(step) + ": the statistics value '" +
                                  name + "' is not finite (" + std::to_string(value) + ")");
+      std::snprintf(field, sizeof(field), format, value);
+      columns.push_back({name, unit, meaning, field});
+    };
+    count("step", "time step number (0: the initial state)", step);
+    real("time", "s", "time at the end of the step", "%.10e", time);
+    if (thermal)
+      {
+        count("dofs",
+              "temperature degrees of freedom",
+              static_cast<unsigned int>(thermal->get_dof_handler().n_dofs()));
+        count("pdas_iterations",
+              "active-set iterations (linear solves) of the enthalpy step",
+              report.active_set_iterations);
+        count("state_changes",
+              "nodal phase-state changes, summed over the iterations",
+              report.state_changes);
+        count("damped_steps",
+              "enthalpy iterations whose Newton step was shortened",
+              report.damped_steps);
+        count("fallback_iterations",
+              "iterations of the relaxation fallback (0: not needed)",
+              report.relaxation_iterations);
+        count("plateau_nodes",
+              "nodes on a transition plateau (mushy) at the end of the step",
+              report.plateau_nodes);
+        real("liquid_area",
+             "m^2",
+             "melt area: lumped-mass weighted liquid fraction through the last transition, per "
+             "unit thickness",
+             "%.10e",
+             area);
+        real("energy_residual",
+             "1",
+             "enthalpy balance of the step relative to the size of its terms (doc/coupling.md 6)",
+             "%.2e",
+             report.energy_residual);
+        if (coupled)
+          {
+            count("coupling_iterations",
+                  "passes of contact and enthalpy step (1: staggered)",
+                  coupling_report.iterations);
+            real("thermoelastic_heat",
+                 "J/m",
+                 "heat released by the step's strain increment, per unit thickness (> 0 under "
+                 "compression)",
+                 "%.10e",
+                 report.thermoelastic_heat);
+            count("restiffened_cells",
+                  "cells whose stiffness was re-assembled for a phase change",
+                  coupling_report.reassembled_cells);
+          }
+      }
+    if (mechanical)
+      {
+        count("displacement_dofs",
+              "displacement degrees of freedom",
+              static_cast<unsigned int>(mechanical->get_dof_handler().n_dofs()));
+        count("contact_iterations",
+              "active-set iterations (linear solves) of the contact step",
+              contact_report.iterations);
+        count("active_nodes", "contact nodes in the active set", contact_report.active_nodes);
+        for (const auto &group : mechanical->get_contact_groups())
+          {
+            std::string name = "force_" + group;
+            std::replace(name.begin(), name.end(), ' ', '_');
+            real(name,
+                 "N/m",
+                 "resultant normal contact force on '" + group +
+                   "' per unit thickness (> 0 compressive)",
+                 "%.10e",
+                 contact_report.forces.count(group) ? contact_report.forces.at(group) : 0.);
+          }
+        real("max_pressure",
+             "Pa",
+             "largest nodal contact pressure (singular at corners)",
+             "%.10e",
+             contact_report.max_pressure);
+        real("max_von_mises",
+             "Pa",
+             "largest von Mises stress at the cell centres (sigma_zz of plane strain included)",
+             "%.10e",
+             max_von_mises);
+        real("elastic_energy",
+             "J/m",
+             "stored elastic energy, thermal part included, per unit thickness",
+             "%.10e",
+             elastic_energy);
+        real("contact_work",
+             "J/m",
+             "work of the contact forces since t0, per unit thickness",
+             "%.10e",
+             total_contact_work);
+      }
+    if (prm.refinement.adaptive())
+      {
+        count("cells",
+              "active cells",
+              static_cast<unsigned int>(triangulation.n_global_active_cells()));
+        real("adapt_enthalpy_change",
+             "1",
+             "relative change of sum m_i h_i by the adaptation before the step",
+             "%.2e",
+             pending_change);
+      }
+    real("wall_time",
+         "s",
+         "wall-clock time since the run started (resumed: since the first)",
+         "%.3f",
+         wall_time);
     if (Utilities::MPI::this_mpi_process(mpi_communicator) != 0)
       return;
 
     const std::string path = prm.output.directory + "/" + prm.output.statistics_file;
     std::ofstream     out(path, step == 0 ? std::ios::trunc : std::ios::app);
-    char              field[64];
-    const auto        add = [&](const char *format, const auto value) {
-      std::snprintf(field, sizeof(field), format, value);
-      out << ' ' << field;
-    };
     if (step == 0)
       {
         // The header: one comment line per column (name, unit, meaning), then
-        // the line of column names. numpy.loadtxt, gnuplot and pandas
-        // (comment='#') skip the comments; the names line stays the first
-        // line that is not one.
-        struct Column
-        {
-          std::string name, unit, meaning;
-        };
-        std::vector<Column> columns{
-          {"step", "-", "time step number (0: the initial state)"},
-          {"time", "s", "time at the end of the step"}};
-        if (thermal)
-          {
-            columns.push_back({"dofs", "-", "temperature degrees of freedom"});
-            columns.push_back(
-              {"pdas_iterations", "-", "active-set iterations (linear solves) of the enthalpy step"});
-            columns.push_back(
-              {"state_changes", "-", "nodal phase-state changes, summed over the iterations"});
-            columns.push_back(
-              {"damped_steps", "-", "enthalpy iterations whose Newton step was shortened"});
-            columns.push_back(
-              {"fallback_iterations", "-", "iterations of the relaxation fallback (0: not needed)"});
-            columns.push_back(
-              {"plateau_nodes", "-", "nodes on a transition plateau (mushy) at the end of the step"});
-            columns.push_back({"liquid_area",
-                               "m^2",
-                               "melt area: lumped-mass weighted liquid fraction through the last "
-                               "transition, per unit thickness"});
-            columns.push_back({"energy_residual",
-                               "1",
-                               "enthalpy balance of the step relative to the size of its terms "
-                               "(doc/coupling.md 6)"});
-            if (coupled)
-              {
-                columns.push_back(
-                  {"coupling_iterations", "-", "passes of contact and enthalpy step (1: staggered)"});
-                columns.push_back({"thermoelastic_heat",
-                                   "J/m",
-                                   "heat released by the step's strain increment, per unit "
-                                   "thickness (> 0 under compression)"});
-                columns.push_back({"restiffened_cells",
-                                   "-",
-                                   "cells whose stiffness was re-assembled for a phase change"});
-              }
-          }
-        if (mechanical)
-          {
-            columns.push_back({"displacement_dofs", "-", "displacement degrees of freedom"});
-            columns.push_back(
-              {"contact_iterations", "-", "active-set iterations (linear solves) of the contact step"});
-            columns.push_back({"active_nodes", "-", "contact nodes in the active set"});
-            for (std::string group : mechanical->get_contact_groups())
-              {
-                const std::string what = "resultant normal contact force on '" + group +
-                                         "' per unit thickness (> 0 compressive)";
-                std::replace(group.begin(), group.end(), ' ', '_');
-                columns.push_back({"force_" + group, "N/m", what});
-              }
-            columns.push_back(
-              {"max_pressure", "Pa", "largest nodal contact pressure (singular at corners)"});
-            columns.push_back({"max_von_mises",
-                               "Pa",
-                               "largest von Mises stress at the cell centres (sigma_zz of plane "
-                               "strain included)"});
-            columns.push_back({"elastic_energy",
-                               "J/m",
-                               "stored elastic energy, thermal part included, per unit thickness"});
-            columns.push_back({"contact_work",
-                               "J/m",
-                               "work of the contact forces since t0, per unit thickness"});
-          }
-        if (prm.refinement.adaptive())
-          {
-            columns.push_back({"cells", "-", "active cells"});
-            columns.push_back({"adapt_enthalpy_change",
-                               "1",
-                               "relative change of sum m_i h_i by the adaptation before the step"});
-          }
-        columns.push_back(
-          {"wall_time", "s", "wall-clock time since the run started (resumed: since the first)"});
+        // the line of column names. gnuplot and pandas (comment='#') skip the
+        // comments; the names line stays the first line that is not one.
         out << "# contact-stefan statistics, one row per time step. Units for a scene given in SI "
                "units (m, kg, s, K or degC); a dimensionless scene's columns are dimensionless.\n";
         std::size_t width = 0;
@@ -383,50 +417,15 @@ namespace ContactStefan
         for (const auto &c : columns)
           {
             const std::string name_unit = c.name + " [" + c.unit + "]";
-            out << "# " << name_unit << std::string(width - name_unit.size() + 1, ' ') << c.meaning
-                << '\n';
+            out << "# " << name_unit << std::string(width - name_unit.size() + 1, ' ')
+                << c.meaning << '\n';
           }
         for (std::size_t i = 0; i < columns.size(); ++i)
           out << (i == 0 ? "" : " ") << columns[i].name;
         out << '\n';
       }
-    out << step;
-    add("%.10e", time);
-    if (thermal)
-      {
-        add("%u", static_cast<unsigned int>(thermal->get_dof_handler().n_dofs()));
-        add("%u", report.active_set_iterations);
-        add("%u", report.state_changes);
-        add("%u", report.damped_steps);
-        add("%u", report.relaxation_iterations);
-        add("%u", report.plateau_nodes);
-        add("%.10e", area);
-        add("%.2e", report.energy_residual);
-        if (coupled)
-          {
-            add("%u", coupling_report.iterations);
-            add("%.10e", report.thermoelastic_heat);
-            add("%u", coupling_report.reassembled_cells);
-          }
-      }
-    if (mechanical)
-      {
-        add("%u", static_cast<unsigned int>(mechanical->get_dof_handler().n_dofs()));
-        add("%u", contact_report.iterations);
-        add("%u", contact_report.active_nodes);
-        for (const auto &group : mechanical->get_contact_groups())
-          add("%.10e", contact_report.forces.count(group) ? contact_report.forces.at(group) : 0.);
-        add("%.10e", contact_report.max_pressure);
-        add("%.10e", max_von_mises);
-        add("%.10e", elastic_energy);
-        add("%.10e", total_contact_work);
-      }
-    if (prm.refinement.adaptive())
-      {
-        add("%u", static_cast<unsigned int>(triangulation.n_global_active_cells()));
-        add("%.2e", pending_change);
-      }
-    add("%.3f", wall_time);
+    for (std::size_t i = 0; i < columns.size(); ++i)
+      out << (i == 0 ? "" : " ") << columns[i].value;
     out << std::endl;
     if (!out)
       throw std::runtime_error("cannot write '" + path + "'");

@@ -162,9 +162,9 @@ namespace ContactStefan
     // Per active cell index (owned cells; the entries of other cells are zero).
     std::vector<CellStress> cell_centre_stresses() const;
     // The largest von Mises stress of the cell-centre values over all cells,
-    // with the centre of a cell where it is reached (the lowest active cell
-    // index of the owning rank with the lowest number among equals).
-    // Collective.
+    // with the centre of a cell where it is reached (of the cells within 1e-10
+    // of it, the first by x, then y: the same on any partition); 0 and the
+    // origin below round-off of the stiffness. Collective.
     std::pair<double, Point<dim>> max_cell_von_mises() const;
     // The recovered nodal stress of each body, {(sigma_xx, sigma_yy),
     // (sigma_xy, sigma_zz)} in the x and y components of the body's slot

@@ -1,0 +1,101 @@
+#!/usr/bin/python3
+"""Time what a user waits for first: the command-line options, a whole run of the
+shipped scenes, and the cost of writing VTU files per compression level.
+
+    /usr/bin/python3 benchmarks/startup.py [--binary build/contact-stefan] [--repeat 3]
+
+Prints (Markdown tables, after the '# run:' provenance line):
+  1. the wall time of `--help`, `--version`, `--print-parameters` (answered by
+     the launcher) and `--check prm/subduction.prm` (the solver, without MPI),
+     the smallest and the largest of --repeat runs each;
+  2. the process wall time of the default scene (prm/subduction.prm) and of the
+     tutorial's scene, and the time loop's share (`RESULT wall time` less the
+     set-up: the statistics' last wall_time minus step 0's);
+  3. the default scene with a VTU file after every step for each
+     `Output/VTU compression`: the `output: vtu` timer section, the run's
+     `RESULT wall time` and the size of the output directory.
+Times are of this machine and its load: quote ratios from one run of the script,
+with its '# run:' line. Only the standard library is needed.
+"""
+import argparse
+import os
+import re
+import subprocess
+import sys
+import tempfile
+import time
+
+from ladder import set_path  # noqa: E402
+from provenance import provenance_line  # noqa: E402
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+
+
+def timed(command, cwd):
+    start = time.perf_counter()
+    out = subprocess.run(command, cwd=cwd, capture_output=True, text=True)
+    elapsed = time.perf_counter() - start
+    if out.returncode not in (0, 3):
+        sys.exit("startup.py: %s failed: %s" % (" ".join(command), out.stderr.strip()[-300:]))
+    return elapsed, out.stdout
+
+
+def directory_size(path):
+    return sum(os.path.getsize(os.path.join(d, f)) for d, _, files in os.walk(path) for f in files)
+
+
+def loop_seconds(statistics):
+    rows = [line.split() for line in open(statistics) if line.strip() and not line.startswith("#")]
+    column = rows[0].index("wall_time")
+    return float(rows[-1][column]) - float(rows[1][column])
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--binary", default=os.path.join(ROOT, "build", "contact-stefan"))
+    parser.add_argument("--repeat", type=int, default=3)
+    args = parser.parse_args()
+    print(provenance_line(args.binary), flush=True)
+    binary = os.path.abspath(args.binary)
+    work = tempfile.mkdtemp(prefix="startup-")
+    subduction = os.path.join(ROOT, "prm", "subduction.prm")
+
+    print("\n| command | wall time (min–max of %d) |\n|---|---|" % args.repeat)
+    for option in (["--help"], ["--version"], ["--print-parameters"], ["--check", subduction]):
+        times = [timed([binary] + option, work)[0] for _ in range(args.repeat)]
+        print("| `contact-stefan %s` | %.3f–%.3f s |" % (" ".join(option).replace(ROOT + "/", ""),
+                                                      min(times), max(times)))
+
+    print("\n| scene | process wall time (min–max of %d) | time loop (min) |\n|---|---|---|"
+          % args.repeat)
+    for name in ("subduction", "tutorial_ice_on_rock"):
+        text = open(os.path.join(ROOT, "prm", name + ".prm")).read()
+        text = set_path(text, "Output/Directory", "out-" + name)
+        prm = os.path.join(work, name + ".prm")
+        open(prm, "w").write(text)
+        times, loops = [], []
+        for _ in range(args.repeat):
+            times.append(timed([binary, prm], work)[0])
+            loops.append(loop_seconds(os.path.join(work, "out-" + name, "statistics.txt")))
+        print("| `prm/%s.prm` | %.2f–%.2f s | %.2f s |" % (name, min(times), max(times), min(loops)))
+
+    print("\n| VTU compression | output: vtu | RESULT wall time | output directory |\n"
+          "|---|---|---|---|")
+    for level in ("best compression", "default", "best speed", "none"):
+        text = open(subduction).read()
+        text = set_path(text, "Output/Directory", "out-vtu")
+        text = set_path(text, "Output/VTU interval", "1")
+        text = set_path(text, "Output/VTU compression", level)
+        prm = os.path.join(work, "vtu.prm")
+        open(prm, "w").write(text)
+        _, stdout = timed([binary, prm], work)
+        section = re.search(r"\| output: vtu\s*\|\s*\d+\s*\|\s*([0-9.e+-]+)s", stdout)
+        wall = re.search(r"^RESULT wall time = (\S+)", stdout, re.M)
+        print("| %s | %.2f s | %.2f s | %.2f MB |" % (
+            level, float(section.group(1)), float(wall.group(1)),
+            directory_size(os.path.join(work, "out-vtu")) / 1e6))
+
+
+if __name__ == "__main__":
+    main()
