@@ -1670,8 +1670,8 @@ namespace ContactStefan
                         "best speed",
                         Patterns::Selection("none|best speed|default|best compression"),
                         "zlib compression of the data in the VTU files. 'best speed' "
-                        "writes files 11 % larger than 'best compression' and took half "
-                        "its time on the default scene (doc/performance.md, 'Writing VTU "
+                        "writes files 11 % larger than 'best compression' and took 0.44 "
+                        "of its time on the default scene (doc/performance.md, 'Writing VTU "
                         "files'); 'none' the largest files, for tools that cannot read "
                         "compressed VTU.");
       prm.declare_entry("Small-strain limit",
