@@ -791,8 +791,8 @@ namespace ContactStefan
 
     // Every value read back, against what it must be. A checkpoint is only
     // written after a full step (the last, possibly shortened step writes
-    // none), so its time is the start time plus step full steps, added up as
-    // the time loop adds them: to the last bit.
+    // none), so its time is the schedule's time of that step (as the time
+    // loop reads it): to the last bit.
     {
       const auto &sizes = prm.time.step_sizes;
       // A checkpoint at or after the schedule's end: the End time was moved
@@ -807,9 +807,8 @@ namespace ContactStefan
                            std::to_string(sizes.size()) + " steps");
       const bool step_valid =
         step_number == manifest.step && step_number > 0 && step_number < sizes.size();
-      double expected_time = prm.time.start_time;
-      for (unsigned int s = 0; step_valid && s < step_number; ++s)
-        expected_time += sizes[s];
+      const double expected_time =
+        step_valid ? prm.time.step_times[step_number - 1] : prm.time.start_time;
       std::string       problem;
       const std::size_t n_thermal_scalars = thermal ? thermal->restart_state().size() : 0;
       if (!step_valid)

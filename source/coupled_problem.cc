@@ -150,6 +150,15 @@ namespace ContactStefan
         postprocessor->remove_stale_output(-1);
         postprocessor->start(time, initial_contact, wall_clock.wall_time());
       }
+    // The block correction of the coupling, only where it applies (a scene
+    // whose matrices can change within a step does not allocate it).
+    if (thermal && mechanical)
+      {
+        block_not_applicable = CoupledBlock<dim>::not_applicable(
+          prm, *mechanical, *thermal, Utilities::MPI::n_mpi_processes(comm));
+        if (block_not_applicable.empty())
+          block = std::make_unique<CoupledBlock<dim>>(*mechanical, *thermal, timer);
+      }
     // The run writes its output now: record what made it (rank 0).
     if (Utilities::MPI::this_mpi_process(comm) == 0)
       RunRecord::write(prm.output.directory, prm.checkpoint.resume);
@@ -181,10 +190,10 @@ namespace ContactStefan
       {
         time_step = schedule[step_number];
         // Checked at parse time; guarded here so that no run can loop forever.
-        if (!(time + time_step > time))
+        if (!(prm.time.step_times[step_number] > time))
           throw std::runtime_error("time does not advance at t = " + std::to_string(time) +
                                    " with tau = " + std::to_string(time_step));
-        time += time_step;
+        time = prm.time.step_times[step_number];
         ++step_number;
         const bool last = step_number == schedule.size();
 
@@ -553,13 +562,23 @@ namespace ContactStefan
     const bool   fixed_point = fixed_point_asked && prm.thermal_stress_active();
     const Vector u_start(mechanical->get_displacement()), theta_start(thermal->get_temperature());
     Vector       u_last(u_start), theta_last(theta_start);
-    unsigned int contact_iterations = 0, active_set_iterations = 0;
-    unsigned int contact_factorisations = 0, enthalpy_factorisations = 0;
+    // With the block correction: the cell temperatures the next pass starts
+    // from (the corrected Theta), and those the last pass started from.
+    CellVertexValues       theta_next, theta_in, theta_out;
+    bool                   corrected          = false;
+    unsigned int           contact_iterations = 0, active_set_iterations = 0;
+    unsigned int           contact_factorisations = 0, enthalpy_factorisations = 0;
     LinearSolverStatistics contact_linear;
     bool                   truncated_newton = false;
     for (unsigned int it = 1;; ++it)
       {
-        exchange_temperature();
+        if (corrected)
+          {
+            mechanical->set_cell_temperatures(theta_next);
+            mechanical->set_initial_guess(u_last);
+          }
+        else
+          exchange_temperature();
         contact_report = mechanical->solve();
         exchange_thermoelastic_work();
         thermal_report = thermal->solve();
@@ -601,6 +620,21 @@ namespace ContactStefan
             number(coupling_report.change_u) + ", Theta " + number(coupling_report.change_theta) +
             "; the lag contracts by about gamma/rho c = " + number(thermal->coupling_strength()) +
             " per iteration)");
+        if (block)
+          {
+            // The pass started from the corrected Theta of the last one, the
+            // first from Theta^k; correct its result.
+            if (corrected)
+              theta_in.swap(theta_next);
+            else
+              thermal->cell_values(theta_start, theta_in);
+            thermal->cell_temperatures(theta_out);
+            block->correct(theta_in, theta_out, u, theta, u_last, theta_last);
+            thermal->cell_values(theta_last, theta_next);
+            corrected = true;
+            ++coupling_report.block_solves;
+            continue;
+          }
         u_last     = u;
         theta_last = theta;
       }
@@ -635,7 +669,11 @@ namespace ContactStefan
                 "; " +
                 (prm.coupling.scheme == Parameters::Coupling::Scheme::fixed_point ?
                    "fixed-point iterations to a tolerance of " +
-                     number(prm.coupling.fixed_point_tolerance) :
+                     number(prm.coupling.fixed_point_tolerance) +
+                     (block ? std::string(", each pass corrected by a block solve") :
+                      prm.thermal_stress_active() && prm.thermoelastic_heating_active() ?
+                              " without block correction (" + block_not_applicable + ")" :
+                              std::string()) :
                    std::string("staggered (one pass per step)"));
       }
     text += std::string("; stiffness ") +
@@ -685,7 +723,7 @@ namespace ContactStefan
                   sizeof(line) - length,
                   "  wall %7.2f s  left ~%8.3g s",
                   elapsed,
-                  elapsed * (1 - done) / done);
+                  elapsed * std::max(0., 1 - done) / done);
     pcout << line << std::endl;
   }
 

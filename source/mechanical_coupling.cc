@@ -86,24 +86,59 @@ namespace ContactStefan
 
 
   template <int dim>
+  void MechanicalField<dim>::thermal_load_change(const CellVertexValues &theta,
+                                                 const CellVertexValues &theta_before,
+                                                 Vector                 &change) const
+  {
+    change.reinit(owned, mpi_communicator);
+    std::vector<types::global_dof_index> dofs;
+    dealii::Vector<double>               f;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const unsigned int c = cell->active_cell_index();
+          const LocalMatrix &B = cell_thermal_operator[c];
+          f.reinit(B.m());
+          for (unsigned int v = 0; v < 4; ++v)
+            for (unsigned int i = 0; i < B.m(); ++i)
+              f(i) += B(i, v) * (theta[c][v] - theta_before[c][v]);
+          dofs.resize(B.m());
+          cell->get_dof_indices(dofs);
+          // Without the matrix argument: the change of a load has no
+          // inhomogeneity part.
+          constraints.distribute_local_to_global(f, dofs, change);
+        }
+    change.compress(VectorOperation::add);
+  }
+
+
+
+  template <int dim>
   void MechanicalField<dim>::thermoelastic_work(CellVertexValues &work) const
   {
     TimerOutput::Scope t(timer, "coupling: thermoelastic work");
     work.assign(triangulation.n_active_cells(), {{0., 0., 0., 0.}});
-    Vector u_old(owned, relevant, mpi_communicator);
-    u_old = old_displacement;
+    // The change of u over the step, with ghost entries (one vector
+    // operation instead of two look-ups per cell DoF).
+    Vector du(owned, relevant, mpi_communicator);
+    {
+      Vector change(displacement);
+      change -= old_displacement;
+      du = change;
+    }
+    std::vector<types::global_dof_index> dofs;
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
-          const unsigned int                   c = cell->active_cell_index();
-          const LocalMatrix                   &B = cell_thermal_operator[c];
-          std::vector<types::global_dof_index> dofs(B.m());
+          const unsigned int c = cell->active_cell_index();
+          const LocalMatrix &B = cell_thermal_operator[c];
+          dofs.resize(B.m());
           cell->get_dof_indices(dofs);
           for (unsigned int i = 0; i < B.m(); ++i)
             {
-              const double du = displacement_ghosted[dofs[i]] - u_old[dofs[i]];
+              const double d = du[dofs[i]];
               for (unsigned int v = 0; v < 4; ++v)
-                work[c][v] += B(i, v) * du;
+                work[c][v] += B(i, v) * d;
             }
         }
   }
@@ -166,17 +201,24 @@ namespace ContactStefan
   {
     TimerOutput::Scope t(timer, "statistics: elastic energy");
     ElasticStatistics  result;
+    // C^-1 of the last moduli seen (the cells of a body share theirs, so one
+    // inversion per body and phase mixture instead of one per vertex).
+    const ElasticModuli    *last_moduli = nullptr;
+    SymmetricTensor<4, dim> compliance;
     for_each_vertex_stress([&](const Point<dim> &,
                                const double                   w,
                                const SymmetricTensor<2, dim> &sigma,
                                const double,
                                const SymmetricTensor<2, dim> &thermal_part,
                                const ElasticModuli           &moduli) {
-      const SymmetricTensor<4, dim> compliance = invert(moduli.C);
+      if (last_moduli == nullptr || !(moduli == *last_moduli))
+        {
+          compliance  = invert(moduli.C);
+          last_moduli = &moduli;
+        }
       result.energy += 0.5 * sigma * (compliance * sigma) * w;
       // sigma = C e + sigma(e = 0): the strain from the mechanical part.
-      result.max_strain =
-        std::max(result.max_strain, (compliance * (sigma - thermal_part)).norm());
+      result.max_strain = std::max(result.max_strain, (compliance * (sigma - thermal_part)).norm());
     });
     result.energy     = Utilities::MPI::sum(result.energy, mpi_communicator);
     result.max_strain = Utilities::MPI::max(result.max_strain, mpi_communicator);

@@ -272,14 +272,22 @@ namespace ContactStefan
   template <int dim>
   void ThermalField<dim>::cell_temperatures(CellVertexValues &theta) const
   {
-    theta.assign(triangulation.n_active_cells(), {{0., 0., 0., 0.}});
+    cell_values(temperature_ghosted, theta);
+  }
+
+
+
+  template <int dim>
+  void ThermalField<dim>::cell_values(const Vector &nodal, CellVertexValues &values) const
+  {
+    values.assign(triangulation.n_active_cells(), {{0., 0., 0., 0.}});
     std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
           cell->get_dof_indices(dofs);
           for (unsigned int v = 0; v < 4; ++v)
-            theta[cell->active_cell_index()][v] = temperature_ghosted[dofs[v]];
+            values[cell->active_cell_index()][v] = nodal[dofs[v]];
         }
   }
 

@@ -18,6 +18,7 @@
 
 #include <deal.II/distributed/tria.h>
 
+#include <contact-stefan/coupled_block.h>
 #include <contact-stefan/materials.h>
 #include <contact-stefan/mechanical_field.h>
 #include <contact-stefan/mesh_adaptation.h>
@@ -106,6 +107,10 @@ namespace ContactStefan
     std::unique_ptr<Postprocessor<dim>>   postprocessor;
     std::unique_ptr<ThermalField<dim>>    thermal;    // null: Physics/Thermal = false
     std::unique_ptr<MechanicalField<dim>> mechanical; // null: Physics/Mechanics = false
+    // The block correction of the fixed point (null where it does not apply:
+    // block_not_applicable says why).
+    std::unique_ptr<CoupledBlock<dim>> block;
+    std::string                        block_not_applicable;
 
     double       time, time_step = 0;
     unsigned int step_number = 0;

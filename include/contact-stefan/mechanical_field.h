@@ -248,6 +248,40 @@ namespace ContactStefan
 
     // --- adaptivity (doc/adaptivity.md) ----------------------------------------
     // Positions of the owned obstacle and interface nodes in contact.
+    // --- the block correction of the coupling (coupled_block.h) ---------------
+    // The system matrix of the last solve (constraints condensed), its
+    // fingerprint (stiffness and constraint pattern), the constraints, and the
+    // thermal-stress operator B_K of an owned cell (rows: the cell's DoFs,
+    // columns: its vertices).
+    const TrilinosWrappers::SparseMatrix &get_system_matrix() const
+    {
+      return system_matrix;
+    }
+    std::uint64_t get_matrix_signature() const
+    {
+      return matrix_signature;
+    }
+    const AffineConstraints<double> &get_constraints() const
+    {
+      return constraints;
+    }
+    const FullMatrix<double> &thermal_operator(const unsigned int cell_index) const
+    {
+      return cell_thermal_operator[cell_index];
+    }
+    // The start of the next solve's CG iteration (a displacement that nearly
+    // solves it: CG then stops at once); the next solve() solves in any case.
+    void set_initial_guess(const Vector &u)
+    {
+      displacement  = u;
+      have_solution = false;
+    }
+    // change = the condensed thermal load of theta minus that of theta_before
+    // (what the right-hand side of the contact step moves by).
+    void thermal_load_change(const CellVertexValues &theta,
+                             const CellVertexValues &theta_before,
+                             Vector                 &change) const;
+
     void contact_points(std::vector<Point<dim>> &points) const;
     // The Kelly jump indicator of the displacement, per active cell (zero on
     // cells that are not owned). The jump across a contact interface is not

@@ -187,6 +187,13 @@ namespace ContactStefan
         staggered,
         fixed_point
       } scheme;
+      // What follows each fixed-point pass: the next pass from its result, or
+      // the block correction (CoupledBlock) where it applies.
+      enum class Acceleration
+      {
+        none,
+        block
+      } acceleration;
       double       fixed_point_tolerance;
       unsigned int max_fixed_point_iterations;
       double       min_stiffness_ratio;
@@ -270,10 +277,12 @@ namespace ContactStefan
       // step's start time, and the times some steps must end at.
       std::string         time_step_function;
       std::vector<double> step_end_times;
-      // Every step's size, from t0 to T, worked out before the run as the time
-      // loop adds them (t += tau, the last step shortened to end at T): the
-      // loop, a resumed run and the checkpoint check read the same numbers.
-      std::vector<double> step_sizes;
+      // Every step's size and the time at its end, from t0 to T, worked out
+      // before the run (t += tau; a step within the allowance of a stop, a step
+      // end time or T, ends exactly there, and keeps its size to the last bit
+      // where the difference is only the round-off of the sum): the loop, a
+      // resumed run and the checkpoint check read the same numbers.
+      std::vector<double> step_sizes, step_times;
 
       void make_schedule();
 

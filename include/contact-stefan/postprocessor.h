@@ -36,6 +36,7 @@ namespace ContactStefan
   {
     unsigned int iterations        = 0;          // passes of contact + enthalpy step (1: staggered)
     unsigned int reassembled_cells = 0;          // stiffness re-assembled for a new phase mixture
+    unsigned int block_solves      = 0;          // block corrections (CoupledBlock)
     double       change_u = 0, change_theta = 0; // last fixed-point changes, max norm
   };
 
@@ -90,10 +91,9 @@ namespace ContactStefan
                               &steps_with_truncated_newton &max_strain &max_section_error_cell
                                 &max_section_error_recovered &max_section_error_cell_uniform
                                   &max_exact_section_force &max_relative_stress_error_cell
-                                    &max_relative_stress_error_recovered &section_sides_checked
-                                      &section_sides_uniform &max_von_mises &
-                                        max_von_mises_over_steps &max_von_mises_time &
-                                          max_von_mises_point;
+                                    &max_relative_stress_error_recovered &section_sides_checked &
+                                      section_sides_uniform &max_von_mises &max_von_mises_over_steps
+                                        &max_von_mises_time &max_von_mises_point;
     }
     // The RESULT lines.
     void print_results(const unsigned int n_steps, const double time) const;

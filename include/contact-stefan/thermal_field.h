@@ -124,6 +124,30 @@ namespace ContactStefan
       return max_coupling_strength;
     }
 
+    // --- the block correction of the coupling (coupled_block.h) ---------------
+    // The system matrix of the last linear solve (Dirichlet and plateau values
+    // eliminated), its fingerprint, the constraints of that solve, and the
+    // absolute Theta_0 at the vertices of each owned cell.
+    const TrilinosWrappers::SparseMatrix &get_system_matrix() const
+    {
+      return system_matrix;
+    }
+    std::uint64_t get_matrix_signature() const
+    {
+      return matrix_signature;
+    }
+    const AffineConstraints<double> &get_constraints() const
+    {
+      return constraints;
+    }
+    const CellVertexValues &get_absolute_reference() const
+    {
+      return cell_absolute_reference;
+    }
+    // The values of a nodal vector (all relevant entries readable) at the
+    // vertices of each owned cell.
+    void cell_values(const Vector &theta, CellVertexValues &values) const;
+
     // --- queries ----------------------------------------------------------------
     // Incremented by every setup_dofs(): caches of mesh data compare it.
     unsigned int mesh_generation() const

@@ -1,0 +1,114 @@
+#!/usr/bin/python3
+"""The block correction of the coupling against plain fixed-point passes.
+
+    compare_acceleration.py BINARY SCENE.prm [--np N] [--tolerance T] [--passes P]
+
+Runs SCENE twice, with 'Coupling/Fixed-point acceleration' = none and = block
+solve (each in a directory of its own), and checks
+  - that the block run says it corrected its passes (the 'Coupling:' line),
+  - that every step of the block run took at most P passes (default 2),
+  - that both runs solved the same coupled steps: every physical column of the
+    statistics table (all but the wall time and the counts of the solvers'
+    work) agrees at every step within T relative to the column's largest
+    value (default 1e-8: both stop at 'Coupling/Fixed-point tolerance' 1e-10
+    of the change over a step), and the same for the physical RESULT lines.
+Exit 0 on success, 1 with one line per failed check otherwise.
+"""
+import argparse
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "benchmarks"))
+from ladder import set_path  # noqa: E402
+
+# Statistics columns and RESULT lines that count work, not physics, or that are
+# round-off (energy-balance residuals, the enthalpy change of a mesh transfer).
+WORK = re.compile(r"wall|iterations|changes|damped|fallback|solver|calls|factoris|"
+                  r"solves|skipped|adaptations|restiffened|reused|residual|"
+                  r"enthalpy change through")
+
+
+def run(binary, scene_text, directory, acceleration, np):
+    os.makedirs(directory)
+    scene = os.path.join(directory, "scene.prm")
+    text = scene_text
+    text = set_path(text, "Coupling/Fixed-point acceleration", acceleration)
+    text = set_path(text, "Output/Directory", os.path.join(directory, "output"))
+    with open(scene, "w") as f:
+        f.write(text)
+    command = [binary, scene]
+    if np > 1:
+        command = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", str(np)] + command
+    result = subprocess.run(command, capture_output=True, text=True)
+    if result.returncode != 0:
+        sys.exit("the run with acceleration '%s' failed (exit %d): %s"
+                 % (acceleration, result.returncode, result.stderr.strip()[-300:]))
+    results = {}
+    for line in result.stdout.splitlines():
+        if line.startswith("RESULT ") and " = " in line:
+            name, value = line[len("RESULT "):].rsplit(" = ", 1)
+            results[name] = value.strip()
+    coupling = [l for l in result.stdout.splitlines() if l.startswith("Coupling:")]
+    with open(os.path.join(directory, "output", "statistics.txt")) as f:
+        lines = [l.split() for l in f if not l.startswith("#")]
+    columns = {name: [float(row[k]) for row in lines[1:]] for k, name in enumerate(lines[0])}
+    return results, columns, coupling[0] if coupling else ""
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("binary")
+    parser.add_argument("scene")
+    parser.add_argument("--np", type=int, default=1)
+    parser.add_argument("--tolerance", type=float, default=1e-8)
+    parser.add_argument("--passes", type=int, default=2)
+    args = parser.parse_args()
+    with open(args.scene) as f:
+        scene_text = f.read()
+    failures = []
+    with tempfile.TemporaryDirectory(dir=os.getcwd()) as work:
+        plain = run(args.binary, scene_text, os.path.join(work, "none"), "none", args.np)
+        block = run(args.binary, scene_text, os.path.join(work, "block"), "block solve", args.np)
+    if "corrected by a block solve" not in block[2]:
+        failures.append("the block run did not use the block correction: " + block[2])
+    passes = block[1].get("coupling_iterations", [])
+    if not passes or max(passes[1:] or [0]) > args.passes:
+        failures.append("the block run took up to %g passes per step (allowed %d)"
+                        % (max(passes or [0]), args.passes))
+    plain_passes = plain[1].get("coupling_iterations", [0])
+    compared = 0
+    for name, values in plain[1].items():
+        if WORK.search(name) or name in ("step", "time"):
+            continue
+        other = block[1].get(name)
+        if other is None or len(other) != len(values):
+            failures.append("column %s: missing or of another length in the block run" % name)
+            continue
+        scale = max(abs(v) for v in values) or 1.0
+        worst = max(abs(a - b) for a, b in zip(values, other)) / scale
+        compared += 1
+        if not worst <= args.tolerance:
+            failures.append("column %s differs by %.3g of its largest value" % (name, worst))
+    for name, value in plain[0].items():
+        if WORK.search(name) or name not in block[0]:
+            continue
+        try:
+            a, b = float(value), float(block[0][name])
+        except ValueError:
+            continue
+        compared += 1
+        if not abs(a - b) <= args.tolerance * max(abs(a), abs(b), 1e-300):
+            failures.append("RESULT %s: %s (none) against %s (block solve)"
+                            % (name, value, block[0][name]))
+    print("compared %d columns and RESULT lines; passes per step: none up to %g, block up to %g"
+          % (compared, max(plain_passes), max(passes or [0])))
+    for failure in failures:
+        print("FAILED: " + failure)
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
