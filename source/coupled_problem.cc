@@ -576,6 +576,7 @@ namespace ContactStefan
           {
             mechanical->set_cell_temperatures(theta_next);
             mechanical->set_initial_guess(u_last);
+            thermal->set_initial_guess(theta_last);
           }
         else
           exchange_temperature();

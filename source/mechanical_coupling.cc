@@ -22,6 +22,7 @@
 #include <deal.II/hp/q_collection.h>
 
 #include <contact-stefan/mechanical_field.h>
+#include <contact-stefan/q1_kernels.h>
 
 namespace ContactStefan
 {
@@ -161,6 +162,32 @@ namespace ContactStefan
 
 
   template <int dim>
+  void MechanicalField<dim>::cell_vertex_displacement(
+    const typename DoFHandler<dim>::active_cell_iterator &cell,
+    std::array<std::array<double, 4>, dim>               &u) const
+  {
+    const FiniteElement<dim> &cell_fe = cell->get_fe();
+    const unsigned int        first   = slot_of_body.at(cell->material_id()) * dim;
+    AssertDimension(cell_fe.n_dofs_per_cell(), 4 * dim);
+    // (Scratch kept between calls: one allocation per thread, not per cell.)
+    static thread_local std::vector<types::global_dof_index> indices;
+    indices.resize(cell_fe.n_dofs_per_cell());
+    cell->get_dof_indices(indices);
+    for (unsigned int i = 0; i < indices.size(); ++i)
+      {
+        // (component, index within FE_Q(1)) = (component, vertex).
+        const auto [component, vertex] = cell_fe.system_to_component_index(i);
+        u[component - first][vertex]   = displacement_ghosted[indices[i]];
+      }
+  }
+
+
+
+  // The vertex rule in closed form (q1_kernels.h): at vertex v the strain of
+  // the bilinear interpolant and the weight |det J(v)|/4, the same numbers as
+  // FEValues with QTrapezoid and MappingQ1 give (tests/unit_q1_kernels.cc),
+  // without a mapping evaluation per cell.
+  template <int dim>
   void MechanicalField<dim>::for_each_vertex_stress(
     const std::function<void(const Point<dim> &,
                              double,
@@ -169,23 +196,27 @@ namespace ContactStefan
                              const SymmetricTensor<2, dim> &,
                              const ElasticModuli &)> &visit) const
   {
-    const hp::QCollection<dim> vertex_rule(QTrapezoid<dim>{});
-    hp::FEValues<dim>          hp_values(fe,
-                                vertex_rule,
-                                update_gradients | update_JxW_values | update_quadrature_points);
+    assert_two_dimensional<dim>();
+    Point<2>                               x[4];
+    std::array<std::array<double, 4>, dim> u;
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
-          hp_values.reinit(cell);
-          const FEValues<dim>                 &fv = hp_values.get_present_fe_values();
-          const FEValuesExtractors::Vector     u(slot_of_body.at(cell->material_id()) * dim);
-          std::vector<SymmetricTensor<2, dim>> strains(fv.n_quadrature_points);
-          fv[u].get_function_symmetric_gradients(displacement_ghosted, strains);
-          for (unsigned int v = 0; v < fv.n_quadrature_points; ++v)
+          cell_vertices(cell, x);
+          cell_vertex_displacement(cell, u);
+          const std::array<double, 4> weight = q1_lumped_mass(x);
+          for (unsigned int v = 0; v < 4; ++v)
             {
-              const auto [sigma, szz] = stress(cell, v, strains[v]);
-              visit(fv.quadrature_point(v),
-                    fv.JxW(v),
+              const double            xi = v % 2, eta = v / 2;
+              const Tensor<1, 2>      du_x = q1_gradient(x, u[0].data(), xi, eta);
+              const Tensor<1, 2>      du_y = q1_gradient(x, u[1].data(), xi, eta);
+              SymmetricTensor<2, dim> strain;
+              strain[0][0]            = du_x[0];
+              strain[1][1]            = du_y[1];
+              strain[0][1]            = 0.5 * (du_x[1] + du_y[0]);
+              const auto [sigma, szz] = stress(cell, v, strain);
+              visit(x[v],
+                    weight[v],
                     sigma,
                     szz,
                     stress(cell, v, SymmetricTensor<2, dim>()).first,

@@ -269,12 +269,20 @@ namespace ContactStefan
     {
       return cell_thermal_operator[cell_index];
     }
-    // The start of the next solve's CG iteration (a displacement that nearly
-    // solves it: CG then stops at once); the next solve() solves in any case.
+    // The start of the next solve's linear solve (a displacement that nearly
+    // solves it): if its residual is already within the CG tolerance, it is
+    // the solution (no linear solve, on either path); CG starts from it
+    // otherwise. The next solve() never reuses the last solution unchanged.
     void set_initial_guess(const Vector &u)
     {
       displacement  = u;
       have_solution = false;
+      guess_pending = true;
+    }
+    // How many solves a guess answered without a linear solve.
+    unsigned int n_guesses_accepted() const
+    {
+      return guesses_accepted;
     }
     // change = the condensed thermal load of theta minus that of theta_before
     // (what the right-hand side of the contact step moves by).
@@ -437,6 +445,8 @@ namespace ContactStefan
     // The stiffness the linear solver's preconditioner was built for.
     unsigned int      preconditioner_stiffness_version = static_cast<unsigned int>(-1);
     bool              have_matrix = false, have_factorisation = false, have_solution = false;
+    bool              guess_pending    = false;
+    unsigned int      guesses_accepted = 0;
     std::uint64_t     matrix_signature = 0, factorisation_signature = 0;
     std::uint64_t     solved_signature = 0;
     ContactStepReport last_report;
@@ -471,6 +481,12 @@ namespace ContactStefan
     // components of the cell's body slot; a node's value is the area-weighted
     // mean of the values of the cells of its body around it (hanging nodes
     // condensed and distributed). Returns an owned vector.
+    // The displacement at the vertices of an owned cell (u[component][vertex]),
+    // from the cell's DoFs: the closed-form Q1 strains of the statistics and
+    // the cell-centre stresses need no FEValues.
+    void cell_vertex_displacement(const typename DoFHandler<dim>::active_cell_iterator &cell,
+                                  std::array<std::array<double, 4>, dim>               &u) const;
+
     void recover_nodal_pair(const std::vector<std::array<double, 2>> &cell_values,
                             Vector                                   &nodal) const;
 

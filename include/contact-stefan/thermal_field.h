@@ -144,6 +144,13 @@ namespace ContactStefan
     {
       return cell_absolute_reference;
     }
+    // The start of the next linear solve of the enthalpy step (a temperature
+    // that nearly solves it: CG then stops at once; the direct path solves
+    // anyway). Only the starting point: the phase states stay.
+    void set_initial_guess(const Vector &theta)
+    {
+      temperature = theta;
+    }
     // The values of a nodal vector (all relevant entries readable) at the
     // vertices of each owned cell.
     void cell_values(const Vector &theta, CellVertexValues &values) const;
