@@ -2,6 +2,7 @@
 """The block correction of the coupling against plain fixed-point passes.
 
     compare_acceleration.py BINARY SCENE.prm [--np N] [--tolerance T] [--passes P]
+                            [--set PATH=VALUE ...]
 
 Runs SCENE twice, with 'Coupling/Fixed-point acceleration' = none and = block
 solve (each in a directory of its own), and checks
@@ -28,10 +29,12 @@ from ladder import set_path  # noqa: E402
 # round-off (energy-balance residuals, the enthalpy change of a mesh transfer).
 WORK = re.compile(r"wall|iterations|changes|damped|fallback|solver|calls|factoris|"
                   r"solves|skipped|adaptations|restiffened|reused|residual|"
-                  r"enthalpy change through")
+                  r"enthalpy change through|enthalpy_change")
 
 
 def run(binary, scene_text, directory, acceleration, np):
+    """One run in directory; returns its RESULT lines, statistics columns and
+    'Coupling:' line."""
     os.makedirs(directory)
     scene = os.path.join(directory, "scene.prm")
     text = scene_text
@@ -65,9 +68,14 @@ def main():
     parser.add_argument("--np", type=int, default=1)
     parser.add_argument("--tolerance", type=float, default=1e-8)
     parser.add_argument("--passes", type=int, default=2)
+    parser.add_argument("--set", action="append", default=[], metavar="PATH=VALUE",
+                        help="set an entry of the scene in both runs")
     args = parser.parse_args()
     with open(args.scene) as f:
         scene_text = f.read()
+    for setting in args.set:
+        path, value = setting.split("=", 1)
+        scene_text = set_path(scene_text, path, value)
     failures = []
     with tempfile.TemporaryDirectory(dir=os.getcwd()) as work:
         plain = run(args.binary, scene_text, os.path.join(work, "none"), "none", args.np)

@@ -36,7 +36,6 @@ namespace ContactStefan
   {
     unsigned int iterations        = 0;          // passes of contact + enthalpy step (1: staggered)
     unsigned int reassembled_cells = 0;          // stiffness re-assembled for a new phase mixture
-    unsigned int block_solves      = 0;          // block corrections (CoupledBlock)
     double       change_u = 0, change_theta = 0; // last fixed-point changes, max norm
   };
 
