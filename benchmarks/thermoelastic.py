@@ -139,9 +139,15 @@ def main():
     for name, (elapsed, stdout) in runs:
         r = results(stdout)
         if name.startswith("contact-stefan"):
+            table = sections(stdout)
             passes = r.get("mean coupling iterations", float("nan"))
-            solves = "%.2f passes (%.2f elasticity + %.2f heat solves) + %s block solve" % (
-                passes, passes, passes, "1" if "block" in name else "0")
+            elasticity = (table.get("contact step: linear solve", (0, 0))[0] -
+                          r.get("elasticity solves answered by the corrected guess", 0) -
+                          r.get("contact solves skipped (unchanged data)", 0)) / steps
+            heat = table.get("enthalpy step: linear solve", (0, 0))[0] / steps
+            block = r.get("block corrections", 0) / steps
+            solves = ("%.2f passes: %.2f elasticity, %.2f heat and %.2f block solves"
+                      % (passes, elasticity, heat, block))
         else:
             solves = "%g monolithic solve" % (r.get("linear solves", float("nan")) / steps)
         heat = r.get("total thermoelastic heat", float("nan"))
@@ -149,7 +155,7 @@ def main():
         rows.append((name, elapsed, solves,
                      abs(heat / reference["total thermoelastic heat"] - 1),
                      abs(energy / reference["elastic energy"] - 1)))
-    dofs = int(reference.get("dofs", 0) + reference.get("displacement dofs", 0)) or "?"
+    dofs = int(reference.get("temperature dofs", 0) + reference.get("displacement dofs", 0))
     print("# thermoelastic plate, N = %d (%s DoFs), %d steps" % (args.n, dofs, steps))
     header = ("run", "process wall [s]", "ratio to the first", "linear solves per step",
               "heat vs first", "energy vs first")

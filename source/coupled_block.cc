@@ -233,6 +233,7 @@ namespace ContactStefan
     if (!have_factorisation || signature() != built_signature)
       build();
     TimerOutput::Scope t(timer, "coupling: block solve");
+    ++corrections;
     Vector             change;
     mechanical.thermal_load_change(theta_out, theta_in, change);
     const auto               n_u = change.size(), n_T = theta.size();

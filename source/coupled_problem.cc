@@ -243,6 +243,11 @@ namespace ContactStefan
       }
 
     postprocessor->print_results(step_number, time);
+    if (block)
+      pcout << "RESULT block corrections = " << block->n_corrections()
+            << "\nRESULT block factorisations = " << block->n_factorisations()
+            << "\nRESULT elasticity solves answered by the corrected guess = "
+            << mechanical->n_guesses_accepted() << std::endl;
     pcout << "RESULT wall time = " << wall_offset + wall_clock.wall_time() << std::endl;
     timer.print_wall_time_statistics(comm);
     return postprocessor->failed_diagnostics();

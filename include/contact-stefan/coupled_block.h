@@ -72,9 +72,14 @@ namespace ContactStefan
     CoupledBlock(const CoupledBlock &)            = delete;
     CoupledBlock &operator=(const CoupledBlock &) = delete;
 
+    // In this run (not carried over a restart).
     unsigned int n_factorisations() const
     {
       return factorisations;
+    }
+    unsigned int n_corrections() const
+    {
+      return corrections;
     }
 
   private:
@@ -97,6 +102,7 @@ namespace ContactStefan
     bool                     have_factorisation = false;
     std::uint64_t            built_signature    = 0;
     unsigned int             factorisations     = 0;
+    unsigned int             corrections        = 0;
   };
 } // namespace ContactStefan
 
