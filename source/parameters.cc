@@ -1184,7 +1184,10 @@ namespace ContactStefan
       prm.declare_entry("CG tolerance",
                         "1e-12",
                         Patterns::Double(0),
-                        "Relative residual reduction of CG.");
+                        "Relative residual reduction of CG. Also the relative residual "
+                        "below which the displacement the fixed point's block correction "
+                        "hands the contact step is taken as its solution, without a linear "
+                        "solve (on the direct path too).");
       prm.declare_entry("AMG rebuild ratio",
                         "1.5",
                         Patterns::Double(1),
