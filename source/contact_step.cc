@@ -685,12 +685,15 @@ namespace ContactStefan
             std::to_string(prm.contact.max_iterations) + " iterations at t = " + number(time));
         unsigned int skipped = 0;
         build_contact_constraints(skipped);
-        check_rigid_body_modes();
         // The matrix depends on the stiffness and the constraint pattern only:
         // with both unchanged it is neither re-assembled nor re-factorised.
         const std::uint64_t signature =
           Fingerprint::combine(constraints_hash(false), stiffness_version);
         const bool same_matrix = have_matrix && signature == matrix_signature;
+        // The rigid-mode check reads the constraints' pattern and coefficients
+        // only: the matrix at hand was built with these, after they passed it.
+        if (!same_matrix)
+          check_rigid_body_modes();
         assemble_system(!same_matrix);
         have_matrix      = true;
         matrix_signature = signature;
