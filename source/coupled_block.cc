@@ -57,11 +57,11 @@ namespace ContactStefan
   template <int dim>
   std::uint64_t CoupledBlock<dim>::signature() const
   {
-    return Fingerprint::combine(Fingerprint::combine(mechanical.get_matrix_signature(),
-                                                     thermal.get_matrix_signature()),
-                                Fingerprint::combine(thermal.mesh_generation(),
-                                                     mechanical.get_dof_handler().n_dofs() * 7919 +
-                                                       thermal.get_dof_handler().n_dofs()));
+    return Fingerprint::combine(
+      Fingerprint::combine(mechanical.get_matrix_signature(), thermal.get_matrix_signature()),
+      Fingerprint::combine(Fingerprint::combine(thermal.mesh_generation(),
+                                                mechanical.get_dof_handler().n_dofs()),
+                           thermal.get_dof_handler().n_dofs()));
   }
 
 
@@ -234,7 +234,7 @@ namespace ContactStefan
       build();
     TimerOutput::Scope t(timer, "coupling: block solve");
     ++corrections;
-    Vector             change;
+    Vector change;
     mechanical.thermal_load_change(theta_out, theta_in, change);
     const auto               n_u = change.size(), n_T = theta.size();
     std::vector<PetscScalar> b(n_u + n_T, 0.), x(n_u + n_T);

@@ -243,6 +243,8 @@ namespace ContactStefan
       }
 
     postprocessor->print_results(step_number, time);
+    // (The block correction belongs to this class, not to the postprocessor's
+    // accumulated results, and so do its RESULT lines: counts of this run.)
     if (block)
       pcout << "RESULT block corrections = " << block->n_corrections()
             << "\nRESULT block factorisations = " << block->n_factorisations()

@@ -1092,13 +1092,16 @@ namespace ContactStefan
               throw InputError(path, "cannot parse the function '" + time_step_function + "'");
             }
         }
-      // Within this allowance of a stop a step is stretched to it: 1e-9 of the
-      // step, and the round-off of the sum t of the steps so far (which after
-      // 1e5 steps of 1e-5 exceeds the first and would leave a sliver of a last
-      // step).
+      // The round-off of the sum t of the steps so far, and the allowance within
+      // which a step is stretched to a stop: 1e-9 of the step plus that
+      // round-off (which after 1e5 steps of 1e-5 exceeds the first and would
+      // leave a sliver of a last step).
+      const auto round_off = [&](const double t) {
+        return 4. * std::numeric_limits<double>::epsilon() * (step_sizes.size() + 1) *
+               std::max(std::abs(t), std::abs(end_time));
+      };
       const auto allowance = [&](const double tau, const double t) {
-        return 1e-9 * tau + 4. * std::numeric_limits<double>::epsilon() * step_sizes.size() *
-                              std::max(std::abs(t), std::abs(end_time));
+        return 1e-9 * tau + round_off(t);
       };
       step_sizes.clear();
       step_times.clear();
@@ -1120,9 +1123,7 @@ namespace ContactStefan
           // the round-off of the sum t: then the step keeps its size to the last
           // bit, so that nothing factorised for it is redone for the last step.
           const bool at_stop = t + tau > stop - allowance(tau, t);
-          if (at_stop && std::abs((stop - t) - tau) > 4. * std::numeric_limits<double>::epsilon() *
-                                                        (step_sizes.size() + 1) *
-                                                        std::max(std::abs(t), std::abs(stop)))
+          if (at_stop && std::abs((stop - t) - tau) > round_off(t))
             tau = stop - t;
           require(t + tau > t,
                   path,
