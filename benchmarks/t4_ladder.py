@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""BENCHMARKS.md T4 (shrink fit with differential expansion) on a refinement ladder.
+"""doc/benchmarks.md T4 (shrink fit with differential expansion) on a refinement ladder.
 
 Runs prm/benchmarks/shrink_fit_T4.prm with 'Geometry/Subdivisions = n, n' for
 n = 4, 8, 16, ... (2n cells along the arcs, the interface a polygon of 2n

@@ -13,7 +13,7 @@
 // With a constant Theta_0 the heating operator is Theta_0 B^T: the discrete
 // counterpart of the energy identity between the two coupling terms, and a
 // uniform strain rate heats every node in proportion to its lumped mass (which
-// makes BENCHMARKS.md T2 and T3 exact on any mesh).
+// makes doc/benchmarks.md T2 and T3 exact on any mesh).
 #include <deal.II/base/quadrature_lib.h>
 
 #include <deal.II/fe/fe_values.h>

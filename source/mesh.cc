@@ -336,7 +336,7 @@ namespace ContactStefan
 
   namespace
   {
-    // BENCHMARKS.md T4's geometry: a quarter disk of radius b (body 0) made of a
+    // doc/benchmarks.md T4's geometry: a quarter disk of radius b (body 0) made of a
     // square core [0, b/2]^2 with n x n cells and two blocks of n x n cells
     // between the core's outer edges and the arc, interpolated linearly along
     // straight lines to arc points at equal angles; around it a quarter ring

@@ -697,7 +697,7 @@ namespace ContactStefan
                    max_exact_temperature > 0 ? max_max_error / max_exact_temperature : 0.);
         add_result("mean signed error temperature", mean_errors.back());
         // Successive changes of the mean error: how a lag between the fields
-        // decays (BENCHMARKS.md T3: by -gamma/rho c per step when staggered).
+        // decays (doc/benchmarks.md T3: by -gamma/rho c per step when staggered).
         const std::size_t k = mean_errors.size();
         // (Only where both increments are well above round-off: a scheme exact
         // to round-off has no lag to show, and a converged one only noise.)
@@ -791,7 +791,7 @@ namespace ContactStefan
   // After each step (and at the start) with mechanics: the energy terms, the
   // errors against an exact stress and contact pressure, and the opening of each
   // contact group (the time its force reaches zero, from the last two loaded
-  // steps: exact while the force falls linearly, as in BENCHMARKS.md T4).
+  // steps: exact while the force falls linearly, as in doc/benchmarks.md T4).
   template <int dim>
   void Postprocessor<dim>::accumulate_mechanical_results(const double             time,
                                                          const ContactStepReport &contact_report)

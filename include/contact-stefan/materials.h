@@ -40,7 +40,7 @@ namespace ContactStefan
     double                lambda_zz = 0, beta_zz = 0;
 
     // Theta_0 beta : C^{-1} : beta per unit Theta_0: the heat capacity that the
-    // heating term adds to a body free to expand (BENCHMARKS.md T3's gamma).
+    // heating term adds to a body free to expand (doc/benchmarks.md T3's gamma).
     double free_expansion_capacity() const;
     bool   operator==(const ElasticModuli &other) const;
   };
