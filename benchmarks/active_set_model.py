@@ -5,7 +5,7 @@ Plain active set, one-state-per-iteration limit, nested Newton (Brugnano & Casul
 and the Armijo line search on the convex functional E, on a 1D lumped-mass Q1 chain
 melted from x = 0. Needs numpy (Debian: python3-numpy). Prints failures and mean
 solves per step for each configuration. Prototype code: the C++ implementation is
-source/enthalpy_step.cc."""
+source/thermal/thermal_field/enthalpy_step.cc."""
 import numpy as np
 
 class Law:

@@ -1,6 +1,6 @@
 # Writes OUTPUT (a C++ file) with the parameter text the solver prints
 # (contact-stefan-solver --print-parameters), for the launcher's
-# --print-parameters (source/launcher.cc). Rewritten only when it changes.
+# --print-parameters (source/app/launcher.cc). Rewritten only when it changes.
 #   cmake -DSOLVER=... -DOUTPUT=... -P parameters_text.cmake
 execute_process(COMMAND "${SOLVER}" --print-parameters
   OUTPUT_VARIABLE parameters RESULT_VARIABLE failed)

@@ -22,7 +22,7 @@ fi
 if [ -s stdout.txt ]; then echo "unexpected output on stdout:"; cat stdout.txt; exit 1; fi
 # --check must refuse the file with the same line, or pass it where the
 # problem is one that only setting up the run finds (a mesh, a load); a
-# check started without mpirun runs without MPI (source/main.cc).
+# check started without mpirun runs without MPI (source/app/main.cc).
 "$binary" --check "$scene" > check_stdout.txt 2> check_stderr.txt
 check_status=$?
 if [ $check_status -eq 1 ]; then

@@ -9,7 +9,7 @@
 // alone (after_transfer) is the converged set again.
 #include <deal.II/base/mpi.h>
 
-#include <contact-stefan/mechanical_field.h>
+#include <contact-stefan/mechanics/mechanical_field.h>
 
 #include "field_test_tools.h"
 #include "unit_test_tools.h"

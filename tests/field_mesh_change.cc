@@ -13,8 +13,8 @@
 
 #include <deal.II/numerics/vector_tools.h>
 
-#include <contact-stefan/mechanical_field.h>
-#include <contact-stefan/thermal_field.h>
+#include <contact-stefan/mechanics/mechanical_field.h>
+#include <contact-stefan/thermal/thermal_field.h>
 
 #include "field_test_tools.h"
 #include "unit_test_tools.h"

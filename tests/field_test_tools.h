@@ -9,10 +9,10 @@
 
 #include <deal.II/distributed/tria.h>
 
-#include <contact-stefan/materials.h>
-#include <contact-stefan/mesh.h>
-#include <contact-stefan/parameters.h>
-#include <contact-stefan/scene_functions.h>
+#include <contact-stefan/core/materials.h>
+#include <contact-stefan/mesh/mesh.h>
+#include <contact-stefan/core/parameters.h>
+#include <contact-stefan/core/scene_functions.h>
 
 #include <iostream>
 #include <memory>

@@ -6,7 +6,7 @@
 
 #include <deal.II/grid/grid_generator.h>
 
-#include <contact-stefan/mesh_adaptation.h>
+#include <contact-stefan/mesh/mesh_adaptation.h>
 
 #include "unit_test_tools.h"
 

@@ -1,7 +1,7 @@
 // Unit test of the pure pieces of the contact step: averaged nodal normals and
 // lumped boundary weights, the constraint row of a normal condition, the
 // active-set test, and the Hertz formulas (numbers of C1 in doc/benchmarks.md).
-#include <contact-stefan/contact.h>
+#include <contact-stefan/interfaces/contact.h>
 
 #include <cmath>
 #include <cstdio>

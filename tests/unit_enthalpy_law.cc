@@ -2,7 +2,7 @@
 // linear pieces (what the active-set iteration uses), the primitive of beta (what
 // its line search uses), the nodal Gauss-Seidel update (truncated Newton), mixtures of laws, and
 // rejection of invalid data. Prints deterministic lines; returns 1 if any check fails.
-#include <contact-stefan/enthalpy_law.h>
+#include <contact-stefan/core/enthalpy_law.h>
 
 #include <algorithm>
 #include <cmath>

@@ -12,7 +12,7 @@
 // 5. Invalid data must throw.
 //
 // All printed numbers have a fixed number of digits, so the output is stable.
-#include <contact-stefan/neumann_solution.h>
+#include <contact-stefan/verification/neumann_solution.h>
 
 #include <algorithm>
 #include <cmath>

@@ -25,7 +25,7 @@
 #include <deal.II/numerics/error_estimator.h>
 #include <deal.II/numerics/vector_tools.h>
 
-#include <contact-stefan/q1_kernels.h>
+#include <contact-stefan/core/q1_kernels.h>
 
 #include <random>
 

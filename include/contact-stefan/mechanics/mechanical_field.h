@@ -1,0 +1,501 @@
+// MechanicalField: the displacement field and the contact step.
+//
+// It owns everything of the elasticity/contact problem on the shared
+// triangulation: the hp DoFHandler (FE_Q(1)^2 in each body's slot, FE_Nothing
+// elsewhere, so that each body has its own displacement on an interface), the
+// fixed constraints (hanging nodes, prescribed displacements, ties, rollers),
+// the contact constraints of the current active set, the stiffness matrix, the
+// per-cell stiffness and load, the nodes that carry a normal condition and the
+// per-body frames of the rigid-mode check. The coupled problem drives it through
+// the step contract of doc/architecture.md:
+//
+//   setup_dofs()             mesh-dependent structures: DoFs, cell stiffness,
+//                            normal conditions, body frames, the sparsity pattern
+//   initialize(t0)           cold-start active set (closed where the gap is <= 0)
+//                            and the input checks that need the mesh
+//   begin_time_step(t, tau)  old displacement; loads, prescribed displacements
+//                            and gaps at t
+//   solve()                  the contact step (primal-dual active set); repeatable
+//   primary_state()          u and u_old: all that survives a mesh change
+//   after_transfer()         contact set, pressures and gaps re-derived from u
+//
+// Set-up is in mechanical_field/setup.cc, the contact step in mechanical_field/contact_step.cc;
+// doc/contact.md explains the design.
+#ifndef contact_stefan_mechanical_field_h
+#define contact_stefan_mechanical_field_h
+
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/index_set.h>
+#include <deal.II/base/timer.h>
+
+#include <deal.II/distributed/tria.h>
+
+#include <deal.II/dofs/dof_handler.h>
+
+#include <deal.II/hp/fe_collection.h>
+
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/trilinos_sparse_matrix.h>
+#include <deal.II/lac/vector.h>
+
+#include <deal.II/numerics/data_out.h>
+#include <deal.II/numerics/data_postprocessor.h>
+
+#include <boost/serialization/map.hpp>
+#include <boost/serialization/string.hpp>
+
+#include <contact-stefan/core/common.h>
+#include <contact-stefan/linear_algebra/linear_solver.h>
+#include <contact-stefan/core/materials.h>
+#include <contact-stefan/core/parameters.h>
+#include <contact-stefan/core/scene_functions.h>
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace ContactStefan
+{
+  // What one contact step did.
+  struct ContactStepReport
+  {
+    unsigned int iterations          = 0;
+    unsigned int active_nodes        = 0;     // obstacle and interface nodes in contact
+    unsigned int changes             = 0;     // summed over the iterations
+    unsigned int c_reductions        = 0;     // cycling remedies applied
+    unsigned int factorisations      = 0;     // matrices factorised (reused otherwise)
+    bool         reused              = false; // stationary data: the last solution stands
+    double       max_pressure        = 0;
+    double       min_active_pressure = 0; // over the nodes in contact (0 if none)
+    // Total compressive normal force per obstacle boundary / interface.
+    std::map<std::string, double> forces;
+    // What the elasticity system's CG + AMG did (nothing on the direct path).
+    LinearSolverStatistics linear;
+
+    // For checkpoints (boost serialization).
+    template <class Archive>
+    void serialize(Archive &ar, const unsigned int)
+    {
+      ar &iterations &active_nodes &changes &c_reductions &factorisations &reused &max_pressure
+        &min_active_pressure &forces &linear;
+    }
+  };
+
+  // A node with a normal condition: a roller (u.n = 0), a rigid obstacle
+  // (u.n <= g) or a contact interface between bodies k and l
+  // ((u_k - u_l).n <= g, n pointing out of body k, k the smaller body id).
+  struct NormalCondition
+  {
+    enum class Kind
+    {
+      roller,
+      interface,
+      obstacle
+    } kind;
+    std::string                  group;       // "boundary N" or "interface k-l"
+    unsigned int                 boundary_id; // roller and obstacle nodes
+    Point<2>                     position;
+    std::array<std::uint64_t, 2> dofs_k, dofs_l;
+    bool                         has_partner;
+    std::array<double, 2>        normal;
+    double                       weight;
+    double                       stiffness;      // normal diagonal of the stiffness matrix
+    double                       gap    = 0;     // g at the current time
+    bool                         corner = false; // faces disagree by more than the corner angle
+  };
+
+  template <int dim>
+  class MechanicalField
+  {
+  public:
+    MechanicalField(const AllParameters                             &prm,
+                    const Materials                                 &materials,
+                    SceneFunctions<dim>                             &functions,
+                    const parallel::distributed::Triangulation<dim> &triangulation,
+                    TimerOutput                                     &timer,
+                    const ConditionalOStream                        &pcout);
+
+    // --- the step contract ----------------------------------------------------
+    void                  setup_dofs();
+    void                  initialize(const double t0);
+    void                  begin_time_step(const double t, const double tau);
+    ContactStepReport     solve();
+    std::vector<Vector *> primary_state(); // {u, u_old}, owned vectors
+    void                  after_transfer();
+    // Forget factorisations, preconditioners and the last solution, as a new
+    // set-up does. A checkpoint calls it (after re-deriving the state with
+    // after_transfer()), so that the steps after it do exactly the work of a
+    // run resumed from it.
+    void restart_solvers()
+    {
+      ++stiffness_version; // the preconditioner is rebuilt for it
+      have_matrix = have_factorisation = have_solution = false;
+      linear_solver.clear();
+    }
+    // Adds the displacement, the stresses and strains (doc/output.md: cell-centre
+    // values as cell data, their recovered nodal field per body as point data),
+    // the contact pressure and the gap.
+    void add_output(DataOut<dim> &data_out) const;
+
+    // The stress where Q1 is accurate: at the cell centre, from the strain there
+    // and the mean of the four vertex values of Theta - Theta_0 (the thermal
+    // load is integrated by the vertex rule, so this is the thermal stress the
+    // discrete equilibrium holds). On a rectangle the elastic stress of Q1 is
+    // linear in x and in y separately, so its centre value is its exact mean
+    // over the cell, and the sum of sigma n over the cells along a mesh line
+    // is the section force (doc/output.md).
+    struct CellStress
+    {
+      SymmetricTensor<2, dim> strain;  // e(u)
+      SymmetricTensor<2, dim> sigma;   // C e(u) - beta (Theta - Theta_0)
+      SymmetricTensor<2, dim> thermal; // - beta (Theta - Theta_0)
+      double                  sigma_zz = 0, thermal_zz = 0;
+      double                  von_mises() const;
+    };
+    // Per active cell index (owned cells; the entries of other cells are zero).
+    std::vector<CellStress> cell_centre_stresses() const;
+    // The largest von Mises stress of the cell-centre values over all cells,
+    // with the centre of a cell where it is reached (of the cells within 1e-10
+    // of it, the first by x, then y: the same on any partition); 0 and the
+    // origin below round-off of the stiffness. Collective.
+    std::pair<double, Point<dim>> max_cell_von_mises() const;
+    // The recovered nodal stress of each body, {(sigma_xx, sigma_yy),
+    // (sigma_xy, sigma_zz)} in the x and y components of the body's slot
+    // (recover_nodal_pair() of the cell-centre values); ghosted vectors.
+    void recover_stresses(const std::vector<CellStress> &stresses,
+                          std::array<Vector, 2>         &ghosted) const;
+    // The section force across each line: the integral of sigma n (n = +x or
+    // +y) over the faces on the line of the cells before it (left or below:
+    // side 0) and of those after it (side 1), from the cell-centre stresses and
+    // from the recovered nodal field (trapezoidal rule on each face: exact for
+    // its linear trace); and the length of those faces. Collective.
+    // On a side whose cells all have the same extent across the line (a row
+    // of equal cells: uniform_row()), the cell-centre force is the exact
+    // section force of the discrete equilibrium (doc/output.md); where hanging
+    // nodes border the row it is not.
+    struct SectionForce
+    {
+      std::array<Tensor<1, dim>, 2> cell_centre, recovered;
+      std::array<double, 2>         length     = {{0., 0.}};
+      std::array<double, 2>         min_extent = {{HUGE_VAL, HUGE_VAL}};
+      std::array<double, 2>         max_extent = {{0., 0.}};
+      bool                          uniform_row(const unsigned int side) const
+      {
+        return max_extent[side] - min_extent[side] <= 1e-10 * max_extent[side];
+      }
+    };
+    std::vector<SectionForce>
+    section_forces(const std::vector<Parameters::SectionLine> &lines) const;
+    // Visit every vertex of every owned cell with its vertex-rule weight and
+    // the recovered stress there (sigma, sigma_zz): the L2 error of the
+    // recovered field by the vertex rule. Collective (the recovery).
+    void for_each_recovered_vertex_stress(
+      const std::function<void(const Point<dim> &, double, const SymmetricTensor<2, dim> &, double)>
+        &visit) const;
+    // Refuses (InputError naming 'Output/Section lines') a line that cuts a
+    // coarse cell or meets no face of the mesh: refinement keeps the lines of
+    // the coarse mesh, so these are mesh lines at every step.
+    void check_section_lines(const std::vector<Parameters::SectionLine> &lines) const;
+
+    // --- coupling (doc/coupling.md) -------------------------------------------------
+    // The exchange with the thermal field goes through per-cell vertex arrays
+    // indexed by active cell index (entries of locally owned cells only), so
+    // that neither field knows the other's DoFs. Vertex v of a cell is its v-th
+    // vertex, the v-th point of the trapezoidal rule and the v-th FE_Q(1) DoF.
+    // Phase weights of each cell (one per phase of its body), lagged: the
+    // stiffness and beta of cells whose mixture changed are re-assembled.
+    // Returns the number of cells re-assembled (over all ranks).
+    unsigned int set_phase_weights(const std::vector<std::vector<double>> &weights);
+    // Theta at the vertices: the thermal stress load of the next solve().
+    void set_cell_temperatures(const CellVertexValues &theta);
+    // The thermoelastic work per vertex, sum_i B_K(i, v) (u - u_old)_i with
+    // B_K(i, v) = w_v beta_K : e(phi_i)(x_v): times the absolute Theta_0(x_v) it
+    // is the heat that the step's strain increment takes out of node v.
+    void thermoelastic_work(CellVertexValues &work) const;
+    // Stored elastic energy 1/2 int sigma : C^{-1} : sigma (thermal part
+    // included), by the trapezoidal rule, and the largest strain (Frobenius
+    // norm of e(u) at the cell vertices, for the small-strain check); one pass,
+    // collective.
+    struct ElasticStatistics
+    {
+      double energy     = 0;
+      double max_strain = 0;
+    };
+    ElasticStatistics elastic_statistics() const;
+    // Work of the contact forces on the bodies over the last step; collective.
+    double contact_work() const;
+    // sigma and sigma_zz at vertex v of an owned cell for the strain e there.
+    std::pair<SymmetricTensor<2, dim>, double>
+    stress(const typename DoFHandler<dim>::active_cell_iterator &cell,
+           const unsigned int                                    vertex,
+           const SymmetricTensor<2, dim>                        &strain) const;
+    // Visit every vertex of every owned cell with its trapezoidal weight, the
+    // computed stress there, sigma_zz, the thermal part -beta (Theta - Theta_0)
+    // and the cell's moduli.
+    void for_each_vertex_stress(const std::function<void(const Point<dim> &,
+                                                         double,
+                                                         const SymmetricTensor<2, dim> &,
+                                                         double,
+                                                         const SymmetricTensor<2, dim> &,
+                                                         const ElasticModuli &)> &visit) const;
+
+    // --- adaptivity (doc/adaptivity.md) ----------------------------------------
+    // Positions of the owned obstacle and interface nodes in contact.
+    // --- the block correction of the coupling (coupled_block.h) ---------------
+    // The system matrix of the last solve (constraints condensed), its
+    // fingerprint (stiffness and constraint pattern), the constraints, and the
+    // thermal-stress operator B_K of an owned cell (rows: the cell's DoFs,
+    // columns: its vertices).
+    const TrilinosWrappers::SparseMatrix &get_system_matrix() const
+    {
+      return system_matrix;
+    }
+    std::uint64_t get_matrix_signature() const
+    {
+      return matrix_signature;
+    }
+    const AffineConstraints<double> &get_constraints() const
+    {
+      return constraints;
+    }
+    const FullMatrix<double> &thermal_operator(const unsigned int cell_index) const
+    {
+      return cell_thermal_operator[cell_index];
+    }
+    // The start of the next solve's linear solve (a displacement that nearly
+    // solves it): if its residual is already within the CG tolerance, it is
+    // the solution (no linear solve, on either path); CG starts from it
+    // otherwise. The next solve() never reuses the last solution unchanged.
+    void set_initial_guess(const Vector &u)
+    {
+      displacement  = u;
+      have_solution = false;
+      guess_pending = true;
+    }
+    // How many solves a guess answered without a linear solve.
+    unsigned int n_guesses_accepted() const
+    {
+      return guesses_accepted;
+    }
+    // change = the condensed thermal load of theta minus that of theta_before
+    // (what the right-hand side of the contact step moves by).
+    void thermal_load_change(const CellVertexValues &theta,
+                             const CellVertexValues &theta_before,
+                             Vector                 &change) const;
+
+    void contact_points(std::vector<Point<dim>> &points) const;
+    // The Kelly jump indicator of the displacement, per active cell (zero on
+    // cells that are not owned). The jump across a contact interface is not
+    // counted (the two bodies' displacements are independent there).
+    void error_indicator(dealii::Vector<float> &indicator) const;
+
+    // --- queries ----------------------------------------------------------------
+    const DoFHandler<dim> &get_dof_handler() const
+    {
+      return dof_handler;
+    }
+    const Vector &get_displacement() const // ghosted
+    {
+      return displacement_ghosted;
+    }
+    const std::vector<NormalCondition> &get_normal_conditions() const
+    {
+      return normal_conditions;
+    }
+    // Every obstacle boundary and interface ("boundary N", "interface k-l"),
+    // the same sorted list on every rank.
+    const std::vector<std::string> &get_contact_groups() const
+    {
+      return contact_groups;
+    }
+    bool         is_active(const NormalCondition &c) const;        // owned condition in contact
+    double       contact_pressure(const NormalCondition &c) const; // owned condition
+    double       contact_gap(const NormalCondition &c) const;      // owned condition
+    unsigned int body_slot(const unsigned int body) const
+    {
+      return slot_of_body.at(body);
+    }
+    // Height of the bounding box of a body (the patch test's compliance).
+    double body_height(const unsigned int body) const;
+    // How many roller, obstacle and interface nodes the field found.
+    std::string describe() const;
+    // result = K u - f (hanging nodes condensed) for the displacement u
+    // (ghosted): the residual from which contact forces are read.
+    void apply_stiffness(const Vector &u_ghosted, Vector &result, const bool with_load) const;
+
+  private:
+    using LocalMatrix = FullMatrix<double>;
+
+    // mechanical_field/setup.cc
+    void assemble_cell_stiffness();
+    // K_K and (with coupling) B_K of one owned cell with its cell_moduli.
+    void assemble_cell_operators(const typename DoFHandler<dim>::active_cell_iterator &cell,
+                                 hp::FEValues<dim>                                    &gauss_values,
+                                 hp::FEValues<dim> &vertex_values);
+    void update_stiffness_diagonal();
+    void update_condition_stiffness();
+    void find_normal_conditions();
+    void make_body_frames();
+    void make_sparsity_pattern();
+    void assemble_load();
+    void make_fixed_constraints();
+
+    // mechanical_field/contact_step.cc
+    void update_condition_gaps();
+    void build_contact_constraints(unsigned int &n_skipped);
+    void check_rigid_body_modes() const;
+    void assemble_system(const bool with_matrix);
+    // settled: the active set has settled, solve to the full CG tolerance.
+    void solve_linear_system(const bool factorise, const bool settled);
+    // Hash of the constraint lines: their pattern and coefficients (what the
+    // matrix depends on), with inhomogeneities if asked; the same on every rank.
+    std::uint64_t constraints_hash(const bool with_inhomogeneities) const;
+    std::uint64_t gaps_hash() const;
+    std::uint64_t loads_hash() const;
+    std::uint64_t contact_data_hash() const;
+    double        normal_displacement_jump(const NormalCondition &c) const;
+    Vector       &active_flags(const NormalCondition &c);
+    const Vector &active_flags_ghosted(const NormalCondition &c) const;
+    struct Decision
+    {
+      const NormalCondition *c;
+      double                 lambda, d, c_eff;
+    };
+    std::vector<Decision>
+    contact_decisions(const Vector &residual, double &local_scale, double &max_penetration) const;
+    void store_contact_output(const std::vector<Decision> &decisions, ContactStepReport &report);
+
+    const AllParameters                             &prm;
+    const Materials                                 &materials;
+    SceneFunctions<dim>                             &functions;
+    const parallel::distributed::Triangulation<dim> &triangulation;
+    const MPI_Comm                                   mpi_communicator;
+    TimerOutput                                     &timer;
+    const ConditionalOStream                        &pcout;
+
+    std::map<unsigned int, unsigned int> slot_of_body; // material id -> slot
+    hp::FECollection<dim>                fe;
+    DoFHandler<dim>                      dof_handler;
+    IndexSet                             owned, relevant;
+
+    // Hanging nodes alone; plus prescribed displacements, ties and rollers
+    // (rebuilt each step); plus the active contact set (each iteration).
+    AffineConstraints<double> hanging_node_constraints, fixed_constraints, constraints;
+    // For each DoF, the targets of the fixed (non-hanging) lines that name it as
+    // an entry; rebuilt with the fixed constraints.
+    std::unordered_map<types::global_dof_index, std::vector<types::global_dof_index>> named_by;
+    TrilinosWrappers::SparseMatrix                                                    system_matrix;
+    // The part of K that no active set changes: the cells whose DoFs (closed
+    // under the fixed constraints) carry no contact condition, condensed with
+    // the fixed constraints. Each active-set iteration copies its values and
+    // adds the few cells along the contact boundaries (assemble_system).
+    // bulk_signature: the stiffness version and fixed-constraint pattern it
+    // was assembled for.
+    TrilinosWrappers::SparseMatrix bulk_matrix;
+    std::uint64_t                  bulk_signature = 0;
+    bool                           have_bulk      = false;
+    // Whether bulk_matrix and system_matrix store their entries in the same
+    // order (checked when bulk_matrix is made): the copy is then one array copy.
+    bool bulk_storage_matches = false;
+    // Per active cell index: whether the cell's DoF closure carries a contact
+    // condition (make_sparsity_pattern), and whether one of its DoFs is
+    // constrained by the fixed constraints (its right-hand side then carries
+    // inhomogeneities even without a load).
+    std::vector<bool> cell_near_contact, cell_fixed_constrained;
+    // Assemble bulk_matrix for the current stiffness and fixed constraints.
+    void         assemble_bulk_matrix(const std::uint64_t signature);
+    Vector       system_rhs, load, stiffness_diagonal;
+    LinearSolver linear_solver;
+
+    // Primary state.
+    Vector displacement, old_displacement;
+    // Derived state: the ghosted displacement; the active flags (1 or 0 at the
+    // x DoF of side k) of the obstacle and interface conditions, owned and
+    // ghosted; nodal contact pressure and gap for output (at the same DoF).
+    Vector displacement_ghosted;
+    Vector obstacle_active, obstacle_active_ghosted, interface_active, interface_active_ghosted;
+    Vector pressure, gap;
+
+    // Per-cell operators by active cell index: the moduli of the cell's phase
+    // mixture, K_K, the mechanical load F_K; with coupling the thermal operator
+    // B_K (n x 4), Theta_0 and Theta - Theta_0 at the vertices and the thermal
+    // load B_K (Theta - Theta_0).
+    std::vector<ElasticModuli>          cell_moduli;
+    std::vector<LocalMatrix>            cell_stiffness, cell_thermal_operator;
+    std::vector<dealii::Vector<double>> cell_load, cell_thermal_load;
+    // The traction part of F_K of each boundary face with a traction, by
+    // (active cell index, face): the section forces leave out the traction on
+    // a face that lies on the section line.
+    std::map<std::pair<unsigned int, unsigned int>, dealii::Vector<double>> traction_face_load;
+    CellVertexValues cell_reference, cell_theta_excess;
+    const bool       coupled, thermal_stress;
+
+    // Work skipped when its inputs did not change: the matrix (stiffness
+    // version, constraint pattern) last assembled and factorised, and the data
+    // of the last converged solve (contact_data_hash(): loads, inhomogeneities,
+    // gaps).
+    unsigned int stiffness_version = 0;
+    // The stiffness the linear solver's preconditioner was built for.
+    unsigned int      preconditioner_stiffness_version = static_cast<unsigned int>(-1);
+    bool              have_matrix = false, have_factorisation = false, have_solution = false;
+    bool              guess_pending    = false;
+    unsigned int      guesses_accepted = 0;
+    std::uint64_t     matrix_signature = 0, factorisation_signature = 0;
+    std::uint64_t     solved_signature = 0;
+    ContactStepReport last_report;
+
+    std::vector<NormalCondition> normal_conditions;
+    std::vector<std::string>     contact_groups;
+    // The conditions imposed by the last build_contact_constraints(), by (x DoF
+    // of side k, kind), and per group the owned ones among them. setup_dofs()
+    // builds once with every node active: what can be imposed at all.
+    std::set<std::pair<std::uint64_t, int>> imposed_conditions;
+    std::map<std::string, unsigned int>     placed_per_group;
+    std::map<std::string, unsigned int>     imposable_per_group; // with every node active
+    unsigned int                            n_dropped_conditions = 0;
+
+    // Body slot, component and position of every locally relevant displacement
+    // DoF, and per slot the centre and size of the body (for its rotation mode)
+    // and its bounding box.
+    struct DofInfo
+    {
+      unsigned int slot, component;
+      Point<dim>   position;
+    };
+    std::unordered_map<types::global_dof_index, DofInfo> dof_info;
+    std::vector<std::pair<Point<dim>, double>>           body_frame;
+    std::vector<std::pair<Point<dim>, Point<dim>>>       body_box;
+
+    double complementarity_scale = 1; // divided by 10 per cycling remedy
+    double time                  = 0; // of the data: the start time or the last begin_time_step()
+
+    // The lumped L2 projection of per-cell values onto the continuous Q1 field of
+    // each body (doc/output.md): two values per cell go into the x and y
+    // components of the cell's body slot; a node's value is the area-weighted
+    // mean of the values of the cells of its body around it (hanging nodes
+    // condensed and distributed). Returns an owned vector.
+    // The displacement at the vertices of an owned cell (u[component][vertex]),
+    // from the cell's DoFs: the closed-form Q1 strains of the statistics and
+    // the cell-centre stresses need no FEValues.
+    void cell_vertex_displacement(const typename DoFHandler<dim>::active_cell_iterator &cell,
+                                  std::array<std::array<double, 4>, dim>               &u) const;
+
+    void recover_nodal_pair(const std::vector<std::array<double, 2>> &cell_values,
+                            Vector                                   &nodal) const;
+
+    // Output, alive until the next add_output().
+    mutable Vector                                               output_pressure, output_gap;
+    mutable std::array<Vector, 4>                                output_recovered;
+    mutable std::vector<dealii::Vector<double>>                  output_cell_data;
+    mutable std::vector<std::unique_ptr<DataPostprocessor<dim>>> output_postprocessors;
+  };
+} // namespace ContactStefan
+
+#endif

@@ -1,0 +1,415 @@
+// ThermalField: the temperature/enthalpy field and the enthalpy (Stefan) step.
+//
+// It owns everything of the heat problem on the shared triangulation: the scalar
+// FE_Q(1) DoFHandler, the hanging-node, Dirichlet and plateau constraints, the
+// system matrix, the nodal vectors, the enthalpy law of every node and the
+// per-cell operators (lumped mass, conductivity, heat load). The coupled problem
+// drives it through the step contract of doc/architecture.md:
+//
+//   setup_dofs()             mesh-dependent structures; rebuilds every per-cell
+//                            cache and every nodal law (call after any mesh change)
+//   initialize(t0)           initial enthalpy from the initial condition
+//   begin_time_step(t, tau)  old enthalpy, warm start of the phase states, the
+//                            conductivity (if it depends on the phase), heat load
+//                            and Dirichlet data at t
+//   solve()                  the enthalpy step; repeatable within a time step
+//   primary_state()          h and h_old: all that survives a mesh change
+//   after_transfer()         temperature and phase states re-derived from h
+//
+// The enthalpy step itself (the primal-dual active-set method with its line
+// search, and the relaxation fallback) is in thermal_field/enthalpy_step.cc; the set-up in
+// thermal_field/setup.cc. doc/algorithms.md explains the method.
+#ifndef contact_stefan_thermal_field_h
+#define contact_stefan_thermal_field_h
+
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/index_set.h>
+#include <deal.II/base/timer.h>
+
+#include <deal.II/distributed/tria.h>
+
+#include <deal.II/dofs/dof_handler.h>
+
+#include <deal.II/fe/fe_q.h>
+
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/trilinos_sparse_matrix.h>
+#include <deal.II/lac/vector.h>
+
+#include <deal.II/numerics/data_out.h>
+
+#include <contact-stefan/core/common.h>
+#include <contact-stefan/core/enthalpy_law.h>
+#include <contact-stefan/linear_algebra/linear_solver.h>
+#include <contact-stefan/core/materials.h>
+#include <contact-stefan/core/parameters.h>
+#include <contact-stefan/core/scene_functions.h>
+
+#include <array>
+#include <functional>
+#include <map>
+#include <vector>
+
+#include <Epetra_Vector.h>
+
+namespace ContactStefan
+{
+  // What one enthalpy step did, for the screen and the statistics table.
+  struct EnthalpyStepReport
+  {
+    unsigned int active_set_iterations = 0;
+    unsigned int damped_steps          = 0; // iterations whose Newton step was shortened
+    unsigned int relaxation_iterations = 0; // > 0 only if the fallback ran
+    unsigned int plateau_nodes         = 0;
+    unsigned int state_changes         = 0;     // summed over the iterations
+    double       energy_residual       = 0;     // relative, see compute_energy_balance()
+    unsigned int inconsistent_nodes    = 0;     // free nodes with h not in H(Theta) at the end
+    unsigned int factorisations        = 0;     // matrices factorised (reused otherwise)
+    double       thermoelastic_heat    = 0;     // -sum_i G_i, J per unit thickness
+    bool         truncated_newton      = false; // solved by it (it converged)
+  };
+
+  template <int dim>
+  class ThermalField
+  {
+  public:
+    ThermalField(const AllParameters                             &prm,
+                 const Materials                                 &materials,
+                 SceneFunctions<dim>                             &functions,
+                 const parallel::distributed::Triangulation<dim> &triangulation,
+                 TimerOutput                                     &timer,
+                 const ConditionalOStream                        &pcout);
+
+    // --- the step contract ----------------------------------------------------
+    void                  setup_dofs();
+    void                  initialize(const double t0);
+    void                  begin_time_step(const double t, const double tau);
+    EnthalpyStepReport    solve();
+    std::vector<Vector *> primary_state(); // {h, h_old}, owned vectors
+    void                  after_transfer();
+    // Forget factorisations, preconditioners and the last solution, as a new
+    // set-up does. A checkpoint calls it (after re-deriving the state with
+    // after_transfer()), so that the steps after it do exactly the work of a
+    // run resumed from it.
+    void restart_solvers()
+    {
+      have_factorisation  = false;
+      have_preconditioner = false;
+      linear_solver.clear();
+    }
+    // Adds temperature, enthalpy, phase index and liquid fraction. The vectors
+    // stay alive in this object until the next call.
+    void add_output(DataOut<dim> &data_out) const;
+
+    // --- coupling (doc/coupling.md) -------------------------------------------------
+    // Per-cell vertex arrays indexed by active cell index (owned cells only);
+    // vertex v of a cell is its v-th FE_Q(1) DoF.
+    // Theta at the vertices of each owned cell (the current temperature).
+    void cell_temperatures(CellVertexValues &theta) const;
+    // The phase weights of each owned cell (one per phase of its body): the
+    // phase fractions of its nodes at the previous time level, averaged.
+    void cell_phase_weights(std::vector<std::vector<double>> &weights) const;
+    // The thermoelastic work at the vertices (MechanicalField::thermoelastic_work):
+    // times the absolute Theta_0 it is the heat G the step's strain increment
+    // takes out of each node, m_i (h_i - h_i^old) + tau (A Theta)_i + G_i = tau F_i.
+    void set_thermoelastic_work(const CellVertexValues &work);
+    // -sum_i G_i: the heat the step's strain increment released (J per unit
+    // thickness; > 0 under compression, < 0 where the body expands).
+    double thermoelastic_heat() const;
+    // The largest gamma / rho c over the bodies and phases, gamma = Theta_0^abs
+    // beta : C^{-1} : beta: the contraction factor of the coupled step's lag.
+    double coupling_strength() const
+    {
+      return max_coupling_strength;
+    }
+
+    // --- the block correction of the coupling (coupled_block.h) ---------------
+    // The system matrix of the last linear solve (Dirichlet and plateau values
+    // eliminated), its fingerprint, the constraints of that solve, and the
+    // absolute Theta_0 at the vertices of each owned cell.
+    const TrilinosWrappers::SparseMatrix &get_system_matrix() const
+    {
+      return system_matrix;
+    }
+    std::uint64_t get_matrix_signature() const
+    {
+      return matrix_signature;
+    }
+    const AffineConstraints<double> &get_constraints() const
+    {
+      return constraints;
+    }
+    const CellVertexValues &get_absolute_reference() const
+    {
+      return cell_absolute_reference;
+    }
+    // The start of the next linear solve of the enthalpy step (a temperature
+    // that nearly solves it: CG then stops at once; the direct path solves
+    // anyway). Only the starting point: the phase states stay.
+    void set_initial_guess(const Vector &theta)
+    {
+      temperature = theta;
+    }
+    // The values of a nodal vector (all relevant entries readable) at the
+    // vertices of each owned cell.
+    void cell_values(const Vector &theta, CellVertexValues &values) const;
+
+    // --- queries ----------------------------------------------------------------
+    // Incremented by every setup_dofs(): caches of mesh data compare it.
+    unsigned int mesh_generation() const
+    {
+      return n_setups;
+    }
+    const DoFHandler<dim> &get_dof_handler() const
+    {
+      return dof_handler;
+    }
+    const Vector &get_temperature() const // ghosted
+    {
+      return temperature_ghosted;
+    }
+    const Vector &get_enthalpy() const // owned
+    {
+      return enthalpy;
+    }
+    const Vector &get_lumped_mass() const // owned, hanging nodes condensed
+    {
+      return lumped_mass;
+    }
+    const EnthalpyLaw &law(const types::global_dof_index dof) const;
+    // Where each DoF of a locally owned cell sits (the nodes of the mesh).
+    const std::map<types::global_dof_index, Point<dim>> &get_support_points() const
+    {
+      return support_points;
+    }
+    bool phase_change_present() const
+    {
+      return materials.phase_change_present();
+    }
+    // --- adaptivity (doc/adaptivity.md) ----------------------------------------
+    // Centres of the owned cells that carry a phase front: nodes in different
+    // phases, or a node on a plateau.
+    void front_points(std::vector<Point<dim>> &points) const;
+    // The Kelly jump indicator of the temperature, per active cell (zero on
+    // cells that are not owned).
+    void error_indicator(dealii::Vector<float> &indicator) const;
+
+    // What a restart needs besides the primary state: whether a step was taken,
+    // the length of the last one (the warm start extrapolates from it), and
+    // whether the steps start with the truncated Newton method (large-step mode).
+    std::vector<double> restart_state() const
+    {
+      return {first_step ? 1. : 0., previous_time_step, large_step_mode ? 1. : 0.};
+    }
+    void set_restart_state(const std::vector<double> &state)
+    {
+      first_step         = state.at(0) != 0;
+      previous_time_step = state.at(1);
+      large_step_mode    = state.at(2) != 0;
+    }
+
+    // sum_i m_i h_i: the heat content (J per unit thickness) of the mesh.
+    double total_enthalpy() const;
+    // sum_i m_i (fraction of node i through the transition at T).
+    double liquid_area(const double transition_temperature) const;
+    // sum_i m_i (liquid fraction of node i): the melt area.
+    double melt_area() const;
+    // A one-line description of what the field will do, for the start of a run.
+    std::string describe() const;
+    // A warning if cells give the conductivity matrix positive off-diagonal
+    // entries (cells far from square), empty if none do. Collective.
+    std::string mesh_warning() const;
+    // result = A theta (hanging-node condensed), integrated cell by cell from
+    // the A_K, independently of the assembled matrix the step itself uses (the
+    // field tests probe the conductivity with it).
+    void apply_conductivity(const Vector &theta_ghosted, Vector &result) const;
+
+  private:
+    using LocalMatrix = FullMatrix<double>;
+
+    // thermal_field/setup.cc
+    void setup_nodal_enthalpy_laws();
+    void assemble_cell_conductivities();
+    void assemble_heat_load();
+    void make_dirichlet_constraints();
+    void set_nodal_state_from_enthalpy();
+    void setup_coupling();
+    // Phase weights of one owned cell of the given enthalpy (ghosted).
+    void phase_weights(const typename DoFHandler<dim>::active_cell_iterator &cell,
+                       const Vector                                         &h,
+                       std::vector<double>                                  &weights) const;
+    // The heat a node receives in the step: tau F_i - G_i.
+    double step_heat(const types::global_dof_index dof) const
+    {
+      return time_step * heat_load[dof] - coupling_heat[dof];
+    }
+
+    // thermal_field/enthalpy_step.cc
+    void assemble_conductivity_matrix();
+    void assemble_step_load();
+    void assemble_system(const bool assemble_matrix);
+    // result = A Theta (hanging nodes condensed) for the current temperature,
+    // from the assembled A; with absolute, |A| |Theta| entrywise (the size of
+    // the terms against which the round-off of (A Theta)_i is measured).
+    void conductivity_times(Vector &result, const bool absolute = false) const;
+    // Imports owned values (one per row of the conductivity matrix) onto its
+    // column map.
+    void to_columns(const Epetra_Vector &values, std::vector<double> &result) const;
+    // One linear solve with every node on the linear piece of its current
+    // phase state: the plateau constraints come from phase_state_ghosted, the
+    // nodal diagonal and right-hand side from phase_state, so every write to
+    // phase_state must be copied to phase_state_ghosted before the call.
+    unsigned int solve_for_pieces(Vector &h_new, const double tolerance = 0);
+    // At most max_iterations solves; false if the set did not settle.
+    bool active_set_iteration(EnthalpyStepReport &report, const unsigned int max_iterations);
+    // thermal_field/enthalpy_newton.cc: the truncated nonsmooth Newton method in Theta.
+    bool truncated_newton_iteration(EnthalpyStepReport &report);
+    // One forward nonlinear Gauss-Seidel sweep over the free owned nodes
+    // (ghost values held fixed); theta is owned, hanging nodes distributed.
+    void gauss_seidel_sweep(Vector &theta);
+    // Exact minimisation of the step functional on theta + alpha v, alpha in
+    // [0, 1]; theta moves there, nodes the minimiser stops at snapped onto
+    // their transition temperature. Returns alpha.
+    double       exact_line_search(Vector &theta, const Vector &v);
+    unsigned int relaxation_fallback();
+    double       compute_energy_balance(unsigned int &inconsistent_nodes) const;
+
+    const AllParameters                             &prm;
+    const Materials                                 &materials;
+    SceneFunctions<dim>                             &functions;
+    const parallel::distributed::Triangulation<dim> &triangulation;
+    const MPI_Comm                                   mpi_communicator;
+    TimerOutput                                     &timer;
+    const ConditionalOStream                        &pcout;
+
+    const FE_Q<dim> fe;
+    DoFHandler<dim> dof_handler;
+    IndexSet        owned, relevant;
+
+    // Hanging-node constraints alone, the Dirichlet ones on top (rebuilt each
+    // step), and the full set of one active-set iteration (plus the plateau nodes).
+    AffineConstraints<double> hanging_node_constraints, dirichlet_constraints, constraints;
+
+    TrilinosWrappers::SparseMatrix system_matrix;
+    Vector                         system_rhs;
+    // A itself (hanging nodes condensed, no other constraint), assembled when
+    // conductivity_version moves; the load tau F - G of the current solve();
+    // per column of the matrix, the prescribed value of that node (NaN: free).
+    TrilinosWrappers::SparseMatrix conductivity_matrix;
+    unsigned int                   conductivity_matrix_version = 0;
+    Vector                         step_load;
+    std::vector<double>            fixed_column_value;
+    mutable std::vector<double>    column_values;
+    LinearSolver                   linear_solver;
+
+    // Primary state: the nodal enthalpy now and at the previous time level.
+    Vector enthalpy, old_enthalpy;
+    // Derived state: Theta = beta(h) and the phase state of each node (stored as
+    // a double so that it travels with the ghost exchange), owned and ghosted.
+    Vector temperature, temperature_ghosted, enthalpy_ghosted;
+    Vector phase_state, phase_state_ghosted;
+    // Per-node data: lumped mass m_i, heat load F_i of the step, and the
+    // coefficients of one iteration's system m_i d_i Theta_i + tau (A Theta)_i =
+    // m_i g_i + tau F_i.
+    Vector lumped_mass, heat_load, nodal_diagonal, nodal_rhs;
+    // The truncated Newton method's first iterate: Theta of the enthalpy
+    // extrapolated by begin_time_step().
+    Vector predicted_temperature;
+    // The thermoelastic heat G of the step (condensed) and its cell parts G_K,
+    // the absolute Theta_0 at the vertices, and whether the scene has the term.
+    Vector                              coupling_heat;
+    std::vector<dealii::Vector<double>> cell_heating;
+    CellVertexValues                    cell_absolute_reference;
+    const bool                          heating;
+    double                              max_coupling_strength = 0;
+
+    // The matrix last factorised: its fingerprint (tau, conductivity version,
+    // constraint pattern, nodal diagonal), so that an unchanged one is reused.
+    unsigned int  conductivity_version    = 0;
+    bool          have_factorisation      = false;
+    std::uint64_t factorisation_signature = 0;
+    // The values the system matrix holds (after solves that borrowed the AMG
+    // hierarchy, not those of factorisation_signature).
+    std::uint64_t matrix_signature = 0;
+    // The operator (tau, conductivity) the AMG hierarchy was built for.
+    bool          have_preconditioner      = false;
+    std::uint64_t preconditioner_signature = 0;
+    unsigned int  n_factorisations         = 0; // in the current solve()
+
+    // The enthalpy law of each locally relevant node: body laws first, then the
+    // mass-weighted sums for nodes shared by bodies with different laws.
+    std::vector<EnthalpyLaw>             laws;
+    std::vector<unsigned int>            law_of_node; // index within `relevant`
+    std::map<unsigned int, unsigned int> law_of_body;
+
+    // Per-cell operators by active cell index: the conductivity shape matrix
+    // S_K (per mesh), A_K = k_K S_K (with the lagged phase mixture), the lumped
+    // vertex weights m_K and the heat load F_K.
+    std::vector<LocalMatrix> cell_shape_conductivity, cell_conductivity;
+    // k_K of each owned cell (A_K = k_K S_K): the heat flux of the output.
+    std::vector<double>                           cell_conductivity_factor;
+    std::vector<dealii::Vector<double>>           cell_mass, cell_load;
+    std::map<types::global_dof_index, Point<dim>> support_points;
+
+    // Direct access to the entries of the per-node loops. The owned DoFs are
+    // one contiguous range (p4est numbering), so owned entry dof of an owned
+    // vector is its local entry dof - first_owned; for relevant node k (k-th
+    // element of `relevant`) relevant_entry[k] is its local entry in a ghosted
+    // vector. Per owned node: its law and whether it is free (no Dirichlet
+    // value). Element access through TrilinosWrappers maps every index through
+    // Epetra's hash table: 13 % of a Stefan strip run before these.
+    types::global_dof_index first_owned = 0;
+    unsigned int            n_owned     = 0;
+    std::vector<int>        relevant_entry;
+    // Per owned cell (by active cell index): the relevant-node numbers k of its
+    // vertices.
+    std::vector<std::array<unsigned int, GeometryInfo<dim>::vertices_per_cell>> cell_nodes;
+    // The melt area's weights, per mesh: for each body law with a transition,
+    // its melting temperature and, per relevant node k, the lumped mass the
+    // node carries in the owned cells of bodies with that law.
+    std::vector<std::pair<double, std::vector<double>>> melt_weights;
+    // The nodes of each temperature boundary, per mesh: (id, [(DoF, vertex)]) in
+    // the order of the boundaries; the DoFs of the non-artificial cells' faces.
+    std::vector<
+      std::pair<types::boundary_id, std::vector<std::pair<types::global_dof_index, Point<dim>>>>>
+                              dirichlet_nodes;
+    std::vector<unsigned int> owned_law;
+    std::vector<char>         owned_free;
+    void                      index_local_entries();
+    static double            *entries(Vector &v)
+    {
+      return v.trilinos_vector()[0];
+    }
+    static const double *entries(const Vector &v)
+    {
+      return v.trilinos_vector()[0];
+    }
+    const EnthalpyLaw &owned_node_law(const unsigned int i) const
+    {
+      return laws[owned_law[i]];
+    }
+
+    unsigned int n_setups = 0;
+    double       time = 0, time_step = 0, previous_time_step = 0;
+    bool         first_step = true; // no previous step to extrapolate from
+    // Whether the warm start of this step moved a node to another piece.
+    bool predicted_set_changed = false;
+    // With 'Enthalpy solver = active-set': whether a step was handed over to
+    // the truncated Newton method ('Truncated Newton hand-over') and no step
+    // since has handed back; the next step then starts with it.
+    bool large_step_mode = false;
+    // The mode of the current step (set by begin_time_step(), and by a
+    // hand-over within the step, so that later passes of a coupling loop use
+    // the method that solved the first), and whether solve() has not yet run
+    // in this step (the truncated Newton method starts later passes from the
+    // last pass's temperature).
+    bool step_in_large_step_mode = false, first_pass_of_step = true;
+
+    // Output fields, alive until the next add_output().
+    mutable Vector                                output_phase_index, output_liquid_fraction;
+    mutable std::array<dealii::Vector<double>, 2> output_heat_flux; // cell data
+  };
+} // namespace ContactStefan
+
+#endif

@@ -1,0 +1,213 @@
+#include <deal.II/base/function_parser.h>
+
+#include <contact-stefan/core/materials.h>
+#include <contact-stefan/core/scene_functions.h>
+
+#include <cmath>
+#include <sstream>
+
+namespace ContactStefan
+{
+  namespace
+  {
+    // A muparser expression (or one per component) of x, y and t, with pi.
+    template <int dim>
+    std::unique_ptr<Function<dim>> parse(const std::vector<std::string> &expressions)
+    {
+      auto f = std::make_unique<FunctionParser<dim>>(expressions.size());
+      f->initialize("x,y,t", expressions, {{"pi", numbers::PI}}, true);
+      return f;
+    }
+
+    // The Neumann solution as a deal.II function of (x, y) at the function's time.
+    template <int dim>
+    class NeumannFunction : public Function<dim>
+    {
+    public:
+      NeumannFunction(const NeumannSolution &solution, const double origin)
+        : solution(solution)
+        , origin(origin)
+      {}
+      double value(const Point<dim> &p, const unsigned int = 0) const override
+      {
+        return solution.temperature(p[0] - origin, this->get_time());
+      }
+
+    private:
+      const NeumannSolution &solution;
+      const double           origin;
+    };
+
+    // A function whose every returned value is checked for finiteness.
+    template <int dim>
+    class Checked : public Function<dim>
+    {
+    public:
+      // used: the components that matter (all if empty); e.g. a displacement
+      // condition on y alone never uses its x expression.
+      Checked(std::unique_ptr<Function<dim>>                 function,
+              const std::string                             &parameter,
+              typename SceneFunctions<dim>::NonFiniteRecord &record,
+              const std::vector<bool>                       &used)
+        : Function<dim>(function->n_components)
+        , function(std::move(function))
+        , parameter(parameter)
+        , record(record)
+        , used(used.empty() ? std::vector<bool>(this->n_components, true) : used)
+      {}
+      void set_time(const double t) override
+      {
+        Function<dim>::set_time(t);
+        function->set_time(t);
+      }
+      double value(const Point<dim> &p, const unsigned int component = 0) const override
+      {
+        const double v = function->value(p, component);
+        if (!std::isfinite(v) && used[component])
+          record.note(parameter, p, this->get_time(), v);
+        return v;
+      }
+      void vector_value(const Point<dim> &p, dealii::Vector<double> &values) const override
+      {
+        function->vector_value(p, values);
+        for (unsigned int c = 0; c < values.size(); ++c)
+          if (!std::isfinite(values[c]) && used[c])
+            record.note(parameter, p, this->get_time(), values[c]);
+      }
+
+    private:
+      const std::unique_ptr<Function<dim>>           function;
+      const std::string                              parameter;
+      typename SceneFunctions<dim>::NonFiniteRecord &record;
+      const std::vector<bool>                        used;
+    };
+  } // namespace
+
+
+
+  template <int dim>
+  void SceneFunctions<dim>::NonFiniteRecord::note(const std::string &parameter,
+                                                  const Point<dim>  &point,
+                                                  const double       time,
+                                                  const double       value)
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (found)
+      return;
+    found = true;
+    std::ostringstream s;
+    s << "parameter '" << parameter << "': evaluates to " << value << " at (x, y) = (" << point[0]
+      << ", " << point[1] << "), t = " << time;
+    message = s.str();
+  }
+
+
+
+  template <int dim>
+  void SceneFunctions<dim>::check_finite_values(const MPI_Comm mpi_communicator) const
+  {
+    throw_collectively<InputError>(record->found ? record->message : std::string(),
+                                   mpi_communicator);
+  }
+
+
+
+  template <int dim>
+  std::unique_ptr<Function<dim>>
+  SceneFunctions<dim>::checked(std::unique_ptr<Function<dim>> function,
+                               const std::string             &parameter,
+                               const std::vector<bool>       &used) const
+  {
+    return std::make_unique<Checked<dim>>(std::move(function), parameter, *record, used);
+  }
+
+
+
+  template <int dim>
+  SceneFunctions<dim>::SceneFunctions(const AllParameters &prm)
+    : prm(prm)
+    , record(std::make_unique<NonFiniteRecord>())
+  {
+    assert_two_dimensional<dim>();
+    using Exact = Parameters::ExactSolution::Type;
+    if (prm.exact_solution.type == Exact::neumann)
+      neumann_solution = std::make_unique<NeumannSolution>(ContactStefan::neumann_solution(prm));
+    if (prm.exact_solution.type == Exact::neumann || prm.exact_solution.type == Exact::function)
+      exact = checked(make_exact(), "Exact solution/Function");
+
+    for (const auto &[id, m] : prm.materials)
+      {
+        const std::string body = "Materials/Body " + std::to_string(id) + "/";
+        heat_sources[id]       = checked(parse<dim>({m.heat_source}), body + "Heat source");
+        heat_load |= !is_zero_expression(m.heat_source);
+        body_forces[id] =
+          checked(parse<dim>({m.body_force[0], m.body_force[1]}), body + "Body force");
+        mechanical_load |=
+          !is_zero_expression(m.body_force[0]) || !is_zero_expression(m.body_force[1]);
+      }
+    for (const auto &[id, bc] : prm.thermal_boundaries)
+      {
+        thermal_boundaries[id] =
+          checked(function_or_exact(bc.value),
+                  "Boundary conditions/Thermal boundary " + std::to_string(id) + "/Value");
+        heat_load |=
+          bc.type == Parameters::ThermalBoundary::Type::flux && !is_zero_expression(bc.value);
+      }
+    initial =
+      checked(function_or_exact(prm.initial_condition.function), "Initial conditions/Function");
+
+    using Mechanical = Parameters::MechanicalBoundary::Type;
+    for (const auto &[id, bc] : prm.mechanical_boundaries)
+      {
+        const std::string section =
+          "Boundary conditions/Mechanical boundary " + std::to_string(id) + "/";
+        mechanical_values[id] = checked(parse<dim>({bc.value[0], bc.value[1]}),
+                                        section + "Value",
+                                        bc.type == Mechanical::displacement ?
+                                          std::vector<bool>{bc.components[0], bc.components[1]} :
+                                          std::vector<bool>());
+        if (bc.type == Mechanical::obstacle)
+          obstacle_gaps[id] = checked(parse<dim>({bc.gap}), section + "Gap");
+        mechanical_load |= bc.type == Mechanical::traction &&
+                           (!is_zero_expression(bc.value[0]) || !is_zero_expression(bc.value[1]));
+      }
+    interface = checked(parse<dim>({prm.contact.interface_gap}), "Contact/Interface gap");
+    reference =
+      checked(parse<dim>({prm.coupling.reference_temperature}), "Coupling/Reference temperature");
+    reference->set_time(prm.time.start_time);
+    if (!prm.exact_solution.stress.empty())
+      stress = checked(parse<dim>(prm.exact_solution.stress), "Exact solution/Stress");
+    if (!prm.exact_solution.liquid_fraction.empty())
+      liquid =
+        checked(parse<dim>({prm.exact_solution.liquid_fraction}), "Exact solution/Liquid fraction");
+    if (!prm.exact_solution.contact_pressure.empty())
+      pressure = checked(parse<dim>({prm.exact_solution.contact_pressure}),
+                         "Exact solution/Contact pressure");
+    if (!prm.exact_solution.section_normal_force.empty())
+      section_force = checked(parse<dim>({prm.exact_solution.section_normal_force}),
+                              "Exact solution/Section normal force");
+  }
+
+
+
+  template <int dim>
+  std::unique_ptr<Function<dim>> SceneFunctions<dim>::make_exact() const
+  {
+    if (neumann_solution)
+      return std::make_unique<NeumannFunction<dim>>(*neumann_solution, prm.exact_solution.origin);
+    return parse<dim>({prm.exact_solution.function});
+  }
+
+
+
+  template <int dim>
+  std::unique_ptr<Function<dim>>
+  SceneFunctions<dim>::function_or_exact(const std::string &expression) const
+  {
+    return is_exact_keyword(expression) ? make_exact() : parse<dim>({expression});
+  }
+
+
+
+  template class SceneFunctions<2>;
+} // namespace ContactStefan

@@ -1,0 +1,742 @@
+// Construction and the time loop of CoupledProblem.
+//
+// One time step of the semi-implicit scheme (doc/model.md §2) is a contact step
+// followed by an enthalpy step; with 'Coupling/Scheme = fixed point' the pair is
+// repeated until u and Theta stop changing (doc/coupling.md). A scene without
+// mechanics has no mechanical field and skips the contact step entirely; a
+// scene without phase change still runs the enthalpy step, which then is one
+// linear solve (the active set is empty and never changes); a scene without
+// thermal expansion exchanges nothing between the fields.
+#include <deal.II/base/utilities.h>
+
+#include <deal.II/distributed/solution_transfer.h>
+
+#include <deal.II/dofs/dof_tools.h>
+
+#include <contact-stefan/coupling/coupled_problem.h>
+#include <contact-stefan/mesh/mesh.h>
+#include <contact-stefan/output/run_guard.h>
+
+#include <csignal>
+#include <cstdio>
+
+namespace ContactStefan
+{
+  template <int dim>
+  CoupledProblem<dim>::CoupledProblem(const AllParameters &parameters,
+                                      const MPI_Comm       mpi_communicator)
+    : prm(parameters)
+    , pcout(std::cout, Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
+    , timer(pcout, TimerOutput::never, TimerOutput::wall_times)
+    , triangulation(mpi_communicator)
+    , materials(parameters)
+    , functions(parameters)
+    , postprocessor(std::make_unique<Postprocessor<dim>>(prm,
+                                                         materials,
+                                                         functions,
+                                                         triangulation,
+                                                         timer,
+                                                         pcout))
+    , time(parameters.time.start_time)
+  {
+    assert_two_dimensional<dim>();
+    if (prm.physics.thermal)
+      thermal =
+        std::make_unique<ThermalField<dim>>(prm, materials, functions, triangulation, timer, pcout);
+    if (prm.physics.mechanics)
+      mechanical = std::make_unique<MechanicalField<dim>>(
+        prm, materials, functions, triangulation, timer, pcout);
+    postprocessor->attach(thermal.get(), mechanical.get());
+  }
+
+
+
+  template <int dim>
+  ContactStepReport CoupledProblem<dim>::set_initial_state()
+  {
+    // Set-up and initial state; every input check that needs the mesh happens
+    // here, before anything is printed or written.
+    if (thermal)
+      {
+        thermal->setup_dofs();
+        thermal->initialize(time);
+      }
+    if (mechanical)
+      {
+        mechanical->setup_dofs();
+        mechanical->initialize(time);
+      }
+    // The initial phases set the initial stiffness, the initial temperature the
+    // thermal part of the initial stress.
+    if (prm.elasticity_depends_on_phase())
+      {
+        std::vector<std::vector<double>> weights;
+        thermal->cell_phase_weights(weights);
+        mechanical->set_phase_weights(weights);
+      }
+    if (thermal && mechanical)
+      exchange_temperature();
+    // The initial displacement is the equilibrium with the data at t0 and the
+    // initial temperature (not zero): the first step's strain increment, which
+    // heats through the coupling, is then the step's own, not the jump from an
+    // unloaded state to the initial loads and thermal expansion.
+    return mechanical ? mechanical->solve() : ContactStepReport();
+  }
+
+
+
+  // The diagonal of the domain's bounding box (from the coarse vertices every
+  // rank holds; refinement does not move the boundary), computed once.
+  template <int dim>
+  double CoupledProblem<dim>::domain_diameter()
+  {
+    if (diameter < 0)
+      {
+        const std::vector<bool>       &used     = triangulation.get_used_vertices();
+        const std::vector<Point<dim>> &vertices = triangulation.get_vertices();
+        double                         upper[dim], lower[dim];
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            upper[d] = -std::numeric_limits<double>::max();
+            lower[d] = std::numeric_limits<double>::max();
+          }
+        for (unsigned int v = 0; v < vertices.size(); ++v)
+          if (used[v])
+            for (unsigned int d = 0; d < dim; ++d)
+              {
+                lower[d] = std::min(lower[d], vertices[v][d]);
+                upper[d] = std::max(upper[d], vertices[v][d]);
+              }
+        double extent[2 * dim];
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            extent[d]       = upper[d];
+            extent[dim + d] = -lower[d];
+          }
+        Utilities::MPI::max(ArrayView<const double>(extent, 2 * dim),
+                            triangulation.get_communicator(),
+                            ArrayView<double>(extent, 2 * dim));
+        double square = 0;
+        for (unsigned int d = 0; d < dim; ++d)
+          square += (extent[d] + extent[dim + d]) * (extent[d] + extent[dim + d]);
+        diameter = std::sqrt(square);
+      }
+    return diameter;
+  }
+
+
+
+  template <int dim>
+  std::vector<std::string> CoupledProblem<dim>::run()
+  {
+    wall_clock.restart();
+    const MPI_Comm comm = triangulation.get_communicator();
+    // (the mesh file as make_mesh() reads it now: checkpoints record it)
+    mesh_file_content = mesh_file_checksum();
+    if (prm.checkpoint.resume)
+      {
+        resume();
+        postprocessor->remove_stale_output(step_number);
+      }
+    else
+      {
+        {
+          TimerOutput::Scope t(timer, "setup: mesh");
+          make_mesh(prm, triangulation);
+        }
+        ContactStepReport initial_contact = set_initial_state();
+        adapt_initial_mesh(initial_contact);
+        remove_checkpoints();
+        postprocessor->remove_stale_output(-1);
+        postprocessor->start(time, initial_contact, wall_clock.wall_time());
+      }
+    // The block correction of the coupling, only where it applies (a scene
+    // whose matrices can change within a step does not allocate it).
+    if (thermal && mechanical)
+      {
+        block_not_applicable = CoupledBlock<dim>::not_applicable(
+          prm, *mechanical, *thermal, Utilities::MPI::n_mpi_processes(comm));
+        if (block_not_applicable.empty())
+          block = std::make_unique<CoupledBlock<dim>>(*mechanical, *thermal, timer);
+      }
+    // The run writes its output now: record what made it (rank 0).
+    if (Utilities::MPI::this_mpi_process(comm) == 0)
+      RunRecord::write(prm.output.directory, prm.checkpoint.resume);
+    pcout << "Mesh: " << triangulation.n_global_active_cells() << " cells on "
+          << Utilities::MPI::n_mpi_processes(triangulation.get_communicator()) << " MPI rank(s)\n"
+          << (thermal ? thermal->describe() :
+                        "Thermal: off (no enthalpy step, no temperature DoFs)")
+          << '\n'
+          << (mechanical ? mechanical->describe() :
+                           "Mechanics: off (no contact step, no displacement DoFs)")
+          << '\n'
+          << describe_coupling() << std::endl;
+    if (thermal)
+      if (const std::string warning = thermal->mesh_warning(); !warning.empty())
+        if (Utilities::MPI::this_mpi_process(comm) == 0)
+          std::cerr << "contact-stefan: warning: " << warning << std::endl;
+
+    // A stop signal during the set-up: nothing but the initial state is
+    // written; stop before the first step.
+    if (const int signal = StopSignals::received_by_any(comm); signal != 0)
+      throw StoppedBySignal(signal,
+                            "stopped by " + StopSignals::name(signal) + " before step " +
+                              std::to_string(step_number + 1) + " (t = " + number(time) +
+                              "); the output holds every step up to it");
+    // The step sizes were worked out before the run (Parameters::TimeStepping::
+    // make_schedule(): constant, a function of t, and step end times).
+    const auto &schedule = prm.time.step_sizes;
+    while (step_number < schedule.size())
+      {
+        time_step = schedule[step_number];
+        // Checked at parse time; guarded here so that no run can loop forever.
+        if (!(prm.time.step_times[step_number] > time))
+          throw std::runtime_error("time does not advance at t = " + std::to_string(time) +
+                                   " with tau = " + std::to_string(time_step));
+        time = prm.time.step_times[step_number];
+        ++step_number;
+        const bool last = step_number == schedule.size();
+
+        if (thermal)
+          thermal->begin_time_step(time, time_step);
+        if (mechanical)
+          mechanical->begin_time_step(time, time_step);
+        EnthalpyStepReport thermal_report;
+        ContactStepReport  contact_report;
+        CouplingReport     coupling_report;
+        coupled_step(thermal_report, contact_report, coupling_report);
+
+        postprocessor->end_step(step_number,
+                                time,
+                                time_step,
+                                last,
+                                thermal_report,
+                                contact_report,
+                                coupling_report,
+                                wall_offset + wall_clock.wall_time());
+        print_step_line(thermal_report, contact_report, coupling_report);
+        if (prm.refinement.adaptive_interval > 0 &&
+            step_number % prm.refinement.adaptive_interval == 0 && !last)
+          adapt_mesh();
+        // After the adaptation: a resumed run continues on the adapted mesh,
+        // as the uninterrupted one does.
+        const bool checkpoint = !last && checkpoint_due();
+        if (checkpoint)
+          write_checkpoint();
+        kill_if_asked("CONTACT_STEFAN_KILL_AFTER_STEP", step_number);
+        kill_if_asked("CONTACT_STEFAN_TERM_AFTER_STEP", step_number, SIGTERM);
+        // A stop signal (SIGTERM, SIGINT) on any rank ends the run here, between
+        // two steps, with every finished step's output written; a run that
+        // writes checkpoints writes one, so that --resume continues from here.
+        if (const int signal = StopSignals::received_by_any(comm); signal != 0 && !last)
+          {
+            const bool checkpoints =
+              prm.checkpoint.interval_steps > 0 || prm.checkpoint.interval_minutes > 0;
+            if (checkpoints && !checkpoint)
+              write_checkpoint();
+            throw StoppedBySignal(signal,
+                                  "stopped by " + StopSignals::name(signal) + " after step " +
+                                    std::to_string(step_number) + " (t = " + number(time) +
+                                    "); the output holds every step up to it" +
+                                    (checkpoints ? ", and --resume continues from there" : ""));
+          }
+      }
+
+    postprocessor->print_results(step_number, time);
+    // (The block correction belongs to this class, not to the postprocessor's
+    // accumulated results, and so do its RESULT lines: counts of this run.)
+    if (block)
+      pcout << "RESULT block corrections = " << block->n_corrections()
+            << "\nRESULT block factorisations = " << block->n_factorisations()
+            << "\nRESULT elasticity solves answered by the corrected guess = "
+            << mechanical->n_guesses_accepted() << std::endl;
+    pcout << "RESULT wall time = " << wall_offset + wall_clock.wall_time() << std::endl;
+    timer.print_wall_time_statistics(comm);
+    return postprocessor->failed_diagnostics();
+  }
+
+
+
+  template <int dim>
+  AdaptationReport CoupledProblem<dim>::mark_for_adaptation()
+  {
+    TimerOutput::Scope    t(timer, "adapt: mark");
+    const MPI_Comm        comm = triangulation.get_communicator();
+    dealii::Vector<float> indicator(triangulation.n_active_cells()), part;
+    // Each indicator divided by its largest value, so that the weights are
+    // pure numbers whatever the units of Theta and u.
+    const auto add = [&](const double weight) {
+      const double largest = Utilities::MPI::max(double(part.linfty_norm()), comm);
+      if (weight > 0 && largest > 0)
+        indicator.add(weight / largest, part);
+    };
+    if (thermal && prm.refinement.temperature_weight > 0)
+      {
+        thermal->error_indicator(part);
+        add(prm.refinement.temperature_weight);
+      }
+    if (mechanical && prm.refinement.displacement_weight > 0)
+      {
+        mechanical->error_indicator(part);
+        add(prm.refinement.displacement_weight);
+      }
+    std::vector<Point<dim>> front_points, contact_points;
+    if (thermal && prm.refinement.mark_fronts && thermal->phase_change_present())
+      thermal->front_points(front_points);
+    if (mechanical && prm.refinement.mark_contact)
+      mechanical->contact_points(contact_points);
+    const AdaptationReport report = mark_cells(triangulation,
+                                               prm.refinement,
+                                               indicator,
+                                               FeatureCloud<dim>(front_points, comm),
+                                               FeatureCloud<dim>(contact_points, comm));
+    // Node-to-node contact needs the same vertices on both sides of an
+    // interface; without mechanics there are no pairs to keep.
+    if (mechanical)
+      make_interfaces_conforming(triangulation);
+    else
+      triangulation.prepare_coarsening_and_refinement();
+    return report;
+  }
+
+
+
+  // Refines and coarsens as flagged. With transfer, the primary state of each
+  // field (both time levels) is interpolated onto the new mesh by
+  // parallel::distributed::SolutionTransfer (Q1 interpolation: a refined
+  // cell's children take the bilinear values of their parent, a coarsened
+  // family gives the parent its vertex values); derived state is not moved.
+  template <int dim>
+  void CoupledProblem<dim>::execute_with_transfer(const bool transfer)
+  {
+    using Transfer = parallel::distributed::SolutionTransfer<dim, Vector>;
+    struct Carried
+    {
+      std::unique_ptr<Transfer> transfer;
+      std::vector<Vector>       ghosted;
+    } carried_thermal, carried_mechanical;
+    const auto prepare = [&](const DoFHandler<dim>       &dof_handler,
+                             const std::vector<Vector *> &state,
+                             Carried                     &carried) {
+      IndexSet relevant;
+      DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
+      carried.ghosted.resize(state.size());
+      std::vector<const Vector *> inputs;
+      for (unsigned int i = 0; i < state.size(); ++i)
+        {
+          carried.ghosted[i].reinit(dof_handler.locally_owned_dofs(),
+                                    relevant,
+                                    triangulation.get_communicator());
+          carried.ghosted[i] = *state[i];
+          inputs.push_back(&carried.ghosted[i]);
+        }
+      carried.transfer = std::make_unique<Transfer>(dof_handler);
+      carried.transfer->prepare_for_coarsening_and_refinement(inputs);
+    };
+    const auto interpolate = [&](const DoFHandler<dim>       &dof_handler,
+                                 const std::vector<Vector *> &state,
+                                 Carried                     &carried) {
+      std::vector<Vector>   results(state.size());
+      std::vector<Vector *> outputs;
+      for (auto &v : results)
+        {
+          v.reinit(dof_handler.locally_owned_dofs(), triangulation.get_communicator());
+          outputs.push_back(&v);
+        }
+      carried.transfer->interpolate(outputs);
+      for (unsigned int i = 0; i < state.size(); ++i)
+        *state[i] = results[i];
+    };
+    TimerOutput::Scope t(timer, "adapt: refine and transfer");
+    if (transfer && thermal)
+      prepare(thermal->get_dof_handler(), thermal->primary_state(), carried_thermal);
+    if (transfer && mechanical)
+      prepare(mechanical->get_dof_handler(), mechanical->primary_state(), carried_mechanical);
+    triangulation.execute_coarsening_and_refinement();
+    if (thermal)
+      thermal->setup_dofs();
+    if (mechanical)
+      mechanical->setup_dofs();
+    if (transfer && thermal)
+      interpolate(thermal->get_dof_handler(), thermal->primary_state(), carried_thermal);
+    if (transfer && mechanical)
+      interpolate(mechanical->get_dof_handler(), mechanical->primary_state(), carried_mechanical);
+  }
+
+
+
+  // The flags of mark_for_adaptation() executed, then repairs while an
+  // interface is refined on one side only (p4est's 2:1 balance can refine
+  // cells that carried no flag, and does not know about interfaces).
+  template <int dim>
+  void CoupledProblem<dim>::execute_and_repair(const bool transfer)
+  {
+    execute_with_transfer(transfer);
+    if (!mechanical)
+      return;
+    for (unsigned int round = 0; flag_nonconforming_interface_cells(triangulation) > 0; ++round)
+      {
+        if (round == 10)
+          throw std::runtime_error("an interface between bodies is still refined differently on "
+                                   "its two sides after 10 repair refinements");
+        make_interfaces_conforming(triangulation);
+        execute_with_transfer(transfer);
+      }
+  }
+
+
+
+  template <int dim>
+  void CoupledProblem<dim>::after_mesh_change()
+  {
+    TimerOutput::Scope t(timer, "adapt: derived state");
+    if (thermal)
+      thermal->after_transfer();
+    if (prm.elasticity_depends_on_phase())
+      {
+        std::vector<std::vector<double>> weights;
+        thermal->cell_phase_weights(weights);
+        mechanical->set_phase_weights(weights);
+      }
+    if (thermal && mechanical)
+      exchange_temperature();
+    if (mechanical)
+      mechanical->after_transfer();
+  }
+
+
+
+  // Initial adaptive refinement: each round marks on the initial state (its
+  // temperature and fronts, the initial equilibrium's displacement and contact
+  // zone), refines, and sets the initial state afresh on the new mesh (the
+  // initial condition is known exactly; nothing is interpolated).
+  template <int dim>
+  void CoupledProblem<dim>::adapt_initial_mesh(ContactStepReport &initial_contact)
+  {
+    for (unsigned int round = 0; round < prm.refinement.initial_adaptive_refinements; ++round)
+      {
+        {
+          TimerOutput::Scope     t(timer, "adapt mesh");
+          const AdaptationReport report = mark_for_adaptation();
+          if (report.refine == 0 && report.coarsen == 0)
+            break;
+          execute_and_repair(false);
+        }
+        // The statistics of the linear solves count every round's.
+        const LinearSolverStatistics linear = initial_contact.linear;
+        initial_contact                     = set_initial_state();
+        initial_contact.linear += linear;
+        pcout << "Initial adaptation " << round + 1 << ": " << triangulation.n_global_active_cells()
+              << " cells" << std::endl;
+      }
+  }
+
+
+
+  // Adaptation during the time loop, between two steps. The total enthalpy
+  // before and after goes to the statistics: Q1 interpolation onto children
+  // conserves sum_i m_i h_i to round-off on parallelogram cells (the vertex
+  // rule integrates Q1 functions exactly there), coarsening does not (the
+  // parent keeps its children's corner values), and its change is reported.
+  template <int dim>
+  void CoupledProblem<dim>::adapt_mesh()
+  {
+    TimerOutput::Scope     t(timer, "adapt mesh");
+    const double           before     = thermal ? thermal->total_enthalpy() : 0.;
+    const unsigned int     old_cells  = triangulation.n_global_active_cells();
+    const AdaptationReport report     = mark_for_adaptation();
+    bool                   coarsening = false, refinement = false;
+    for (const auto &cell : triangulation.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          coarsening = coarsening || cell->coarsen_flag_set();
+          refinement = refinement || cell->refine_flag_set();
+        }
+    coarsening = Utilities::MPI::logical_or(coarsening, triangulation.get_communicator());
+    refinement = Utilities::MPI::logical_or(refinement, triangulation.get_communicator());
+    // No flag left after the limits and the smoothing: the mesh stays as it is,
+    // and so does everything built on it (DoFs, matrices, factorisations).
+    // (Not counted as an adaptation: 'mesh adaptations' counts mesh changes.)
+    if (!coarsening && !refinement)
+      {
+        if (prm.output.verbosity >= 1 || report.capped)
+          pcout << "    adapted: no cell flagged, mesh unchanged (" << old_cells << " cells)"
+                << (report.capped ? ", refinement capped by 'Mesh refinement/Max cells'" : "")
+                << std::endl;
+        return;
+      }
+    execute_and_repair(true);
+    after_mesh_change();
+    const double after  = thermal ? thermal->total_enthalpy() : 0.;
+    const double change = before != 0 ? (after - before) / std::abs(before) : after - before;
+    postprocessor->record_adaptation(change, coarsening);
+    if (prm.output.verbosity >= 1 || report.capped)
+      pcout << "    adapted: " << old_cells << " -> " << triangulation.n_global_active_cells()
+            << " cells, " << report.feature_cells << " at fronts and contact zones"
+            << (report.capped ? ", refinement capped by 'Mesh refinement/Max cells'" : "")
+            << (thermal ? ", relative enthalpy change " + number(change) : std::string())
+            << std::endl;
+  }
+
+
+
+  template <int dim>
+  void CoupledProblem<dim>::exchange_temperature()
+  {
+    if (!prm.thermal_stress_active())
+      return;
+    CellVertexValues theta;
+    thermal->cell_temperatures(theta);
+    mechanical->set_cell_temperatures(theta);
+  }
+
+
+
+  template <int dim>
+  void CoupledProblem<dim>::exchange_thermoelastic_work()
+  {
+    if (!prm.thermoelastic_heating_active())
+      return;
+    CellVertexValues work;
+    mechanical->thermoelastic_work(work);
+    thermal->set_thermoelastic_work(work);
+  }
+
+
+
+  namespace
+  {
+    // max_i |a_i - b_i| over the owned entries, on all ranks.
+    double max_difference(const Vector &a, const Vector &b)
+    {
+      double local = 0;
+      for (const auto i : a.locally_owned_elements())
+        local = max_with_nan(local, std::abs(a[i] - b[i]));
+      return global_max_with_nan(local, a.get_mpi_communicator());
+    }
+    // max_i |a_i| over the owned entries, on all ranks (a may have ghosts).
+    double max_abs(const Vector &a)
+    {
+      double local = 0;
+      for (const auto i : a.locally_owned_elements())
+        local = max_with_nan(local, std::abs(a[i]));
+      return global_max_with_nan(local, a.get_mpi_communicator());
+    }
+  } // namespace
+
+
+
+  // The contact step (doc/model.md §2, step 1) with the temperature the thermal
+  // field holds, then the enthalpy step (step 2) with the new displacement.
+  // Staggered, the temperature is Theta^k; with fixed-point iterations the pair
+  // repeats, each field warm-started from its last iterate (its active set
+  // included), until an iteration changes u and Theta by at most the tolerance
+  // times their change over the step (plus round-off). The stiffness of a
+  // phase-dependent material is lagged at the phases of h^k in every pass.
+  template <int dim>
+  void CoupledProblem<dim>::coupled_step(EnthalpyStepReport &thermal_report,
+                                         ContactStepReport  &contact_report,
+                                         CouplingReport     &coupling_report)
+  {
+    if (!(thermal && mechanical))
+      {
+        if (mechanical)
+          contact_report = mechanical->solve();
+        if (thermal)
+          thermal_report = thermal->solve();
+        coupling_report.iterations = 1;
+        return;
+      }
+    if (prm.elasticity_depends_on_phase())
+      {
+        std::vector<std::vector<double>> weights;
+        thermal->cell_phase_weights(weights);
+        coupling_report.reassembled_cells = mechanical->set_phase_weights(weights);
+      }
+    // One-way coupling needs no iterations: with the heating off, Theta does not
+    // depend on u, and the fully coupled step is the enthalpy step followed by
+    // the contact step with Theta^(k+1); with the thermal stress off, u does not
+    // depend on Theta and the staggered order is already exact.
+    const bool fixed_point_asked = prm.coupling.scheme == Parameters::Coupling::Scheme::fixed_point;
+    if (fixed_point_asked && !prm.thermoelastic_heating_active())
+      {
+        thermal_report = thermal->solve();
+        exchange_temperature();
+        contact_report             = mechanical->solve();
+        coupling_report.iterations = 1;
+        return;
+      }
+    const bool   fixed_point = fixed_point_asked && prm.thermal_stress_active();
+    const Vector u_start(mechanical->get_displacement()), theta_start(thermal->get_temperature());
+    Vector       u_last(u_start), theta_last(theta_start);
+    // With the block correction: the cell temperatures the next pass starts
+    // from (the corrected Theta), and those the last pass started from.
+    CellVertexValues       theta_next, theta_in, theta_out;
+    bool                   corrected          = false;
+    unsigned int           contact_iterations = 0, active_set_iterations = 0;
+    unsigned int           contact_factorisations = 0, enthalpy_factorisations = 0;
+    LinearSolverStatistics contact_linear;
+    bool                   truncated_newton = false;
+    for (unsigned int it = 1;; ++it)
+      {
+        if (corrected)
+          {
+            mechanical->set_cell_temperatures(theta_next);
+            mechanical->set_initial_guess(u_last);
+            thermal->set_initial_guess(theta_last);
+          }
+        else
+          exchange_temperature();
+        contact_report = mechanical->solve();
+        exchange_thermoelastic_work();
+        thermal_report = thermal->solve();
+        contact_iterations += contact_report.iterations;
+        active_set_iterations += thermal_report.active_set_iterations;
+        contact_factorisations += contact_report.factorisations;
+        contact_linear += contact_report.linear;
+        enthalpy_factorisations += thermal_report.factorisations;
+        truncated_newton           = truncated_newton || thermal_report.truncated_newton;
+        coupling_report.iterations = it;
+        if (!fixed_point)
+          break;
+
+        const Vector &u = mechanical->get_displacement(), &theta = thermal->get_temperature();
+        const double  eps            = round_off_factor * std::numeric_limits<double>::epsilon();
+        coupling_report.change_u     = max_difference(u, u_last);
+        coupling_report.change_theta = max_difference(theta, theta_last);
+        // The round-off of u includes what the round-off of Theta does to the
+        // thermal load: where u is (nearly) zero, its own size is no scale.
+        const double u_round_off =
+          eps * (max_abs(u) +
+                 domain_diameter() * materials.max_thermal_strain_per_degree() * max_abs(theta));
+        const bool converged =
+          coupling_report.change_u <=
+            prm.coupling.fixed_point_tolerance * max_difference(u, u_start) + u_round_off &&
+          coupling_report.change_theta <=
+            prm.coupling.fixed_point_tolerance * max_difference(theta, theta_start) +
+              eps * max_abs(theta);
+        if (prm.output.verbosity >= 1)
+          pcout << "      coupling " << it << ": max change of u " << coupling_report.change_u
+                << ", of Theta " << coupling_report.change_theta << std::endl;
+        if (converged)
+          break;
+        if (it == prm.coupling.max_fixed_point_iterations)
+          throw std::runtime_error(
+            "the fixed-point coupling did not converge in 'Coupling/Max fixed-point "
+            "iterations' = " +
+            std::to_string(it) + " at t = " + number(time) + " (last changes: u " +
+            number(coupling_report.change_u) + ", Theta " + number(coupling_report.change_theta) +
+            (block ? "; each pass was corrected by a block solve, which converges in two passes "
+                     "when the fields' solves are exact: see 'Solver/CG tolerance')" :
+                     "; the lag contracts by about gamma/rho c = " +
+                       number(thermal->coupling_strength()) + " per iteration)"));
+        if (block)
+          {
+            // The pass started from the corrected Theta of the last one, the
+            // first from Theta^k; correct its result.
+            if (corrected)
+              theta_in.swap(theta_next);
+            else
+              thermal->cell_values(theta_start, theta_in);
+            thermal->cell_temperatures(theta_out);
+            block->correct(theta_in, theta_out, u, theta, u_last, theta_last);
+            thermal->cell_values(theta_last, theta_next);
+            corrected = true;
+            continue;
+          }
+        u_last     = u;
+        theta_last = theta;
+      }
+    // The step's work: all passes together.
+    contact_report.iterations            = contact_iterations;
+    contact_report.factorisations        = contact_factorisations;
+    contact_report.linear                = contact_linear;
+    thermal_report.active_set_iterations = active_set_iterations;
+    thermal_report.factorisations        = enthalpy_factorisations;
+    thermal_report.truncated_newton      = truncated_newton;
+  }
+
+
+
+  template <int dim>
+  std::string CoupledProblem<dim>::describe_coupling() const
+  {
+    if (!(thermal && mechanical))
+      return "Coupling: off (one physics only)";
+    std::string text = "Coupling: ";
+    if (!prm.coupling_active())
+      text += "no thermal expansion in any body (or both directions off): nothing exchanged, "
+              "no coupling terms assembled";
+    else
+      {
+        text += std::string("thermal stress ") +
+                (prm.thermal_stress_active() ? "on" : "off (skipped)") +
+                ", thermoelastic heating " +
+                (prm.thermoelastic_heating_active() ?
+                   "on (gamma/rho c <= " + number(thermal->coupling_strength()) + ")" :
+                   std::string("off (skipped)")) +
+                "; " +
+                (prm.coupling.scheme == Parameters::Coupling::Scheme::fixed_point ?
+                   "fixed-point iterations to a tolerance of " +
+                     number(prm.coupling.fixed_point_tolerance) +
+                     (block ? std::string(", each pass corrected by a block solve") :
+                      prm.thermal_stress_active() && prm.thermoelastic_heating_active() ?
+                              " without block correction (" + block_not_applicable + ")" :
+                              std::string()) :
+                   std::string("staggered (one pass per step)"));
+      }
+    text += std::string("; stiffness ") +
+            (prm.elasticity_depends_on_phase() ?
+               "depends on the phase (re-assembled where the phases change)" :
+               "independent of the phase (assembled once)");
+    return text;
+  }
+
+
+
+  // One line per step: step, t, tau, progress, the work of both steps, the wall
+  // time so far and an estimate of the time left.
+  template <int dim>
+  void CoupledProblem<dim>::print_step_line(const EnthalpyStepReport &thermal_report,
+                                            const ContactStepReport  &contact_report,
+                                            const CouplingReport     &coupling_report) const
+  {
+    const double done    = (time - prm.time.start_time) / (prm.time.end_time - prm.time.start_time);
+    const double elapsed = wall_offset + wall_clock.wall_time();
+    char         line[256];
+    int          length = std::snprintf(line,
+                               sizeof(line),
+                               "Step %5u  t = %.5e  tau = %.3e  %5.1f%%",
+                               step_number,
+                               time,
+                               time_step,
+                               100 * done);
+    if (mechanical)
+      length += std::snprintf(line + length,
+                              sizeof(line) - length,
+                              "  contact %2u (%u active)",
+                              contact_report.iterations,
+                              contact_report.active_nodes);
+    if (thermal && mechanical && prm.coupling.scheme == Parameters::Coupling::Scheme::fixed_point)
+      length += std::snprintf(line + length,
+                              sizeof(line) - length,
+                              "  coupling %2u",
+                              coupling_report.iterations);
+    if (thermal)
+      length += std::snprintf(line + length,
+                              sizeof(line) - length,
+                              "  active set %2u  plateau %6u",
+                              thermal_report.active_set_iterations,
+                              thermal_report.plateau_nodes);
+    std::snprintf(line + length,
+                  sizeof(line) - length,
+                  "  wall %7.2f s  left ~%8.3g s",
+                  elapsed,
+                  elapsed * std::max(0., 1 - done) / done);
+    pcout << line << std::endl;
+  }
+
+
+
+  template class CoupledProblem<2>;
+} // namespace ContactStefan

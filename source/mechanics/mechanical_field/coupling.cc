@@ -1,0 +1,286 @@
+// MechanicalField: its side of the thermo-mechanical coupling (doc/coupling.md).
+//
+// The thermal field hands over the temperature at the vertices of each cell and
+// the phase weights of each cell; this field hands back the thermoelastic work
+// at the vertices. Both travel as per-cell arrays indexed by the active cell
+// index of the shared triangulation, so neither field touches the other's DoFs.
+//
+// The thermal-stress load and the heating term use one operator per cell,
+//     B_K(i, v) = w_v beta_K : e(phi_i)(x_v),
+// the trapezoidal (vertex) rule with the weights w_v of the lumped mass:
+//     thermal load    f_i = sum_v B_K(i, v) (Theta_v - Theta_0,v),
+//     heating of v    G_v = Theta_0,v^abs sum_i B_K(i, v) (u - u_old)_i.
+// With a constant Theta_0 the heating operator is Theta_0 B^T: the discrete
+// counterpart of the energy identity between the two coupling terms, and a
+// uniform strain rate heats every node in proportion to its lumped mass (which
+// makes doc/benchmarks.md T2 and T3 exact on any mesh).
+#include <deal.II/base/quadrature_lib.h>
+
+#include <deal.II/fe/fe_values.h>
+
+#include <deal.II/hp/fe_values.h>
+#include <deal.II/hp/q_collection.h>
+
+#include <contact-stefan/mechanics/mechanical_field.h>
+#include <contact-stefan/core/q1_kernels.h>
+
+namespace ContactStefan
+{
+  template <int dim>
+  unsigned int
+  MechanicalField<dim>::set_phase_weights(const std::vector<std::vector<double>> &weights)
+  {
+    TimerOutput::Scope         t(timer, "coupling: phase-dependent stiffness");
+    const hp::QCollection<dim> gauss(QGauss<dim>(2));
+    const hp::QCollection<dim> vertex_rule(QTrapezoid<dim>{});
+    hp::FEValues<dim>          gauss_values(fe, gauss, update_gradients | update_JxW_values);
+    hp::FEValues<dim>          vertex_values(
+      fe, vertex_rule, update_gradients | update_JxW_values | update_quadrature_points);
+    unsigned int changed = 0;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const unsigned int  c      = cell->active_cell_index();
+          const ElasticModuli moduli = materials[cell->material_id()].moduli(weights[c]);
+          // Exact comparison: a cell whose nodes stayed off the plateaus has
+          // bitwise the same weights (0 or 1) and is left alone.
+          if (moduli == cell_moduli[c])
+            continue;
+          cell_moduli[c] = moduli;
+          assemble_cell_operators(cell, gauss_values, vertex_values);
+          ++changed;
+        }
+    changed = Utilities::MPI::sum(changed, mpi_communicator);
+    if (changed > 0)
+      {
+        ++stiffness_version;
+        update_stiffness_diagonal();
+        update_condition_stiffness();
+      }
+    return changed;
+  }
+
+
+
+  template <int dim>
+  void MechanicalField<dim>::set_cell_temperatures(const CellVertexValues &theta)
+  {
+    if (!thermal_stress)
+      return;
+    TimerOutput::Scope t(timer, "coupling: thermal stress load");
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const unsigned int      c = cell->active_cell_index();
+          dealii::Vector<double> &f = cell_thermal_load[c];
+          const LocalMatrix      &B = cell_thermal_operator[c];
+          f.reinit(B.m());
+          for (unsigned int v = 0; v < 4; ++v)
+            {
+              cell_theta_excess[c][v] = theta[c][v] - cell_reference[c][v];
+              for (unsigned int i = 0; i < B.m(); ++i)
+                f(i) += B(i, v) * cell_theta_excess[c][v];
+            }
+        }
+  }
+
+
+
+  template <int dim>
+  void MechanicalField<dim>::thermal_load_change(const CellVertexValues &theta,
+                                                 const CellVertexValues &theta_before,
+                                                 Vector                 &change) const
+  {
+    change.reinit(owned, mpi_communicator);
+    std::vector<types::global_dof_index> dofs;
+    dealii::Vector<double>               f;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const unsigned int c = cell->active_cell_index();
+          const LocalMatrix &B = cell_thermal_operator[c];
+          f.reinit(B.m());
+          for (unsigned int v = 0; v < 4; ++v)
+            for (unsigned int i = 0; i < B.m(); ++i)
+              f(i) += B(i, v) * (theta[c][v] - theta_before[c][v]);
+          dofs.resize(B.m());
+          cell->get_dof_indices(dofs);
+          // Without the matrix argument: the change of a load has no
+          // inhomogeneity part.
+          constraints.distribute_local_to_global(f, dofs, change);
+        }
+    change.compress(VectorOperation::add);
+  }
+
+
+
+  template <int dim>
+  void MechanicalField<dim>::thermoelastic_work(CellVertexValues &work) const
+  {
+    TimerOutput::Scope t(timer, "coupling: thermoelastic work");
+    work.assign(triangulation.n_active_cells(), {{0., 0., 0., 0.}});
+    // The change of u over the step, with ghost entries (one vector
+    // operation instead of two look-ups per cell DoF).
+    Vector du(owned, relevant, mpi_communicator);
+    {
+      Vector change(displacement);
+      change -= old_displacement;
+      du = change;
+    }
+    std::vector<types::global_dof_index> dofs;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const unsigned int c = cell->active_cell_index();
+          const LocalMatrix &B = cell_thermal_operator[c];
+          dofs.resize(B.m());
+          cell->get_dof_indices(dofs);
+          for (unsigned int i = 0; i < B.m(); ++i)
+            {
+              const double d = du[dofs[i]];
+              for (unsigned int v = 0; v < 4; ++v)
+                work[c][v] += B(i, v) * d;
+            }
+        }
+  }
+
+
+
+  template <int dim>
+  std::pair<SymmetricTensor<2, dim>, double>
+  MechanicalField<dim>::stress(const typename DoFHandler<dim>::active_cell_iterator &cell,
+                               const unsigned int                                    vertex,
+                               const SymmetricTensor<2, dim>                        &strain) const
+  {
+    const unsigned int      c      = cell->active_cell_index();
+    const ElasticModuli    &moduli = cell_moduli[c];
+    const double            excess = thermal_stress ? cell_theta_excess[c][vertex] : 0.;
+    SymmetricTensor<2, dim> sigma  = moduli.C * strain - excess * moduli.beta;
+    return {sigma, moduli.lambda_zz * trace(strain) - moduli.beta_zz * excess};
+  }
+
+
+
+  template <int dim>
+  void MechanicalField<dim>::cell_vertex_displacement(
+    const typename DoFHandler<dim>::active_cell_iterator &cell,
+    std::array<std::array<double, 4>, dim>               &u) const
+  {
+    const FiniteElement<dim> &cell_fe = cell->get_fe();
+    const unsigned int        first   = slot_of_body.at(cell->material_id()) * dim;
+    AssertDimension(cell_fe.n_dofs_per_cell(), 4 * dim);
+    // (Scratch kept between calls: one allocation per thread, not per cell.)
+    static thread_local std::vector<types::global_dof_index> indices;
+    indices.resize(cell_fe.n_dofs_per_cell());
+    cell->get_dof_indices(indices);
+    for (unsigned int i = 0; i < indices.size(); ++i)
+      {
+        // (component, index within FE_Q(1)) = (component, vertex).
+        const auto [component, vertex] = cell_fe.system_to_component_index(i);
+        u[component - first][vertex]   = displacement_ghosted[indices[i]];
+      }
+  }
+
+
+
+  // The vertex rule in closed form (q1_kernels.h): at vertex v the strain of
+  // the bilinear interpolant and the weight |det J(v)|/4, the same numbers as
+  // FEValues with QTrapezoid and MappingQ1 give (tests/unit_q1_kernels.cc),
+  // without a mapping evaluation per cell.
+  template <int dim>
+  void MechanicalField<dim>::for_each_vertex_stress(
+    const std::function<void(const Point<dim> &,
+                             double,
+                             const SymmetricTensor<2, dim> &,
+                             double,
+                             const SymmetricTensor<2, dim> &,
+                             const ElasticModuli &)> &visit) const
+  {
+    assert_two_dimensional<dim>();
+    Point<2>                               x[4];
+    std::array<std::array<double, 4>, dim> u;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          cell_vertices(cell, x);
+          cell_vertex_displacement(cell, u);
+          const std::array<double, 4> weight = q1_lumped_mass(x);
+          for (unsigned int v = 0; v < 4; ++v)
+            {
+              const double            xi = v % 2, eta = v / 2;
+              const Tensor<1, 2>      du_x = q1_gradient(x, u[0].data(), xi, eta);
+              const Tensor<1, 2>      du_y = q1_gradient(x, u[1].data(), xi, eta);
+              SymmetricTensor<2, dim> strain;
+              strain[0][0]            = du_x[0];
+              strain[1][1]            = du_y[1];
+              strain[0][1]            = 0.5 * (du_x[1] + du_y[0]);
+              const auto [sigma, szz] = stress(cell, v, strain);
+              visit(x[v],
+                    weight[v],
+                    sigma,
+                    szz,
+                    stress(cell, v, SymmetricTensor<2, dim>()).first,
+                    cell_moduli[cell->active_cell_index()]);
+            }
+        }
+  }
+
+
+
+  template <int dim>
+  typename MechanicalField<dim>::ElasticStatistics MechanicalField<dim>::elastic_statistics() const
+  {
+    TimerOutput::Scope t(timer, "statistics: elastic energy");
+    ElasticStatistics  result;
+    // C^-1 of the last moduli seen (the cells of a body share theirs, so one
+    // inversion per body and phase mixture instead of one per vertex).
+    const ElasticModuli    *last_moduli = nullptr;
+    SymmetricTensor<4, dim> compliance;
+    for_each_vertex_stress([&](const Point<dim> &,
+                               const double                   w,
+                               const SymmetricTensor<2, dim> &sigma,
+                               const double,
+                               const SymmetricTensor<2, dim> &thermal_part,
+                               const ElasticModuli           &moduli) {
+      if (last_moduli == nullptr || !(moduli == *last_moduli))
+        {
+          compliance  = invert(moduli.C);
+          last_moduli = &moduli;
+        }
+      result.energy += 0.5 * sigma * (compliance * sigma) * w;
+      // sigma = C e + sigma(e = 0): the strain from the mechanical part.
+      result.max_strain = std::max(result.max_strain, (compliance * (sigma - thermal_part)).norm());
+    });
+    result.energy     = Utilities::MPI::sum(result.energy, mpi_communicator);
+    result.max_strain = Utilities::MPI::max(result.max_strain, mpi_communicator);
+    return result;
+  }
+
+
+
+  // The work of the contact forces on the bodies over the last step: each
+  // condition pushes its sides apart with lambda n, so the work is
+  // -sum_p lambda_p (jump_p(u) - jump_p(u_old)) over the obstacle and interface
+  // nodes (collective). A closing contact does negative work on the bodies.
+  template <int dim>
+  double MechanicalField<dim>::contact_work() const
+  {
+    Vector u_old(owned, relevant, mpi_communicator);
+    u_old      = old_displacement;
+    double sum = 0;
+    for (const auto &c : normal_conditions)
+      if (c.kind != NormalCondition::Kind::roller && owned.is_element(c.dofs_k[0]))
+        {
+          double old_jump = 0;
+          for (unsigned int d = 0; d < dim; ++d)
+            old_jump +=
+              c.normal[d] * (u_old[c.dofs_k[d]] - (c.has_partner ? u_old[c.dofs_l[d]] : 0.));
+          sum -= contact_pressure(c) * c.weight * (normal_displacement_jump(c) - old_jump);
+        }
+    return Utilities::MPI::sum(sum, mpi_communicator);
+  }
+
+
+
+  template class MechanicalField<2>;
+} // namespace ContactStefan

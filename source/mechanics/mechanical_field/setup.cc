@@ -1,0 +1,953 @@
+// MechanicalField: set-up of the displacement space, the elasticity operators,
+// the loads, the fixed constraints and the nodes that carry a normal condition.
+//
+// Multibody design (see doc/contact.md): one connected triangulation, the
+// temperature on a scalar FE_Q(1) space, the displacement on an hp DoFHandler
+// whose element on body b is FE_Q(1)^dim in body b's slot of components and
+// FE_Nothing in every other slot (step-46's device). Where two bodies meet, each
+// vertex therefore carries one displacement per body, and the contact condition
+// between the two is a constraint between DoFs of the same vertex, which every
+// MPI rank that sees the vertex can build from its own cells.
+#include <deal.II/base/quadrature_lib.h>
+
+#include <deal.II/dofs/dof_tools.h>
+
+#include <deal.II/fe/fe_nothing.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/fe_values.h>
+
+#include <deal.II/hp/fe_values.h>
+#include <deal.II/hp/q_collection.h>
+
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/sparsity_tools.h>
+
+#include <deal.II/numerics/vector_tools.h>
+
+#include <contact-stefan/interfaces/contact.h>
+#include <contact-stefan/mechanics/mechanical_field.h>
+
+#include <map>
+#include <set>
+#include <tuple>
+#include <unordered_set>
+
+namespace ContactStefan
+{
+  namespace
+  {
+    // The name of the group of nodes of an obstacle (or roller) boundary, as it
+    // appears in the output ("interface k-l" for interfaces).
+    std::string boundary_group(const unsigned int id)
+    {
+      return "boundary " + std::to_string(id);
+    }
+
+    // A two-component function of x, y, t replicated into every body's slot of
+    // components (the hp element has n_slots * dim components).
+    template <int dim>
+    class Replicated : public Function<dim>
+    {
+    public:
+      Replicated(const Function<dim> &f, const unsigned int n_slots)
+        : Function<dim>(n_slots * dim)
+        , f(f)
+      {}
+      double value(const Point<dim> &p, const unsigned int component) const override
+      {
+        return f.value(p, component % dim);
+      }
+
+    private:
+      const Function<dim> &f;
+    };
+
+    // The DoFs of each vertex of a cell: dofs[v][d] is displacement component d
+    // at cell-local vertex v (the cell's element is FE_Q(1)^dim in one slot).
+    template <int dim>
+    std::array<std::array<types::global_dof_index, dim>, GeometryInfo<dim>::vertices_per_cell>
+    vertex_dofs(const typename DoFHandler<dim>::active_cell_iterator &cell)
+    {
+      const auto                          &fe = cell->get_fe();
+      std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+      cell->get_dof_indices(dofs);
+      std::array<std::array<types::global_dof_index, dim>, GeometryInfo<dim>::vertices_per_cell>
+        result;
+      for (unsigned int i = 0; i < fe.n_dofs_per_cell(); ++i)
+        {
+          const auto [component, vertex]  = fe.system_to_component_index(i);
+          result[vertex][component % dim] = dofs[i];
+        }
+      return result;
+    }
+  } // namespace
+
+
+
+  template <int dim>
+  MechanicalField<dim>::MechanicalField(
+    const AllParameters                             &prm,
+    const Materials                                 &materials,
+    SceneFunctions<dim>                             &functions,
+    const parallel::distributed::Triangulation<dim> &triangulation,
+    TimerOutput                                     &timer,
+    const ConditionalOStream                        &pcout)
+    : prm(prm)
+    , materials(materials)
+    , functions(functions)
+    , triangulation(triangulation)
+    , mpi_communicator(triangulation.get_communicator())
+    , timer(timer)
+    , pcout(pcout)
+    , dof_handler(triangulation)
+    // A contact set changes boundary rows only: the first hierarchy serves
+    // every set (Solver/AMG update = automatic).
+    , linear_solver(prm.solver,
+                    prm.output.verbosity,
+                    pcout,
+                    "elasticity",
+                    Parameters::Solver::AMGUpdate::reuse,
+                    prm.solver.elasticity_amg_threshold,
+                    prm.solver.elasticity_amg_sweeps,
+                    prm.solver.elasticity_amg_reuse_limit)
+    , coupled(prm.coupling_active())
+    , thermal_stress(prm.thermal_stress_active())
+    , time(prm.time.start_time)
+  {
+    assert_two_dimensional<dim>();
+    // Element b: FE_Q(1)^dim in slot b, FE_Nothing^dim in every other slot.
+    const unsigned int n_slots = prm.body_ids.size();
+    for (unsigned int s = 0; s < n_slots; ++s)
+      slot_of_body[prm.body_ids[s]] = s;
+    const FE_Q<dim>       q1(1);
+    const FE_Nothing<dim> nothing;
+    for (unsigned int b = 0; b < n_slots; ++b)
+      {
+        std::vector<const FiniteElement<dim> *> elements;
+        std::vector<unsigned int>               multiplicities;
+        for (unsigned int s = 0; s < n_slots; ++s)
+          {
+            elements.push_back(s == b ? static_cast<const FiniteElement<dim> *>(&q1) : &nothing);
+            multiplicities.push_back(dim);
+          }
+        fe.push_back(FESystem<dim>(elements, multiplicities));
+      }
+  }
+
+
+
+  // Everything that depends on the mesh, rebuilt from scratch.
+  template <int dim>
+  void MechanicalField<dim>::setup_dofs()
+  {
+    TimerOutput::Scope t(timer, "setup: mechanical field");
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        cell->set_active_fe_index(slot_of_body.at(cell->material_id()));
+    dof_handler.distribute_dofs(fe);
+    owned = dof_handler.locally_owned_dofs();
+    DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
+
+    hanging_node_constraints.clear();
+    hanging_node_constraints.reinit(relevant);
+    DoFTools::make_hanging_node_constraints(dof_handler, hanging_node_constraints);
+    hanging_node_constraints.close();
+
+    for (Vector *v : {&system_rhs,
+                      &load,
+                      &displacement,
+                      &old_displacement,
+                      &obstacle_active,
+                      &interface_active,
+                      &pressure,
+                      &gap})
+      v->reinit(owned, mpi_communicator);
+    for (Vector *v : {&displacement_ghosted,
+                      &obstacle_active_ghosted,
+                      &interface_active_ghosted,
+                      &stiffness_diagonal})
+      v->reinit(owned, relevant, mpi_communicator);
+    cell_load.assign(triangulation.n_active_cells(), dealii::Vector<double>());
+    cell_thermal_load.assign(triangulation.n_active_cells(), dealii::Vector<double>());
+    cell_theta_excess.assign(triangulation.n_active_cells(), {{0., 0., 0., 0.}});
+    // Until the thermal field says otherwise, each cell is in phase 0.
+    // No thermal load until the thermal field hands over its temperatures (after
+    // a mesh change: before after_transfer(), doc/architecture.md).
+    cell_moduli.assign(triangulation.n_active_cells(), ElasticModuli());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          cell_moduli[cell->active_cell_index()] =
+            materials[cell->material_id()].phase_moduli.front();
+          if (coupled)
+            cell_thermal_load[cell->active_cell_index()].reinit(cell->get_fe().n_dofs_per_cell());
+        }
+    ++stiffness_version;
+    have_matrix = have_factorisation = have_solution = have_bulk = false;
+
+    make_body_frames();
+    assemble_cell_stiffness();
+    find_normal_conditions();
+    make_fixed_constraints();
+    make_sparsity_pattern();
+  }
+
+
+
+  // Where each displacement DoF sits, and each body's centre, size and box.
+  template <int dim>
+  void MechanicalField<dim>::make_body_frames()
+  {
+    const unsigned int n_slots = prm.body_ids.size();
+    dof_info.clear();
+    std::vector<Point<dim>> lower(n_slots, Point<dim>(HUGE_VAL, HUGE_VAL)),
+      upper(n_slots, Point<dim>(-HUGE_VAL, -HUGE_VAL));
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (!cell->is_artificial())
+        {
+          const unsigned int slot = slot_of_body.at(cell->material_id());
+          const auto         dofs = vertex_dofs<dim>(cell);
+          for (const unsigned int v : cell->vertex_indices())
+            for (unsigned int d = 0; d < dim; ++d)
+              {
+                dof_info[dofs[v][d]] = {slot, d, cell->vertex(v)};
+                lower[slot][d]       = std::min(lower[slot][d], cell->vertex(v)[d]);
+                upper[slot][d]       = std::max(upper[slot][d], cell->vertex(v)[d]);
+              }
+        }
+    body_frame.resize(n_slots);
+    body_box.resize(n_slots);
+    for (unsigned int s = 0; s < n_slots; ++s)
+      {
+        Point<dim> lo, hi;
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            lo[d] = Utilities::MPI::min(lower[s][d], mpi_communicator);
+            hi[d] = Utilities::MPI::max(upper[s][d], mpi_communicator);
+          }
+        body_frame[s] = {0.5 * (lo + hi), 0.5 * lo.distance(hi)};
+        body_box[s]   = {lo, hi};
+      }
+  }
+
+
+
+  // The sparsity pattern must hold every system the active-set iteration can
+  // produce, with any mixture of active and inactive nodes. Condensing a cell
+  // couples its DoFs with every DoF their constraints name, recursively. So
+  // each cell's DoFs are closed under "may be constrained in terms of": the
+  // entries of the fixed constraints (hanging nodes, prescribed values, ties,
+  // rollers) and, for a node with a contact condition, all DoFs of the
+  // condition (both bodies, both components); the closure is coupled densely.
+  // Then the conditions that cannot be imposed even with every node active are
+  // left out (all their components prescribed, e.g. a clamped corner of an
+  // obstacle boundary): their residual would be a clamp reaction, not a
+  // contact force.
+  template <int dim>
+  void MechanicalField<dim>::make_sparsity_pattern()
+  {
+    std::map<types::global_dof_index, std::vector<types::global_dof_index>> condition_dofs;
+    for (const auto &c : normal_conditions)
+      {
+        std::vector<types::global_dof_index> all;
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            all.push_back(static_cast<types::global_dof_index>(c.dofs_k[d]));
+            if (c.has_partner)
+              all.push_back(static_cast<types::global_dof_index>(c.dofs_l[d]));
+          }
+        for (const auto dof : all)
+          condition_dofs[dof].insert(condition_dofs[dof].end(), all.begin(), all.end());
+      }
+    // The DoFs of conditions that an active set can change (obstacles, and
+    // interfaces unless tied): a cell whose closure reaches one is re-assembled
+    // in each contact iteration, the others go into the bulk matrix (below,
+    // once the contact lines of other ranks are known).
+    const bool tied = prm.contact.interfaces == Parameters::Contact::Interfaces::tied;
+    std::unordered_set<types::global_dof_index> contact_dofs;
+    for (const auto &c : normal_conditions)
+      if (c.kind == NormalCondition::Kind::obstacle ||
+          (c.kind == NormalCondition::Kind::interface && !tied))
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            contact_dofs.insert(c.dofs_k[d]);
+            if (c.has_partner)
+              contact_dofs.insert(c.dofs_l[d]);
+          }
+    cell_near_contact.assign(triangulation.n_active_cells(), false);
+    DynamicSparsityPattern               dsp(relevant);
+    std::vector<types::global_dof_index> dofs;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          dofs.resize(cell->get_fe().n_dofs_per_cell());
+          cell->get_dof_indices(dofs);
+          // Most cells have no constrained or conditioned DoF: their closure is
+          // their own DoFs.
+          if (std::none_of(dofs.begin(), dofs.end(), [&](const types::global_dof_index dof) {
+                return fixed_constraints.is_constrained(dof) || condition_dofs.count(dof) > 0;
+              }))
+            {
+              for (const auto row : dofs)
+                if (relevant.is_element(row))
+                  dsp.add_entries(row, dofs.begin(), dofs.end(), false);
+              continue;
+            }
+          std::set<types::global_dof_index>    closure(dofs.begin(), dofs.end());
+          std::vector<types::global_dof_index> work(dofs.begin(), dofs.end());
+          while (!work.empty())
+            {
+              const auto dof = work.back();
+              work.pop_back();
+              std::vector<types::global_dof_index> next;
+              if (const auto *entries = fixed_constraints.get_constraint_entries(dof))
+                for (const auto &entry : *entries)
+                  next.push_back(entry.first);
+              if (const auto it = condition_dofs.find(dof); it != condition_dofs.end())
+                next.insert(next.end(), it->second.begin(), it->second.end());
+              for (const auto n : next)
+                if (closure.insert(n).second)
+                  work.push_back(n);
+            }
+          const std::vector<types::global_dof_index> columns(closure.begin(), closure.end());
+          for (const auto row : columns)
+            if (relevant.is_element(row))
+              dsp.add_entries(row, columns.begin(), columns.end(), true);
+        }
+
+    // Every node active: which conditions can be imposed at all.
+    for (Vector *v : {&obstacle_active, &interface_active})
+      *v = 1.;
+    obstacle_active_ghosted  = obstacle_active;
+    interface_active_ghosted = interface_active;
+    unsigned int skipped     = 0;
+    build_contact_constraints(skipped);
+    imposable_per_group = placed_per_group;
+    // With every node active the constraints also hold the contact lines of
+    // conditions that other ranks found (a hanging node of an owned cell can
+    // hang on a contact node of another rank's cell): their DoFs count too.
+    for (const auto &line : constraints.get_lines())
+      if (!fixed_constraints.is_constrained(line.index))
+        {
+          contact_dofs.insert(line.index);
+          for (const auto &entry : line.entries)
+            contact_dofs.insert(entry.first);
+        }
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          dofs.resize(cell->get_fe().n_dofs_per_cell());
+          cell->get_dof_indices(dofs);
+          // The fixed constraints are closed: the DoFs their lines name are
+          // not constrained by them, so one level of entries is the closure.
+          bool near = false;
+          for (const auto dof : dofs)
+            {
+              near = near || contact_dofs.count(dof) > 0;
+              if (const auto *entries = fixed_constraints.get_constraint_entries(dof))
+                for (const auto &entry : *entries)
+                  near = near || contact_dofs.count(entry.first) > 0;
+            }
+          cell_near_contact[cell->active_cell_index()] = near;
+        }
+    std::vector<NormalCondition> kept, left_out;
+    unsigned int                 dropped = 0;
+    for (const auto &c : normal_conditions)
+      if (c.kind == NormalCondition::Kind::roller ||
+          (c.kind == NormalCondition::Kind::interface && tied) ||
+          imposed_conditions.count({c.dofs_k[0], static_cast<int>(c.kind)}) == 1)
+        kept.push_back(c);
+      else
+        left_out.push_back(c);
+    // Where a tied interface meets an obstacle, the tie takes one side's
+    // components and the other side's condition carries the contact of both:
+    // it gets their lumped boundary weight, so that its pressure is the force
+    // over the whole face length at the vertex. Only a condition with no such
+    // partner is really left out.
+    for (const auto &c : left_out)
+      {
+        auto partner = std::find_if(kept.begin(), kept.end(), [&](const NormalCondition &k) {
+          return k.kind == c.kind && k.group == c.group && k.position == c.position;
+        });
+        if (partner != kept.end())
+          partner->weight += c.weight;
+        else
+          dropped += owned.is_element(c.dofs_k[0]);
+      }
+    normal_conditions.swap(kept);
+    update_condition_stiffness();
+    n_dropped_conditions = Utilities::MPI::sum(dropped, mpi_communicator);
+    for (Vector *v :
+         {&obstacle_active, &interface_active, &obstacle_active_ghosted, &interface_active_ghosted})
+      *v = 0.;
+
+    SparsityTools::distribute_sparsity_pattern(dsp, owned, mpi_communicator, relevant);
+    linear_solver.clear();
+    system_matrix.reinit(owned, owned, dsp, mpi_communicator);
+
+    // The rigid-body modes of plane elasticity (two translations and the
+    // rotation about each body's centre) as the AMG near-null space: with ML's
+    // default constant mode CG needs hundreds of iterations.
+    std::vector<std::vector<double>> modes(3, std::vector<double>(owned.n_elements(), 0.));
+    for (const auto dof : owned)
+      {
+        const auto        &info  = dof_info.at(dof);
+        const unsigned int i     = owned.index_within_set(dof);
+        const Point<dim>  &c     = body_frame[info.slot].first;
+        modes[info.component][i] = 1;
+        const double size        = body_frame[info.slot].second; // scale: O(1) entries
+        modes[2][i] =
+          (info.component == 0 ? -(info.position[1] - c[1]) : info.position[0] - c[0]) / size;
+      }
+    linear_solver.set_near_null_space(std::move(modes));
+  }
+
+
+
+  template <int dim>
+  std::string MechanicalField<dim>::describe() const
+  {
+    unsigned int n_rollers = 0, n_obstacle = 0, n_interface = 0;
+    for (const auto &c : normal_conditions)
+      if (owned.is_element(c.dofs_k[0]))
+        (c.kind == NormalCondition::Kind::roller   ? n_rollers :
+         c.kind == NormalCondition::Kind::obstacle ? n_obstacle :
+                                                     n_interface)++;
+    return "Mechanics: " + std::to_string(dof_handler.n_dofs()) + " displacement DoFs in " +
+           std::to_string(prm.body_ids.size()) + " body(ies); " +
+           std::to_string(Utilities::MPI::sum(n_obstacle, mpi_communicator)) + " obstacle, " +
+           std::to_string(Utilities::MPI::sum(n_interface, mpi_communicator)) + " interface (" +
+           (prm.contact.interfaces == Parameters::Contact::Interfaces::tied ? "tied" : "contact") +
+           ") and " + std::to_string(Utilities::MPI::sum(n_rollers, mpi_communicator)) +
+           " roller nodes" +
+           (n_dropped_conditions == 0 ?
+              std::string() :
+              "\nContact: " + std::to_string(n_dropped_conditions) +
+                " obstacle/interface node(s) have every displacement component prescribed and "
+                "are left out of the contact conditions");
+  }
+
+
+
+  // Cold start at t0: nodes whose gap is already closed (g <= 0) start in
+  // contact, so that bodies stacked on each other start supported. Then the
+  // input checks that need the mesh: every obstacle and interface must have a
+  // node with a free displacement component, and every body must be held
+  // against rigid motion by its constraints and the initial contact set.
+  template <int dim>
+  void MechanicalField<dim>::initialize(const double t0)
+  {
+    time                 = t0;
+    displacement         = 0;
+    old_displacement     = 0;
+    displacement_ghosted = 0;
+    // The data at t0 (checked for finite values below, before any output).
+    assemble_load();
+    make_fixed_constraints();
+    const bool            tied = prm.contact.interfaces == Parameters::Contact::Interfaces::tied;
+    std::set<std::string> obstacle_groups;
+    for (const auto &[id, bc] : prm.mechanical_boundaries)
+      if (bc.type == Parameters::MechanicalBoundary::Type::obstacle)
+        obstacle_groups.insert(boundary_group(id));
+    for (const auto &group : contact_groups)
+      if (Utilities::MPI::sum(imposable_per_group[group], mpi_communicator) == 0 &&
+          (obstacle_groups.count(group) == 1 || !tied))
+        {
+          const bool boundary = obstacle_groups.count(group) == 1;
+          throw InputError(boundary ? "Boundary conditions/Mechanical " + group :
+                                      std::string("Contact/Interfaces"),
+                           "no node of this " + std::string(boundary ? "obstacle" : "interface") +
+                             " has a free displacement component: prescribed displacements "
+                             "take them all");
+        }
+
+    update_condition_gaps();
+    functions.check_finite_values(mpi_communicator);
+    for (Vector *v : {&obstacle_active, &interface_active})
+      *v = 0.;
+    for (const auto &c : normal_conditions)
+      if (c.kind != NormalCondition::Kind::roller && owned.is_element(c.dofs_k[0]))
+        active_flags(c)[c.dofs_k[0]] = c.gap <= 0 ? 1. : 0.;
+    obstacle_active.compress(VectorOperation::insert);
+    interface_active.compress(VectorOperation::insert);
+    obstacle_active_ghosted  = obstacle_active;
+    interface_active_ghosted = interface_active;
+    unsigned int skipped     = 0;
+    build_contact_constraints(skipped);
+    try
+      {
+        check_rigid_body_modes();
+      }
+    catch (const std::exception &e)
+      {
+        throw InputError("Boundary conditions/Mechanical boundaries", e.what());
+      }
+    check_section_lines(prm.output.section_lines);
+  }
+
+
+
+  template <int dim>
+  void MechanicalField<dim>::begin_time_step(const double t, const double /*tau: quasi-static*/)
+  {
+    time             = t;
+    old_displacement = displacement;
+    assemble_load();
+    make_fixed_constraints();
+    update_condition_gaps();
+    functions.check_finite_values(mpi_communicator);
+  }
+
+
+
+  template <int dim>
+  std::vector<Vector *> MechanicalField<dim>::primary_state()
+  {
+    return {&displacement, &old_displacement};
+  }
+
+
+
+  template <int dim>
+  double MechanicalField<dim>::body_height(const unsigned int body) const
+  {
+    const auto &box = body_box[slot_of_body.at(body)];
+    return box.second[1] - box.first[1];
+  }
+
+
+
+  // The elasticity matrices K_K of all owned cells (assembled once per mesh, and
+  // again for a cell whose phase mixture changed), the thermal operators B_K
+  // when the scene is coupled, Theta_0 at the vertices, and the diagonal of K,
+  // which scales the complementarity constant per node.
+  template <int dim>
+  void MechanicalField<dim>::assemble_cell_stiffness()
+  {
+    const hp::QCollection<dim> gauss(QGauss<dim>(2));
+    const hp::QCollection<dim> vertex_rule(QTrapezoid<dim>{});
+    hp::FEValues<dim>          gauss_values(fe, gauss, update_gradients | update_JxW_values);
+    hp::FEValues<dim>          vertex_values(
+      fe, vertex_rule, update_gradients | update_JxW_values | update_quadrature_points);
+    cell_stiffness.assign(triangulation.n_active_cells(), LocalMatrix());
+    cell_thermal_operator.assign(coupled ? triangulation.n_active_cells() : 0, LocalMatrix());
+    cell_reference.assign(coupled ? triangulation.n_active_cells() : 0, {{0., 0., 0., 0.}});
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          assemble_cell_operators(cell, gauss_values, vertex_values);
+          if (coupled)
+            for (unsigned int v = 0; v < 4; ++v)
+              cell_reference[cell->active_cell_index()][v] =
+                functions.reference_temperature().value(cell->vertex(v));
+        }
+    functions.check_finite_values(mpi_communicator);
+    update_stiffness_diagonal();
+  }
+
+
+
+  template <int dim>
+  void MechanicalField<dim>::assemble_cell_operators(
+    const typename DoFHandler<dim>::active_cell_iterator &cell,
+    hp::FEValues<dim>                                    &gauss_values,
+    hp::FEValues<dim>                                    &vertex_values)
+  {
+    const unsigned int               c = cell->active_cell_index();
+    const FEValuesExtractors::Vector u(slot_of_body.at(cell->material_id()) * dim);
+    const unsigned int               n      = cell->get_fe().n_dofs_per_cell();
+    const ElasticModuli             &moduli = cell_moduli[c];
+    gauss_values.reinit(cell);
+    const FEValues<dim> &fe_values = gauss_values.get_present_fe_values();
+    LocalMatrix         &K         = cell_stiffness[c];
+    K.reinit(n, n);
+    // The strains of the shape functions at a quadrature point, once each
+    // (the view computes them from the shape gradients on every call).
+    std::vector<SymmetricTensor<2, dim>> strain(n);
+    for (unsigned int q = 0; q < fe_values.n_quadrature_points; ++q)
+      {
+        for (unsigned int j = 0; j < n; ++j)
+          strain[j] = fe_values[u].symmetric_gradient(j, q);
+        for (unsigned int i = 0; i < n; ++i)
+          {
+            const SymmetricTensor<2, dim> sigma_i = moduli.C * strain[i];
+            for (unsigned int j = 0; j < n; ++j)
+              K(i, j) += sigma_i * strain[j] * fe_values.JxW(q);
+          }
+      }
+    if (!coupled)
+      return;
+    // B_K(i, v) = w_v beta_K : e(phi_i)(x_v), the trapezoidal rule: the same
+    // vertex weights as the thermal field's lumped mass, so that the heating
+    // operator is the transpose of the thermal-stress operator (times Theta_0)
+    // and a uniform strain heats every node in proportion to its mass.
+    vertex_values.reinit(cell);
+    const FEValues<dim> &fv = vertex_values.get_present_fe_values();
+    LocalMatrix         &B  = cell_thermal_operator[c];
+    B.reinit(n, 4);
+    for (unsigned int v = 0; v < 4; ++v)
+      {
+        Assert(fv.quadrature_point(v).distance(cell->vertex(v)) <= 1e-12 * cell->diameter(),
+               ExcInternalError());
+        for (unsigned int i = 0; i < n; ++i)
+          B(i, v) = moduli.beta * fv[u].symmetric_gradient(i, v) * fv.JxW(v);
+      }
+  }
+
+
+
+  // The normal diagonal of K at each normal condition: the per-node scale of
+  // the complementarity constant (doc/contact.md). Again after a phase change
+  // re-assembled cells, so that a soft melt does not get a solid's c.
+  template <int dim>
+  void MechanicalField<dim>::update_condition_stiffness()
+  {
+    for (auto &c : normal_conditions)
+      c.stiffness = c.normal[0] * c.normal[0] * stiffness_diagonal[c.dofs_k[0]] +
+                    c.normal[1] * c.normal[1] * stiffness_diagonal[c.dofs_k[1]];
+  }
+
+
+
+  template <int dim>
+  void MechanicalField<dim>::update_stiffness_diagonal()
+  {
+    Vector diagonal(owned, mpi_communicator);
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const LocalMatrix                   &K = cell_stiffness[cell->active_cell_index()];
+          const unsigned int                   n = K.m();
+          std::vector<types::global_dof_index> dofs(n);
+          cell->get_dof_indices(dofs);
+          dealii::Vector<double> d(n);
+          for (unsigned int i = 0; i < n; ++i)
+            d(i) = K(i, i);
+          hanging_node_constraints.distribute_local_to_global(d, dofs, diagonal);
+        }
+    diagonal.compress(VectorOperation::add);
+    stiffness_diagonal = diagonal;
+
+    // Huge moduli (E = 1e308) overflow in the sums of the cell matrices: refuse
+    // them here, before any work, naming the body.
+    unsigned int bad_slot = prm.body_ids.size();
+    for (const auto dof : owned)
+      if (!std::isfinite(diagonal[dof]))
+        bad_slot = std::min(bad_slot, dof_info.at(dof).slot);
+    bad_slot = Utilities::MPI::min(bad_slot, mpi_communicator);
+    if (bad_slot < prm.body_ids.size())
+      {
+        const unsigned int body = prm.body_ids[bad_slot];
+        const auto         type = prm.materials.at(body).elasticity;
+        using Elasticity        = Parameters::BodyMaterial::Elasticity;
+        throw InputError("Materials/Body " + std::to_string(body) + "/" +
+                           (type == Elasticity::isotropic ? "Youngs modulus" :
+                            type == Elasticity::lame      ? "Lame lambda" :
+                                                            "Elasticity tensor"),
+                         "the stiffness matrix it gives is not finite (overflow)");
+      }
+  }
+
+
+
+  // Body forces and tractions at the current time: F_K per cell and their
+  // condensed sum. Skipped when the scene has none.
+  template <int dim>
+  void MechanicalField<dim>::assemble_load()
+  {
+    TimerOutput::Scope t_(timer, "contact step: assemble load");
+    load = 0;
+    traction_face_load.clear();
+    if (!functions.mechanical_load_present())
+      return;
+
+    using Type = Parameters::MechanicalBoundary::Type;
+    for (const unsigned int id : prm.body_ids)
+      functions.body_force(id).set_time(time);
+    for (const auto &[id, bc] : prm.mechanical_boundaries)
+      if (bc.type == Type::traction)
+        functions.mechanical_boundary(id).set_time(time);
+
+    const hp::QCollection<dim>     quadrature(QGauss<dim>(2));
+    const hp::QCollection<dim - 1> face_quadrature(QGauss<dim - 1>(2));
+    hp::FEValues<dim>              hp_fe_values(fe,
+                                   quadrature,
+                                   update_values | update_quadrature_points | update_JxW_values);
+    hp::FEFaceValues<dim>          hp_face_values(
+      fe, face_quadrature, update_values | update_quadrature_points | update_JxW_values);
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const FEValuesExtractors::Vector u(slot_of_body.at(cell->material_id()) * dim);
+          const unsigned int               n = cell->get_fe().n_dofs_per_cell();
+          dealii::Vector<double>          &F = cell_load[cell->active_cell_index()];
+          F.reinit(n);
+          hp_fe_values.reinit(cell);
+          const FEValues<dim> &fe_values = hp_fe_values.get_present_fe_values();
+          const auto          &f         = functions.body_force(cell->material_id());
+          for (unsigned int q = 0; q < fe_values.n_quadrature_points; ++q)
+            {
+              Tensor<1, dim> force;
+              for (unsigned int d = 0; d < dim; ++d)
+                force[d] = f.value(fe_values.quadrature_point(q), d);
+              for (unsigned int i = 0; i < n; ++i)
+                F(i) += force * fe_values[u].value(i, q) * fe_values.JxW(q);
+            }
+          for (const unsigned int face : cell->face_indices())
+            if (cell->face(face)->at_boundary())
+              {
+                const auto bc = prm.mechanical_boundaries.find(cell->face(face)->boundary_id());
+                if (bc == prm.mechanical_boundaries.end() || bc->second.type != Type::traction)
+                  continue;
+                hp_face_values.reinit(cell, face);
+                const FEFaceValues<dim> &fv = hp_face_values.get_present_fe_values();
+                const auto              &tr = functions.mechanical_boundary(bc->first);
+                dealii::Vector<double>   face_load(n);
+                for (unsigned int q = 0; q < fv.n_quadrature_points; ++q)
+                  {
+                    Tensor<1, dim> traction;
+                    for (unsigned int d = 0; d < dim; ++d)
+                      traction[d] = tr.value(fv.quadrature_point(q), d);
+                    for (unsigned int i = 0; i < n; ++i)
+                      face_load(i) += traction * fv[u].value(i, q) * fv.JxW(q);
+                  }
+                F += face_load;
+                traction_face_load[{cell->active_cell_index(), face}] = face_load;
+              }
+          std::vector<types::global_dof_index> dofs(n);
+          cell->get_dof_indices(dofs);
+          hanging_node_constraints.distribute_local_to_global(F, dofs, load);
+        }
+    load.compress(VectorOperation::add);
+  }
+
+
+
+  // Constraints that do not depend on the contact state, in order of priority:
+  // hanging nodes, prescribed displacements, tied interfaces, rollers. A later
+  // condition never overrides an earlier one on the same DoF; a roller or tie
+  // whose DoFs are all taken already is dropped (a corner with a displacement
+  // condition on both components needs nothing more).
+  template <int dim>
+  void MechanicalField<dim>::make_fixed_constraints()
+  {
+    fixed_constraints.clear();
+    fixed_constraints.reinit(relevant);
+    fixed_constraints.merge(hanging_node_constraints);
+    const unsigned int n_slots = prm.body_ids.size();
+    for (const auto &[id, bc] : prm.mechanical_boundaries)
+      if (bc.type == Parameters::MechanicalBoundary::Type::displacement)
+        {
+          Function<dim> &f = functions.mechanical_boundary(id);
+          f.set_time(time);
+          const Replicated<dim> value(f, n_slots);
+          std::vector<bool>     mask(n_slots * dim, false);
+          for (unsigned int s = 0; s < n_slots; ++s)
+            for (unsigned int d = 0; d < dim; ++d)
+              mask[s * dim + d] = bc.components[d];
+          VectorTools::interpolate_boundary_values(
+            dof_handler, id, value, fixed_constraints, ComponentMask(mask));
+        }
+    // Ties first: u_k = u_l componentwise, or u_l = u_k where u_k is taken.
+    if (prm.contact.interfaces == Parameters::Contact::Interfaces::tied)
+      for (const auto &c : normal_conditions)
+        if (c.kind == NormalCondition::Kind::interface)
+          for (unsigned int d = 0; d < dim; ++d)
+            {
+              const auto [target, other] = !fixed_constraints.is_constrained(c.dofs_k[d]) ?
+                                             std::pair(c.dofs_k[d], c.dofs_l[d]) :
+                                             std::pair(c.dofs_l[d], c.dofs_k[d]);
+              if (!fixed_constraints.is_constrained(target))
+                {
+                  fixed_constraints.add_line(target);
+                  fixed_constraints.add_entry(target, other, 1.);
+                }
+            }
+    // Then rollers: u.n = 0, solved for the component with the larger |n_c| that
+    // is free. At a corner of a roller boundary (face normals differing by more
+    // than the corner angle) u.n = 0 must hold for both faces: both components
+    // are fixed, as deal.II's no-normal-flux constraints do.
+    for (const auto &c : normal_conditions)
+      if (c.kind == NormalCondition::Kind::roller && c.corner)
+        for (unsigned int d = 0; d < dim; ++d)
+          if (!fixed_constraints.is_constrained(c.dofs_k[d]))
+            fixed_constraints.add_line(c.dofs_k[d]);
+    for (const auto &c : normal_conditions)
+      if (c.kind == NormalCondition::Kind::roller && !c.corner)
+        {
+          unsigned int order[2] = {0, 1};
+          if (std::abs(c.normal[1]) > std::abs(c.normal[0]))
+            std::swap(order[0], order[1]);
+          for (const unsigned int comp : order)
+            if (c.normal[comp] != 0 && !fixed_constraints.is_constrained(c.dofs_k[comp]))
+              {
+                const auto row =
+                  Contact::normal_constraint(c.dofs_k, nullptr, c.normal, 0., comp, false);
+                fixed_constraints.add_line(row.target);
+                for (const auto &[dof, coefficient] : row.entries)
+                  fixed_constraints.add_entry(row.target, dof, coefficient);
+                break;
+              }
+        }
+    if (Utilities::MPI::n_mpi_processes(mpi_communicator) > 1)
+      fixed_constraints.make_consistent_in_parallel(owned, relevant, mpi_communicator);
+    fixed_constraints.close();
+
+    // The fixed lines (not hanging-node ones) that name each DoF as an entry (a
+    // tie u_k = u_l names u_l): the contact multipliers need them per vertex.
+    named_by.clear();
+    for (const auto &line : fixed_constraints.get_lines())
+      if (!hanging_node_constraints.is_constrained(line.index))
+        for (const auto &[j, a] : line.entries)
+          named_by[j].push_back(line.index);
+  }
+  // Every node with a normal condition, found from the cells this rank sees:
+  // roller and obstacle nodes on boundaries of those types, interface nodes on
+  // faces between cells of different bodies (side k is the smaller body id; the
+  // normal points out of it). Each condition's normal averages the faces around
+  // the vertex, so only vertices of locally owned cells are kept: all their
+  // neighbouring cells are owned or ghosts, so the average is complete and every
+  // rank that assembles at the vertex builds the same constraint.
+  template <int dim>
+  void MechanicalField<dim>::find_normal_conditions()
+  {
+    using Kind = NormalCondition::Kind;
+    std::vector<bool> vertex_of_owned_cell(triangulation.n_vertices(), false);
+    for (const auto &cell : triangulation.active_cell_iterators())
+      if (cell->is_locally_owned())
+        for (const unsigned int v : cell->vertex_indices())
+          vertex_of_owned_cell[cell->vertex_index(v)] = true;
+
+    struct Entry
+    {
+      NormalCondition            condition;
+      Contact::NormalAccumulator normals;
+    };
+    std::map<std::tuple<types::global_dof_index, int, std::string>, Entry> entries;
+    const auto add = [&](const typename DoFHandler<dim>::active_cell_iterator &cell,
+                         const unsigned int                                    face,
+                         const Kind                                            kind,
+                         const std::string                                    &group,
+                         const typename DoFHandler<dim>::active_cell_iterator *partner,
+                         const unsigned int                                    boundary_id) {
+      const auto dofs = vertex_dofs<dim>(cell);
+      const auto a    = cell->face(face)->vertex(0);
+      const auto b    = cell->face(face)->vertex(1);
+      const auto c    = cell->center();
+      for (unsigned int fv = 0; fv < 2; ++fv)
+        {
+          const unsigned int v = GeometryInfo<dim>::face_to_cell_vertices(face, fv);
+          if (!vertex_of_owned_cell[cell->vertex_index(v)])
+            continue;
+          Entry &e                = entries[{dofs[v][0], static_cast<int>(kind), group}];
+          e.condition.kind        = kind;
+          e.condition.group       = group;
+          e.condition.boundary_id = boundary_id;
+          e.condition.position    = cell->vertex(v);
+          e.condition.dofs_k      = {{dofs[v][0], dofs[v][1]}};
+          e.condition.has_partner = (partner != nullptr);
+          if (partner)
+            {
+              const auto partner_dofs = vertex_dofs<dim>(*partner);
+              for (const unsigned int pv : (*partner)->vertex_indices())
+                if ((*partner)->vertex_index(pv) == cell->vertex_index(v))
+                  e.condition.dofs_l = {{partner_dofs[pv][0], partner_dofs[pv][1]}};
+            }
+          e.normals.add_face({{a[0], a[1]}}, {{b[0], b[1]}}, {{c[0], c[1]}});
+        }
+    };
+
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (!cell->is_artificial())
+        for (const unsigned int face : cell->face_indices())
+          {
+            if (cell->face(face)->at_boundary())
+              {
+                const auto bc = prm.mechanical_boundaries.find(cell->face(face)->boundary_id());
+                if (bc == prm.mechanical_boundaries.end())
+                  continue;
+                const std::string group = boundary_group(bc->first);
+                if (bc->second.type == Parameters::MechanicalBoundary::Type::roller)
+                  add(cell, face, Kind::roller, group, nullptr, bc->first);
+                else if (bc->second.type == Parameters::MechanicalBoundary::Type::obstacle)
+                  add(cell, face, Kind::obstacle, group, nullptr, bc->first);
+              }
+            else
+              {
+                if (cell->neighbor(face)->is_artificial() ||
+                    cell->neighbor(face)->material_id() == cell->material_id())
+                  continue;
+                if (cell->neighbor(face)->has_children() ||
+                    cell->neighbor(face)->level() != cell->level())
+                  throw std::runtime_error(
+                    "the interface between bodies " + std::to_string(cell->material_id()) +
+                    " and " + std::to_string(cell->neighbor(face)->material_id()) +
+                    " is not conforming (refined differently on its two sides)");
+                const typename DoFHandler<dim>::active_cell_iterator neighbor =
+                  cell->neighbor(face);
+                if (cell->material_id() > neighbor->material_id())
+                  continue; // the face is counted from side k
+                const std::string group = "interface " + std::to_string(cell->material_id()) + "-" +
+                                          std::to_string(neighbor->material_id());
+                add(cell, face, Kind::interface, group, &neighbor, 0);
+              }
+          }
+
+    normal_conditions.clear();
+    std::set<std::string> groups;
+    // One obstacle condition per vertex: the active flag and the output are kept
+    // per vertex and kind, and a corner of two obstacle boundaries has no single
+    // normal. Refuse it instead of mixing them.
+    std::map<types::global_dof_index, std::string> obstacle_at;
+    std::string                                    problem; // found on this rank
+    for (auto &[key, e] : entries)
+      if (e.condition.kind == Kind::obstacle)
+        {
+          const auto [it, inserted] = obstacle_at.emplace(std::get<0>(key), e.condition.group);
+          if (!inserted && problem.empty())
+            problem = "parameter 'Boundary conditions/Mechanical boundaries': the vertex at (" +
+                      std::to_string(e.condition.position[0]) + ", " +
+                      std::to_string(e.condition.position[1]) +
+                      ") is on two obstacle boundaries (" + it->second + ", " + e.condition.group +
+                      "); give the corner to one of them";
+        }
+    for (auto &[key, e] : entries)
+      if (problem.empty())
+        try
+          {
+            e.normals.normal();
+          }
+        catch (const std::exception &error)
+          {
+            problem = "parameter 'Boundary conditions/Mechanical boundaries': at (" +
+                      std::to_string(e.condition.position[0]) + ", " +
+                      std::to_string(e.condition.position[1]) + ") " + error.what();
+          }
+    throw_collectively<InputError>(problem, mpi_communicator);
+    for (auto &[key, e] : entries)
+      {
+        NormalCondition &c = e.condition;
+        const auto       n = e.normals.normal();
+        c.normal           = {{n[0], n[1]}};
+        c.weight           = e.normals.weight();
+        c.corner = e.normals.max_deviation() > prm.contact.corner_angle * numbers::PI / 180;
+        normal_conditions.push_back(c);
+        if (c.kind != Kind::roller)
+          groups.insert(c.group);
+      }
+    // Every rank reports every group, even one it has no node of.
+    contact_groups.clear();
+    for (const auto &rank_groups :
+         Utilities::MPI::all_gather(mpi_communicator,
+                                    std::vector<std::string>(groups.begin(), groups.end())))
+      contact_groups.insert(contact_groups.end(), rank_groups.begin(), rank_groups.end());
+    std::sort(contact_groups.begin(), contact_groups.end());
+    contact_groups.erase(std::unique(contact_groups.begin(), contact_groups.end()),
+                         contact_groups.end());
+  }
+
+
+
+  template class MechanicalField<2>;
+} // namespace ContactStefan
