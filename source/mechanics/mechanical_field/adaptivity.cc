@@ -1,63 +1,11 @@
-// What the fields tell the mesh adaptation (mesh_adaptation.h): where the phase
-// fronts and the contact zones are, and the jump indicators of the temperature
-// and the displacement (doc/adaptivity.md).
-#include <contact-stefan/mechanics/mechanical_field.h>
+// What the mechanical field tells the mesh adaptation (mesh_adaptation.h):
+// where the contact zones are, and the jump indicator of the displacement
+// (doc/adaptivity.md).
 #include <contact-stefan/core/q1_kernels.h>
-#include <contact-stefan/thermal/thermal_field.h>
-
-#include <cmath>
+#include <contact-stefan/mechanics/mechanical_field.h>
 
 namespace ContactStefan
 {
-  // A cell carries a front when its nodes are not all in one phase: their
-  // phase indices (p on the branch of phase p, j + fraction on plateau j)
-  // differ, or one of them is on a plateau.
-  template <int dim>
-  void ThermalField<dim>::front_points(std::vector<Point<dim>> &points) const
-  {
-    points.clear();
-    std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned())
-        {
-          cell->get_dof_indices(dofs);
-          double lowest = std::numeric_limits<double>::infinity(), highest = -lowest;
-          bool   plateau = false;
-          for (const auto dof : dofs)
-            {
-              const double index = law(dof).phase_index(enthalpy_ghosted[dof]);
-              lowest             = std::min(lowest, index);
-              highest            = std::max(highest, index);
-              plateau            = plateau || index != std::floor(index);
-            }
-          if (plateau || highest > lowest)
-            points.push_back(cell->center());
-        }
-  }
-
-
-
-  // Kelly's jump of grad Theta over every interior face, interfaces included
-  // (the temperature is continuous across them), in closed form
-  // (q1_kernels.h).
-  template <int dim>
-  void ThermalField<dim>::error_indicator(dealii::Vector<float> &indicator) const
-  {
-    CellVertexField                      field;
-    std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
-    field.values.assign(4 * triangulation.n_active_cells(), 0.);
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      if (!cell->is_artificial())
-        {
-          cell->get_dof_indices(dofs);
-          for (unsigned int v = 0; v < 4; ++v)
-            field.values[4 * cell->active_cell_index() + v] = temperature_ghosted[dofs[v]];
-        }
-    q1_jump_indicator(triangulation, field, false, indicator);
-  }
-
-
-
   template <int dim>
   void MechanicalField<dim>::contact_points(std::vector<Point<dim>> &points) const
   {
@@ -101,8 +49,6 @@ namespace ContactStefan
 
 
 
-  template void ThermalField<2>::front_points(std::vector<Point<2>> &) const;
-  template void ThermalField<2>::error_indicator(dealii::Vector<float> &) const;
   template void MechanicalField<2>::contact_points(std::vector<Point<2>> &) const;
   template void MechanicalField<2>::error_indicator(dealii::Vector<float> &) const;
 } // namespace ContactStefan

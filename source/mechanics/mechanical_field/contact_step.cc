@@ -892,5 +892,32 @@ namespace ContactStefan
 
 
 
-  template class MechanicalField<2>;
+  template void   MechanicalField<2>::update_condition_gaps();
+  template double MechanicalField<2>::normal_displacement_jump(const NormalCondition &c) const;
+  template void   MechanicalField<2>::build_contact_constraints(unsigned int &n_skipped);
+  template void   MechanicalField<2>::check_rigid_body_modes() const;
+  template void   MechanicalField<2>::assemble_system(const bool with_matrix);
+  template void   MechanicalField<2>::assemble_bulk_matrix(const std::uint64_t signature);
+  template void   MechanicalField<2>::solve_linear_system(const bool factorise, const bool settled);
+  template std::uint64_t
+  MechanicalField<2>::constraints_hash(const bool with_inhomogeneities) const;
+  template std::uint64_t MechanicalField<2>::gaps_hash() const;
+  template std::uint64_t MechanicalField<2>::loads_hash() const;
+  template std::uint64_t MechanicalField<2>::contact_data_hash() const;
+  template void          MechanicalField<2>::apply_stiffness(const Vector &u_ghosted,
+                                                    Vector       &result,
+                                                    const bool    with_load) const;
+  template Vector       &MechanicalField<2>::active_flags(const NormalCondition &c);
+  template const Vector &MechanicalField<2>::active_flags_ghosted(const NormalCondition &c) const;
+  template bool          MechanicalField<2>::is_active(const NormalCondition &c) const;
+  template double        MechanicalField<2>::contact_pressure(const NormalCondition &c) const;
+  template double        MechanicalField<2>::contact_gap(const NormalCondition &c) const;
+  template std::vector<typename MechanicalField<2>::Decision>
+                MechanicalField<2>::contact_decisions(const Vector &residual,
+                                        double       &local_scale,
+                                        double       &max_penetration) const;
+  template void MechanicalField<2>::store_contact_output(const std::vector<Decision> &decisions,
+                                                         ContactStepReport           &report);
+  template ContactStepReport MechanicalField<2>::solve();
+  template void              MechanicalField<2>::after_transfer();
 } // namespace ContactStefan

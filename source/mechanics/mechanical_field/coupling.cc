@@ -21,8 +21,8 @@
 #include <deal.II/hp/fe_values.h>
 #include <deal.II/hp/q_collection.h>
 
-#include <contact-stefan/mechanics/mechanical_field.h>
 #include <contact-stefan/core/q1_kernels.h>
+#include <contact-stefan/mechanics/mechanical_field.h>
 
 namespace ContactStefan
 {
@@ -282,5 +282,28 @@ namespace ContactStefan
 
 
 
-  template class MechanicalField<2>;
+  template unsigned int
+  MechanicalField<2>::set_phase_weights(const std::vector<std::vector<double>> &weights);
+  template void MechanicalField<2>::set_cell_temperatures(const CellVertexValues &theta);
+  template void MechanicalField<2>::thermal_load_change(const CellVertexValues &theta,
+                                                        const CellVertexValues &theta_before,
+                                                        Vector                 &change) const;
+  template void MechanicalField<2>::thermoelastic_work(CellVertexValues &work) const;
+  template std::pair<SymmetricTensor<2, 2>, double>
+                MechanicalField<2>::stress(const typename DoFHandler<2>::active_cell_iterator &cell,
+                             const unsigned int                                  vertex,
+                             const SymmetricTensor<2, 2>                        &strain) const;
+  template void MechanicalField<2>::cell_vertex_displacement(
+    const typename DoFHandler<2>::active_cell_iterator &cell,
+    std::array<std::array<double, 4>, 2>               &u) const;
+  template void MechanicalField<2>::for_each_vertex_stress(
+    const std::function<void(const Point<2> &,
+                             double,
+                             const SymmetricTensor<2, 2> &,
+                             double,
+                             const SymmetricTensor<2, 2> &,
+                             const ElasticModuli &)> &visit) const;
+  template typename MechanicalField<2>::ElasticStatistics
+                  MechanicalField<2>::elastic_statistics() const;
+  template double MechanicalField<2>::contact_work() const;
 } // namespace ContactStefan

@@ -5,8 +5,8 @@
 
 #include <deal.II/numerics/data_postprocessor.h>
 
-#include <contact-stefan/mechanics/mechanical_field.h>
 #include <contact-stefan/core/q1_kernels.h>
+#include <contact-stefan/mechanics/mechanical_field.h>
 
 #include <cmath>
 #include <string>
@@ -565,5 +565,21 @@ namespace ContactStefan
 
 
 
-  template class MechanicalField<2>;
+  template double MechanicalField<2>::CellStress::von_mises() const;
+  template std::vector<typename MechanicalField<2>::CellStress>
+                                       MechanicalField<2>::cell_centre_stresses() const;
+  template std::pair<double, Point<2>> MechanicalField<2>::max_cell_von_mises() const;
+  template void
+  MechanicalField<2>::recover_nodal_pair(const std::vector<std::array<double, 2>> &cell_values,
+                                         Vector                                   &nodal) const;
+  template void MechanicalField<2>::recover_stresses(const std::vector<CellStress> &stresses,
+                                                     std::array<Vector, 2>         &ghosted) const;
+  template void
+  MechanicalField<2>::check_section_lines(const std::vector<Parameters::SectionLine> &lines) const;
+  template std::vector<typename MechanicalField<2>::SectionForce>
+  MechanicalField<2>::section_forces(const std::vector<Parameters::SectionLine> &lines) const;
+  template void MechanicalField<2>::for_each_recovered_vertex_stress(
+    const std::function<void(const Point<2> &, double, const SymmetricTensor<2, 2> &, double)>
+      &visit) const;
+  template void MechanicalField<2>::add_output(DataOut<2> &data_out) const;
 } // namespace ContactStefan

@@ -257,5 +257,7 @@ namespace ContactStefan
 
 
 
-  template class ThermalField<2>;
+  template void   ThermalField<2>::gauss_seidel_sweep(Vector &theta);
+  template double ThermalField<2>::exact_line_search(Vector &theta, const Vector &v);
+  template bool   ThermalField<2>::truncated_newton_iteration(EnthalpyStepReport &report);
 } // namespace ContactStefan

@@ -572,8 +572,8 @@ namespace ContactStefan
     for (unsigned int it = 1; it <= max_iterations; ++it)
       {
         // The last allowed iteration is tight, so that it can end the step.
-        loose                = loose && it < max_iterations;
-        report.plateau_nodes = solve_for_pieces(h_new, loose ? loose_tolerance : 0.);
+        loose                        = loose && it < max_iterations;
+        report.plateau_nodes         = solve_for_pieces(h_new, loose ? loose_tolerance : 0.);
         report.active_set_iterations = it;
 
         // A target whose every free node lies on the piece it was computed with
@@ -753,9 +753,9 @@ namespace ContactStefan
       }
     else if (solver == EnthalpySolver::active_set)
       {
-        const unsigned int limit = hand_over > 0 ? std::min(hand_over, max_iterations) :
-                                                   max_iterations;
-        converged                = active_set_iteration(report, limit);
+        const unsigned int limit =
+          hand_over > 0 ? std::min(hand_over, max_iterations) : max_iterations;
+        converged = active_set_iteration(report, limit);
         if (!converged)
           {
             if (limit < max_iterations)
@@ -794,9 +794,8 @@ namespace ContactStefan
               << (solver == EnthalpySolver::truncated_newton ? "truncated Newton method" :
                                                                "active-set and truncated Newton "
                                                                "methods")
-              << " in 'Solver/Max active-set iterations' = "
-              << prm.solver.max_active_set_iterations << " at t = " << time
-              << "; switching to the relaxation fallback" << std::endl;
+              << " in 'Solver/Max active-set iterations' = " << prm.solver.max_active_set_iterations
+              << " at t = " << time << "; switching to the relaxation fallback" << std::endl;
         report.relaxation_iterations = relaxation_fallback();
         unsigned int local_plateau   = 0;
         for (const auto dof : owned)
@@ -811,5 +810,17 @@ namespace ContactStefan
 
 
 
-  template class ThermalField<2>;
+  template void ThermalField<2>::assemble_system(const bool assemble_matrix);
+  template void ThermalField<2>::assemble_conductivity_matrix();
+  template void ThermalField<2>::assemble_step_load();
+  template void ThermalField<2>::apply_conductivity(const Vector &theta, Vector &result) const;
+  template void ThermalField<2>::to_columns(const Epetra_Vector &values,
+                                            std::vector<double> &result) const;
+  template void ThermalField<2>::conductivity_times(Vector &result, const bool absolute) const;
+  template unsigned int ThermalField<2>::solve_for_pieces(Vector &h_new, const double tolerance);
+  template unsigned int ThermalField<2>::relaxation_fallback();
+  template double       ThermalField<2>::compute_energy_balance(unsigned int &inconsistent) const;
+  template bool         ThermalField<2>::active_set_iteration(EnthalpyStepReport &report,
+                                                      const unsigned int  max_iterations);
+  template EnthalpyStepReport ThermalField<2>::solve();
 } // namespace ContactStefan
