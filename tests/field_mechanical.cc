@@ -45,8 +45,16 @@ int main(int argc, char *argv[])
   FieldTest::Scene scene(argv[1], [](AllParameters &) {});
   const bool       patch = scene.prm.exact_solution.type == Parameters::ExactSolution::Type::patch;
 
-  MechanicalField<2> field(
-    scene.prm, *scene.materials, *scene.functions, scene.triangulation, scene.timer, scene.pcout);
+  MechanicalField<2> field(scene.prm,
+                           scene.prm.contact_step,
+                           scene.prm.linear_solvers,
+                           scene.prm.output.verbosity,
+                           scene.prm.output.section_lines,
+                           *scene.materials,
+                           *scene.functions,
+                           scene.triangulation,
+                           scene.timer,
+                           scene.pcout);
   field.setup_dofs();
   field.initialize(0.);
   field.begin_time_step(1., 1.);

@@ -52,8 +52,25 @@ namespace
   struct Fields
   {
     Fields(FieldTest::Scene &s)
-      : thermal(s.prm, *s.materials, *s.functions, s.triangulation, s.timer, s.pcout)
-      , mechanical(s.prm, *s.materials, *s.functions, s.triangulation, s.timer, s.pcout)
+      : thermal(s.prm,
+                s.prm.enthalpy_step,
+                s.prm.linear_solvers,
+                s.prm.output.verbosity,
+                *s.materials,
+                *s.functions,
+                s.triangulation,
+                s.timer,
+                s.pcout)
+      , mechanical(s.prm,
+                   s.prm.contact_step,
+                   s.prm.linear_solvers,
+                   s.prm.output.verbosity,
+                   s.prm.output.section_lines,
+                   *s.materials,
+                   *s.functions,
+                   s.triangulation,
+                   s.timer,
+                   s.pcout)
     {}
     void setup_and_initialize()
     {

@@ -10,9 +10,9 @@
 #include <deal.II/distributed/tria.h>
 
 #include <contact-stefan/core/materials.h>
-#include <contact-stefan/mesh/mesh.h>
-#include <contact-stefan/core/parameters.h>
 #include <contact-stefan/core/scene_functions.h>
+#include <contact-stefan/coupling/all_parameters.h>
+#include <contact-stefan/mesh/mesh.h>
 
 #include <iostream>
 #include <memory>
@@ -37,7 +37,7 @@ namespace FieldTest
       adjust(prm);
       materials = std::make_unique<Materials>(prm);
       functions = std::make_unique<SceneFunctions<2>>(prm);
-      make_mesh(prm, triangulation);
+      make_mesh(prm, prm.refinement, triangulation);
     }
 
     AllParameters                           prm;

@@ -4,8 +4,8 @@
 #include <deal.II/base/parameter_handler.h>
 
 #include <contact-stefan/app/command_line.h>
+#include <contact-stefan/coupling/all_parameters.h>
 #include <contact-stefan/coupling/coupled_problem.h>
-#include <contact-stefan/core/parameters.h>
 #include <contact-stefan/output/run_guard.h>
 
 #include <algorithm>

@@ -1,11 +1,275 @@
-#include <contact-stefan/core/materials.h>
-#include <contact-stefan/verification/neumann_solution.h>
+#include <deal.II/base/utilities.h>
 
+#include <contact-stefan/core/checked_input.h>
+#include <contact-stefan/core/materials.h>
+
+#include <algorithm>
 #include <cmath>
 #include <memory>
 
 namespace ContactStefan
 {
+  // --- the entries of 'Materials/Body N' ---------------------------------------
+
+  namespace Parameters
+  {
+    using namespace Input;
+
+    void BodyMaterial::declare(ParameterHandler &prm)
+    {
+      prm.declare_entry("Name", "", Patterns::Anything(), "A label for output.");
+      prm.declare_entry("Density", "1", Patterns::Double(), "rho (kg/m^3), > 0.");
+      prm.declare_entry("Conductivities",
+                        "1",
+                        Patterns::Anything(),
+                        "Thermal conductivity k per phase, cold to hot (W/(m K)), > 0; one "
+                        "value means the same in every phase. In a cell holding several "
+                        "phases the phase fractions of the previous time step weight them.");
+      prm.declare_entry("Conductivity anisotropy",
+                        "1, 0, 1",
+                        Patterns::Anything(),
+                        "Symmetric positive definite shape tensor K_xx, K_xy, K_yy; the "
+                        "conductivity tensor of phase p is k_p * K.");
+      prm.declare_entry("Heat source",
+                        "0",
+                        Patterns::Anything(),
+                        "Volumetric heat source Q (W/m^3), function of x, y, t.");
+      prm.declare_entry("Elasticity",
+                        "isotropic",
+                        Patterns::Selection("isotropic|lame|anisotropic"),
+                        "How the elasticity tensor (plane strain) is given: 'isotropic' by "
+                        "Youngs modulus and Poisson ratio, 'lame' by Lame lambda and mu, "
+                        "'anisotropic' by the Elasticity tensor in Voigt form.");
+      prm.declare_entry("Youngs modulus",
+                        "1",
+                        Patterns::Anything(),
+                        "E (Pa), > 0: one value, or one per phase (cold to hot) for a body "
+                        "whose melt is softer; a cell mixes its phases' values by the phase "
+                        "fractions of the previous time step.");
+      prm.declare_entry("Poisson ratio",
+                        "0.3",
+                        Patterns::Anything(),
+                        "nu, in (-1, 0.5): one value, or one per phase.");
+      prm.declare_entry("Lame lambda", "1", Patterns::Double(), "lambda (Pa), > -2 mu / 3.");
+      prm.declare_entry("Lame mu", "1", Patterns::Double(), "mu (Pa), > 0.");
+      prm.declare_entry("Elasticity tensor",
+                        "1, 0, 0, 1, 0, 1",
+                        Patterns::Anything(),
+                        "Voigt form C11, C12, C16, C22, C26, C66 (Pa) with the order xx, yy, xy "
+                        "and engineering shear strain; must be positive definite.");
+      prm.declare_entry("Body force",
+                        "0; 0",
+                        Patterns::Anything(),
+                        "f_x; f_y (N/m^3), functions of x, y, t separated by ';'.");
+      prm.declare_entry("Thermal expansion",
+                        "0",
+                        Patterns::Anything(),
+                        "Isotropic linear expansion coefficient alpha (1/K): one value, or one "
+                        "per phase. The thermal stress tensor is beta = (3 lambda + 2 mu) alpha I "
+                        "(plane strain; Elasticity = isotropic or lame). Negative values "
+                        "(materials that shrink on heating) are allowed.");
+      prm.declare_entry("Thermal expansion tensor",
+                        "",
+                        Patterns::Anything(),
+                        "Empty, or alpha_xx, alpha_xy, alpha_yx, alpha_yy, alpha_zz (1/K), "
+                        "symmetric: an anisotropic expansion, beta = C : alpha (with alpha_zz "
+                        "through lambda for isotropic C; ignored for an anisotropic C, whose "
+                        "C_xxzz the 2D data does not give). Excludes Thermal expansion != 0.");
+      prm.declare_entry("Thermal stress tensor",
+                        "",
+                        Patterns::Anything(),
+                        "Empty, or beta_xx, beta_xy, beta_yx, beta_yy, beta_zz (Pa/K), "
+                        "symmetric: the thermal stress tensor itself (beta_zz only enters "
+                        "sigma_zz). Excludes the other two thermal expansion entries.");
+
+      prm.enter_subsection("Phase change");
+      prm.declare_entry("Transition temperatures",
+                        "",
+                        Patterns::Anything(),
+                        "Strictly increasing transition temperatures T_j (K or degC); "
+                        "empty: no phase change.");
+      prm.declare_entry("Latent heats",
+                        "",
+                        Patterns::Anything(),
+                        "Latent heat L_j per unit mass of each transition (J/kg), >= 0.");
+      prm.declare_entry("Heat capacities",
+                        "1",
+                        Patterns::Anything(),
+                        "Specific heat c_p of each phase, cold to hot (J/(kg K)), > 0: "
+                        "one more than transitions, or one value for all phases.");
+      prm.leave_subsection();
+    }
+
+    void BodyMaterial::parse(ParameterHandler &prm, const std::string &path)
+    {
+      name    = prm.get("Name");
+      density = get_finite(prm, path + "/", "Density");
+      require(density > 0, path + "/Density", "must be > 0, got " + str(density));
+      conductivities = parse_doubles(prm.get("Conductivities"), path + "/Conductivities");
+      for (const double k : conductivities)
+        require(k > 0, path + "/Conductivities", "must be > 0, got " + str(k));
+      const auto K =
+        parse_doubles(prm.get("Conductivity anisotropy"), path + "/Conductivity anisotropy");
+      require(K.size() == 3, path + "/Conductivity anisotropy", "needs K_xx, K_xy, K_yy");
+      require(K[0] > 0 && K[2] > 0 && K[0] * K[2] - K[1] * K[1] > 0,
+              path + "/Conductivity anisotropy",
+              "must be positive definite");
+      std::copy(K.begin(), K.end(), anisotropy);
+      heat_source = prm.get("Heat source");
+      check_function(heat_source, path + "/Heat source", false);
+
+      const std::string e = prm.get("Elasticity");
+      elasticity          = e == "isotropic" ? Elasticity::isotropic :
+                            e == "lame"      ? Elasticity::lame :
+                                               Elasticity::anisotropic;
+      youngs_moduli       = parse_doubles(prm.get("Youngs modulus"), path + "/Youngs modulus");
+      poisson_ratios      = parse_doubles(prm.get("Poisson ratio"), path + "/Poisson ratio");
+      lame_lambda         = get_finite(prm, path + "/", "Lame lambda");
+      lame_mu             = get_finite(prm, path + "/", "Lame mu");
+      thermal_expansions = parse_doubles(prm.get("Thermal expansion"), path + "/Thermal expansion");
+      for (const auto &[entry, list] : {std::make_pair("Youngs modulus", &youngs_moduli),
+                                        std::make_pair("Poisson ratio", &poisson_ratios),
+                                        std::make_pair("Thermal expansion", &thermal_expansions)})
+        require(!list->empty(), path + "/" + entry, "needs a value");
+      voigt = parse_doubles(prm.get("Elasticity tensor"), path + "/Elasticity tensor");
+      if (elasticity == Elasticity::isotropic)
+        {
+          for (const double E : youngs_moduli)
+            require(E > 0, path + "/Youngs modulus", "must be > 0, got " + str(E));
+          for (const double nu : poisson_ratios)
+            require(nu > -1 && nu < 0.5,
+                    path + "/Poisson ratio",
+                    "must lie in (-1, 0.5), got " + str(nu));
+        }
+      else
+        for (const auto &[entry, list] : {std::make_pair("Youngs modulus", &youngs_moduli),
+                                          std::make_pair("Poisson ratio", &poisson_ratios)})
+          require(list->size() == 1,
+                  path + "/" + entry,
+                  "one value per phase needs Elasticity = isotropic");
+      if (elasticity == Elasticity::lame)
+        {
+          require(lame_mu > 0, path + "/Lame mu", "must be > 0, got " + str(lame_mu));
+          require(lame_lambda > -2 * lame_mu / 3,
+                  path + "/Lame lambda",
+                  "must exceed -2 mu / 3, got " + str(lame_lambda));
+        }
+      else if (elasticity == Elasticity::anisotropic)
+        {
+          require(voigt.size() == 6,
+                  path + "/Elasticity tensor",
+                  "needs C11, C12, C16, C22, C26, C66");
+          // Positive definite 3x3 (Sylvester's criterion).
+          const double d1 = voigt[0], d2 = voigt[0] * voigt[3] - voigt[1] * voigt[1];
+          const double d3 = voigt[0] * (voigt[3] * voigt[5] - voigt[4] * voigt[4]) -
+                            voigt[1] * (voigt[1] * voigt[5] - voigt[4] * voigt[2]) +
+                            voigt[2] * (voigt[1] * voigt[4] - voigt[3] * voigt[2]);
+          require(d1 > 0 && d2 > 0 && d3 > 0,
+                  path + "/Elasticity tensor",
+                  "must be positive definite");
+        }
+      for (const auto &[entry, list] :
+           {std::make_pair("Thermal expansion tensor", &expansion_tensor),
+            std::make_pair("Thermal stress tensor", &stress_tensor)})
+        {
+          const std::string text = prm.get(entry);
+          *list = text.empty() ? std::vector<double>() : parse_doubles(text, path + "/" + entry);
+          if (list->empty())
+            continue;
+          require(list->size() == 5,
+                  path + "/" + entry,
+                  "needs five values xx, xy, yx, yy, zz, got " + std::to_string(list->size()));
+          const double size = std::max({std::abs((*list)[0]),
+                                        std::abs((*list)[1]),
+                                        std::abs((*list)[2]),
+                                        std::abs((*list)[3])});
+          require(std::abs((*list)[1] - (*list)[2]) <= 1e-12 * size,
+                  path + "/" + entry,
+                  "must be symmetric: xy = " + str((*list)[1]) + " but yx = " + str((*list)[2]));
+        }
+      const bool scalar_alpha = std::any_of(thermal_expansions.begin(),
+                                            thermal_expansions.end(),
+                                            [](const double a) { return a != 0; });
+      require(int(scalar_alpha) + int(!expansion_tensor.empty()) + int(!stress_tensor.empty()) <= 1,
+              path +
+                (stress_tensor.empty() ? "/Thermal expansion tensor" : "/Thermal stress tensor"),
+              "give the thermal data once: Thermal expansion, Thermal expansion tensor or "
+              "Thermal stress tensor");
+      require(!scalar_alpha || elasticity != Elasticity::anisotropic,
+              path + "/Thermal expansion",
+              "an anisotropic elasticity tensor needs Thermal expansion tensor or Thermal "
+              "stress tensor (its C_xxzz is not known in 2D)");
+      const auto f = Utilities::split_string_list(prm.get("Body force"), ';');
+      require(f.size() == 2, path + "/Body force", "needs two functions separated by ';'");
+      for (unsigned int d = 0; d < 2; ++d)
+        {
+          body_force[d] = f[d];
+          check_function(f[d], path + "/Body force", false);
+        }
+
+      prm.enter_subsection("Phase change");
+      const std::string pc = path + "/Phase change/";
+      const std::string T  = prm.get("Transition temperatures");
+      transition_temperatures =
+        T.empty() ? std::vector<double>() : parse_doubles(T, pc + "Transition temperatures");
+      const std::string L = prm.get("Latent heats");
+      latent_heats    = L.empty() ? std::vector<double>() : parse_doubles(L, pc + "Latent heats");
+      heat_capacities = parse_doubles(prm.get("Heat capacities"), pc + "Heat capacities");
+      prm.leave_subsection();
+
+      const unsigned int n = transition_temperatures.size();
+      for (unsigned int j = 1; j < n; ++j)
+        require(transition_temperatures[j] > transition_temperatures[j - 1],
+                pc + "Transition temperatures",
+                "must be strictly increasing");
+      require(latent_heats.size() == n,
+              pc + "Latent heats",
+              "needs one value per transition temperature (" + std::to_string(n) + ")");
+      for (const double l : latent_heats)
+        require(l >= 0, pc + "Latent heats", "must be >= 0, got " + str(l));
+      if (heat_capacities.size() == 1)
+        heat_capacities.assign(n + 1, heat_capacities[0]);
+      require(heat_capacities.size() == n + 1,
+              pc + "Heat capacities",
+              "needs one value per phase (" + std::to_string(n + 1) + ") or a single value");
+      for (const double c : heat_capacities)
+        require(c > 0, pc + "Heat capacities", "must be > 0, got " + str(c));
+      require(conductivities.size() == 1 || conductivities.size() == n + 1,
+              path + "/Conductivities",
+              "needs one value per phase (" + std::to_string(n + 1) + ") or a single value");
+      for (const auto &[entry, list] : {std::make_pair("Youngs modulus", &youngs_moduli),
+                                        std::make_pair("Poisson ratio", &poisson_ratios),
+                                        std::make_pair("Thermal expansion", &thermal_expansions)})
+        {
+          if (list->size() == 1)
+            list->assign(n + 1, list->front());
+          require(list->size() == n + 1,
+                  path + "/" + entry,
+                  "needs one value per phase (" + std::to_string(n + 1) + ") or a single value");
+        }
+    }
+
+    bool BodyMaterial::elasticity_depends_on_phase() const
+    {
+      for (const auto *list : {&youngs_moduli, &poisson_ratios, &thermal_expansions})
+        for (const double v : *list)
+          if (v != list->front())
+            return true;
+      return false;
+    }
+
+    bool BodyMaterial::has_thermal_stress() const
+    {
+      for (const auto *list : {&thermal_expansions, &expansion_tensor, &stress_tensor})
+        for (const double v : *list)
+          if (v != 0)
+            return true;
+      return false;
+    }
+  } // namespace Parameters
+
+
+
   using Elasticity = Parameters::BodyMaterial::Elasticity;
 
   namespace
@@ -211,7 +475,7 @@ namespace ContactStefan
 
 
 
-  Materials::Materials(const AllParameters &prm)
+  Materials::Materials(const SceneParameters &prm)
   {
     for (const auto &[id, m] : prm.materials)
       {
@@ -316,27 +580,5 @@ namespace ContactStefan
         if (moduli.beta.norm() > 0)
           strain = std::max(strain, (invert(moduli.C) * moduli.beta).norm());
     return strain;
-  }
-
-
-
-  NeumannSolution neumann_solution(const AllParameters &prm)
-  {
-    const Material      m(prm.materials.at(prm.exact_solution.body));
-    const EnthalpyLaw  &law = m.enthalpy_law;
-    std::vector<double> k, c, rho_L, T;
-    for (unsigned int p = 0; p <= law.n_transitions(); ++p)
-      {
-        // Isotropic: the shape tensor is a multiple of the identity.
-        k.push_back(m.conductivity(p) * m.conductivity_shape[0][0]);
-        c.push_back(law.heat_capacity(p));
-      }
-    for (unsigned int j = 0; j < law.n_transitions(); ++j)
-      {
-        rho_L.push_back(law.latent_heat(j));
-        T.push_back(law.transition_temperature(j));
-      }
-    return NeumannSolution(
-      k, c, T, rho_L, prm.exact_solution.hot_temperature, prm.exact_solution.cold_temperature);
   }
 } // namespace ContactStefan

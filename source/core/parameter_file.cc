@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <sstream>
 #include <utility>
 #include <vector>
 
@@ -415,5 +416,129 @@ namespace ContactStefan
         pos = end + tail.size();
       }
     return result + message.substr(pos);
+  }
+
+
+
+  namespace
+  {
+    // The subsection paths ("A/B") a handler declares, from its own listing.
+    std::vector<std::string> declared_subsections(const ParameterHandler &prm)
+    {
+      std::ostringstream out;
+      prm.print_parameters(out, ParameterHandler::ShortPRM);
+      std::istringstream       in(out.str());
+      std::vector<std::string> stack, paths;
+      for (std::string line; std::getline(in, line);)
+        {
+          const auto first = line.find_first_not_of(' ');
+          if (first == std::string::npos)
+            continue;
+          line = line.substr(first);
+          if (line.compare(0, 11, "subsection ") == 0)
+            {
+              std::string name = line.substr(11);
+              while (!name.empty() && name.back() == ' ')
+                name.pop_back();
+              stack.push_back(stack.empty() ? name : stack.back() + "/" + name);
+              paths.push_back(stack.back());
+            }
+          else if (line == "end" && !stack.empty())
+            stack.pop_back();
+        }
+      return paths;
+    }
+
+    std::string lower_case_without_spaces(const std::string &text)
+    {
+      std::string result;
+      for (const char c : text)
+        if (c != ' ')
+          result += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      return result;
+    }
+
+    // deal.II's "Line <n> of file <f: There is no such subsection to be
+    // entered: A.B" (sic), in the project's voice: the path with slashes, and
+    // what to do. A subsection of a boundary or a body that its list does not
+    // name is the common case (an entry removed from the list, its subsection
+    // kept); a wrong case or spacing is the other.
+    std::string unknown_subsection(const std::string      &message,
+                                   const std::string      &filename,
+                                   const ParameterHandler &prm)
+    {
+      const std::string marker = ": There is no such subsection to be entered: ";
+      const auto        at     = message.find(marker);
+      const auto        line   = message.find("Line <");
+      if (at == std::string::npos || line == std::string::npos)
+        return "";
+      const auto close = message.find('>', line);
+      if (close == std::string::npos || close > at)
+        return "";
+      std::string path = message.substr(at + marker.size());
+      std::replace(path.begin(), path.end(), '.', '/');
+      const auto               slash  = path.rfind('/');
+      const std::string        parent = slash == std::string::npos ? "" : path.substr(0, slash);
+      const std::string        name   = slash == std::string::npos ? path : path.substr(slash + 1);
+      std::vector<std::string> siblings;
+      for (const auto &declared : declared_subsections(prm))
+        {
+          const auto        s = declared.rfind('/');
+          const std::string p = s == std::string::npos ? "" : declared.substr(0, s);
+          if (p == parent)
+            siblings.push_back(s == std::string::npos ? declared : declared.substr(s + 1));
+        }
+      std::string hint;
+      for (const auto &sibling : siblings)
+        if (lower_case_without_spaces(sibling) == lower_case_without_spaces(name))
+          hint = "did you mean 'subsection " + sibling + "'? Names are case-sensitive";
+      const auto numbered = [&](const std::string &prefix) {
+        return name.compare(0, prefix.size(), prefix) == 0 && name.size() > prefix.size() &&
+               std::all_of(name.begin() + prefix.size(), name.end(), [](const char c) {
+                 return std::isdigit(static_cast<unsigned char>(c));
+               });
+      };
+      const auto not_listed = [&](const std::string &list, const std::string &what) {
+        return what + " " + name.substr(name.rfind(' ') + 1) + " is not listed in '" + list +
+               "': add it there, or remove this subsection";
+      };
+      if (hint.empty() && parent == "Boundary conditions" && numbered("Thermal boundary "))
+        hint = not_listed("Boundary conditions/Thermal boundaries", "thermal boundary");
+      else if (hint.empty() && parent == "Boundary conditions" && numbered("Mechanical boundary "))
+        hint = not_listed("Boundary conditions/Mechanical boundaries", "mechanical boundary");
+      else if (hint.empty() && parent == "Materials" && numbered("Body "))
+        hint = not_listed("Bodies/Body ids", "body");
+      else if (hint.empty())
+        {
+          hint = siblings.empty() ?
+                   "there is no subsection at this level" :
+                   "the subsections " +
+                     (parent.empty() ? std::string("at the top level") : "of '" + parent + "'") +
+                     " are: ";
+          for (unsigned int i = 0; i < siblings.size(); ++i)
+            hint += (i ? ", " : "") + siblings[i];
+        }
+      return "Line <" + message.substr(line + 6, close - line - 6) + "> of file <" + filename +
+             ">: there is no subsection '" + path + "' (" + hint + ")";
+    }
+  } // namespace
+
+
+
+  // deal.II's parse error, naming the file where deal.II does not; files named
+  // .xml or .json are read in those formats (deal.II chooses by the name).
+  std::string
+  parse_error(const std::string &filename, const std::exception &e, const ParameterHandler &prm)
+  {
+    std::string message = one_line(e.what());
+    if (const std::string better = unknown_subsection(message, filename, prm); !better.empty())
+      message = better;
+    if (message.find(filename) == std::string::npos)
+      message = "parameter file '" + filename + "': " + message;
+    const auto        dot       = filename.rfind('.');
+    const std::string extension = dot == std::string::npos ? "" : filename.substr(dot);
+    if (extension == ".xml" || extension == ".json")
+      message += " (read as " + extension.substr(1) + " because of the file name)";
+    return message;
   }
 } // namespace ContactStefan

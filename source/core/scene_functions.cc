@@ -19,25 +19,6 @@ namespace ContactStefan
       return f;
     }
 
-    // The Neumann solution as a deal.II function of (x, y) at the function's time.
-    template <int dim>
-    class NeumannFunction : public Function<dim>
-    {
-    public:
-      NeumannFunction(const NeumannSolution &solution, const double origin)
-        : solution(solution)
-        , origin(origin)
-      {}
-      double value(const Point<dim> &p, const unsigned int = 0) const override
-      {
-        return solution.temperature(p[0] - origin, this->get_time());
-      }
-
-    private:
-      const NeumannSolution &solution;
-      const double           origin;
-    };
-
     // A function whose every returned value is checked for finiteness.
     template <int dim>
     class Checked : public Function<dim>
@@ -124,14 +105,15 @@ namespace ContactStefan
 
 
   template <int dim>
-  SceneFunctions<dim>::SceneFunctions(const AllParameters &prm)
+  SceneFunctions<dim>::SceneFunctions(const SceneParameters &prm, ExactTemperature provided)
     : prm(prm)
     , record(std::make_unique<NonFiniteRecord>())
+    , provided_exact(std::move(provided))
   {
     assert_two_dimensional<dim>();
     using Exact = Parameters::ExactSolution::Type;
-    if (prm.exact_solution.type == Exact::neumann)
-      neumann_solution = std::make_unique<NeumannSolution>(ContactStefan::neumann_solution(prm));
+    AssertThrow(prm.exact_solution.type != Exact::neumann || provided_exact,
+                ExcMessage("Exact solution/Type = neumann: no exact temperature was provided"));
     if (prm.exact_solution.type == Exact::neumann || prm.exact_solution.type == Exact::function)
       exact = checked(make_exact(), "Exact solution/Function");
 
@@ -193,8 +175,8 @@ namespace ContactStefan
   template <int dim>
   std::unique_ptr<Function<dim>> SceneFunctions<dim>::make_exact() const
   {
-    if (neumann_solution)
-      return std::make_unique<NeumannFunction<dim>>(*neumann_solution, prm.exact_solution.origin);
+    if (provided_exact)
+      return provided_exact();
     return parse<dim>({prm.exact_solution.function});
   }
 

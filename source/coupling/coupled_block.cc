@@ -45,7 +45,7 @@ namespace ContactStefan
       return "contact conditions or tied interfaces (solved by the contact step's active set)";
     if (thermal.phase_change_present())
       return "phase change (the plateau set may change within a step)";
-    if (prm.solver.enthalpy_solver == Parameters::Solver::EnthalpySolver::relaxation)
+    if (prm.enthalpy_step.enthalpy_solver == Parameters::EnthalpyStep::EnthalpySolver::relaxation)
       return "the relaxation enthalpy solver (its matrix is not the enthalpy step's)";
     if (n_ranks != 1)
       return "more than one MPI rank (the block solve is serial)";

@@ -16,7 +16,7 @@
 
 namespace ContactStefan
 {
-  using LinearSolverType = Parameters::Solver::LinearSolverType;
+  using LinearSolverType = Parameters::LinearSolvers::LinearSolverType;
 
   // SuiteSparse's CHOLMOD: the matrix (lower triangle, by columns), its factor
   // and the library's workspace.
@@ -177,19 +177,19 @@ namespace ContactStefan
           std::to_string(L_value[L_start[j]]) + " at row " + std::to_string(j) + ")");
   }
 
-  LinearSolver::LinearSolver(const Parameters::Solver           &parameters,
-                             const unsigned int                  verbosity,
-                             const ConditionalOStream           &pcout,
-                             const std::string                  &name,
-                             const Parameters::Solver::AMGUpdate automatic_amg_update,
-                             const double                        aggregation_threshold,
-                             const unsigned int                  smoother_sweeps,
-                             const unsigned int                  reuse_limit)
+  LinearSolver::LinearSolver(const Parameters::LinearSolvers           &parameters,
+                             const unsigned int                         verbosity,
+                             const ConditionalOStream                  &pcout,
+                             const std::string                         &name,
+                             const Parameters::LinearSolvers::AMGUpdate automatic_amg_update,
+                             const double                               aggregation_threshold,
+                             const unsigned int                         smoother_sweeps,
+                             const unsigned int                         reuse_limit)
     : prm(parameters)
     , verbosity(verbosity)
     , pcout(pcout)
     , name(name)
-    , amg_update(parameters.amg_update == Parameters::Solver::AMGUpdate::automatic ?
+    , amg_update(parameters.amg_update == Parameters::LinearSolvers::AMGUpdate::automatic ?
                    automatic_amg_update :
                    parameters.amg_update)
     , aggregation_threshold(aggregation_threshold)
@@ -504,7 +504,7 @@ namespace ContactStefan
         matrix_norm  = A.linfty_norm();
         return;
       }
-    using AMGUpdate = Parameters::Solver::AMGUpdate;
+    using AMGUpdate = Parameters::LinearSolvers::AMGUpdate;
     if (matrix == &A && !use_direct && amg_built && !degraded && amg_update == AMGUpdate::reuse &&
         iterations_per_decade_after_build > 0 && !over_reuse_limit)
       {

@@ -504,7 +504,8 @@ namespace ContactStefan
   // disk in a ring, a rectangle cut by a dipping interface, or a Gmsh file. Body and boundary ids
   // in the mesh are checked against the parameter file here, before any time step runs.
   template <int dim>
-  void make_mesh(const AllParameters                       &prm,
+  void make_mesh(const SceneParameters                     &prm,
+                 const Parameters::Refinement              &refinement,
                  parallel::distributed::Triangulation<dim> &triangulation,
                  const bool                                 coarse_only)
   {
@@ -513,11 +514,11 @@ namespace ContactStefan
     const auto    &g                = prm.geometry;
     // A mesh that would exceed the cell cap is refused before it is built.
     const auto check_cell_count = [&](const double cells, const std::string &parameter) {
-      if (cells > prm.refinement.max_cells)
+      if (cells > refinement.max_cells)
         throw InputError(parameter,
                          "the mesh would have " + std::to_string(cells) +
                            " cells, more than 'Mesh refinement/Max cells' = " +
-                           std::to_string(prm.refinement.max_cells));
+                           std::to_string(refinement.max_cells));
     };
     if (g.mesh_type == Parameters::Geometry::MeshType::rectangle)
       {
@@ -544,7 +545,7 @@ namespace ContactStefan
     else if (g.mesh_type == Parameters::Geometry::MeshType::dipping_interface)
       {
         const double cells = double(g.subdivisions[0]) * g.subdivisions[1] *
-                             std::pow(4., prm.refinement.initial_global_refinements);
+                             std::pow(4., refinement.initial_global_refinements);
         check_cell_count(cells, "Geometry/Subdivisions");
         Triangulation<dim> coarse;
         make_dipping_interface(coarse,
@@ -561,7 +562,7 @@ namespace ContactStefan
       {
         const double n = g.subdivisions[0], m = g.subdivisions[1];
         const double cells =
-          (3 * n * n + 2 * n * m) * std::pow(4., prm.refinement.initial_global_refinements);
+          (3 * n * n + 2 * n * m) * std::pow(4., refinement.initial_global_refinements);
         check_cell_count(cells, "Geometry/Subdivisions");
         Triangulation<dim> coarse;
         make_disk_in_ring(
@@ -590,7 +591,7 @@ namespace ContactStefan
           }
         check_mesh(coarse, g.mesh_file);
         const double cells =
-          coarse.n_active_cells() * std::pow(4., prm.refinement.initial_global_refinements);
+          coarse.n_active_cells() * std::pow(4., refinement.initial_global_refinements);
         check_cell_count(cells, "Mesh refinement/Initial global refinements");
         triangulation.copy_triangulation(coarse);
       }
@@ -627,8 +628,8 @@ namespace ContactStefan
 
     if (coarse_only)
       return;
-    triangulation.refine_global(prm.refinement.initial_global_refinements);
-    const auto &r = prm.refinement;
+    triangulation.refine_global(refinement.initial_global_refinements);
+    const auto &r = refinement;
     if (r.prerefinement_radius > 0)
       for (unsigned int step = 0; step < r.prerefinement_steps; ++step)
         {
@@ -669,6 +670,8 @@ namespace ContactStefan
 
 
 
-  template void
-  make_mesh<2>(const AllParameters &, parallel::distributed::Triangulation<2> &, const bool);
+  template void make_mesh<2>(const SceneParameters &,
+                             const Parameters::Refinement &,
+                             parallel::distributed::Triangulation<2> &,
+                             const bool);
 } // namespace ContactStefan

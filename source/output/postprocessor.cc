@@ -26,13 +26,19 @@ namespace ContactStefan
   using ExactType = Parameters::ExactSolution::Type;
 
   template <int dim>
-  Postprocessor<dim>::Postprocessor(const AllParameters                             &prm,
+  Postprocessor<dim>::Postprocessor(const SceneParameters                           &prm,
+                                    const Parameters::Output                        &output_prm,
+                                    const bool                                       adaptive,
+                                    const NeumannSolution                           *neumann,
                                     const Materials                                 &materials,
                                     SceneFunctions<dim>                             &functions,
                                     const parallel::distributed::Triangulation<dim> &triangulation,
                                     TimerOutput                                     &timer,
                                     const ConditionalOStream                        &pcout)
     : prm(prm)
+    , output_prm(output_prm)
+    , adaptive(adaptive)
+    , neumann(neumann)
     , materials(materials)
     , functions(functions)
     , triangulation(triangulation)
@@ -46,19 +52,19 @@ namespace ContactStefan
     if (Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
       {
         std::error_code error;
-        std::filesystem::create_directories(prm.output.directory, error);
-        const std::string probe = prm.output.directory + "/.contact-stefan-write-test";
-        if (error || !std::filesystem::is_directory(prm.output.directory))
-          problem = "cannot create the directory '" + prm.output.directory + "'";
+        std::filesystem::create_directories(output_prm.directory, error);
+        const std::string probe = output_prm.directory + "/.contact-stefan-write-test";
+        if (error || !std::filesystem::is_directory(output_prm.directory))
+          problem = "cannot create the directory '" + output_prm.directory + "'";
         else if (!std::ofstream(probe))
-          problem = "cannot write into '" + prm.output.directory + "'";
+          problem = "cannot write into '" + output_prm.directory + "'";
         std::filesystem::remove(probe, error);
         // One run at a time: a second run into the same directory would
         // interleave its statistics rows and VTU files with this one's.
         if (problem.empty())
           try
             {
-              output_lock = std::make_unique<OutputDirectoryLock>(prm.output.directory);
+              output_lock = std::make_unique<OutputDirectoryLock>(output_prm.directory);
             }
           catch (const std::exception &e)
             {
@@ -80,14 +86,14 @@ namespace ContactStefan
     if (Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
       try
         {
-          removed = ContactStefan::remove_stale_output(prm.output.directory, last_kept_step);
+          removed = ContactStefan::remove_stale_output(output_prm.directory, last_kept_step);
           // A resumed run's index lists the steps up to the checkpoint (an
           // interrupted run's index may list later steps whose files are gone).
           if (last_kept_step >= 0 && !pvd_records.empty())
             {
               std::ostringstream pvd;
               DataOutBase::write_pvd_record(pvd, pvd_records);
-              write_file_atomically(prm.output.directory + "/solution.pvd", pvd.str());
+              write_file_atomically(output_prm.directory + "/solution.pvd", pvd.str());
             }
         }
       catch (const std::exception &e)
@@ -98,7 +104,7 @@ namespace ContactStefan
     if (!problem.empty())
       throw std::runtime_error(problem);
     removed = Utilities::MPI::broadcast(mpi_communicator, removed, 0);
-    pcout << "Output: '" << prm.output.directory << "'";
+    pcout << "Output: '" << output_prm.directory << "'";
     if (removed > 0)
       pcout << " (removed " << removed << " VTU/PVD files of an earlier run"
             << (last_kept_step >= 0 ? " after the checkpoint's step" : "") << ")";
@@ -136,7 +142,7 @@ namespace ContactStefan
       }
     write_statistics_row(
       0, time, EnthalpyStepReport(), initial_contact, CouplingReport(), wall_time);
-    if (prm.output.vtu_interval > 0)
+    if (output_prm.vtu_interval > 0)
       output_vtu(0, time);
   }
 
@@ -186,7 +192,7 @@ namespace ContactStefan
       time_step * (thermal ? thermal->get_dof_handler() : mechanical->get_dof_handler()).n_dofs();
     write_statistics_row(step, time, report, contact_report, coupling_report, wall_time);
     pending_change = 0;
-    if (prm.output.vtu_interval > 0 && (step % prm.output.vtu_interval == 0 || last_step))
+    if (output_prm.vtu_interval > 0 && (step % output_prm.vtu_interval == 0 || last_step))
       output_vtu(step, time);
   }
 
@@ -231,10 +237,10 @@ namespace ContactStefan
     data_out.add_data_vector(rank, "mpi_rank", DataOut<dim>::type_cell_data);
     data_out.build_patches();
     DataOutBase::VtkFlags flags;
-    flags.compression_level = prm.output.vtu_compression;
+    flags.compression_level = output_prm.vtu_compression;
     data_out.set_flags(flags);
 
-    const std::string directory = prm.output.directory + "/";
+    const std::string directory = output_prm.directory + "/";
     const std::string name =
       data_out.write_vtu_with_pvtu_record(directory, "solution", step, mpi_communicator, 5);
     pvd_records.emplace_back(time, name);
@@ -383,7 +389,7 @@ namespace ContactStefan
              "%.10e",
              total_contact_work);
       }
-    if (prm.refinement.adaptive())
+    if (adaptive)
       {
         count("cells",
               "active cells",
@@ -402,7 +408,7 @@ namespace ContactStefan
     if (Utilities::MPI::this_mpi_process(mpi_communicator) != 0)
       return;
 
-    const std::string path = prm.output.directory + "/" + prm.output.statistics_file;
+    const std::string path = output_prm.directory + "/" + output_prm.statistics_file;
     std::ofstream     out(path, step == 0 ? std::ios::trunc : std::ios::app);
     if (step == 0)
       {
@@ -565,7 +571,7 @@ namespace ContactStefan
         }
     // The distinct evaluation points (exact equality: the quadrature points of
     // cells in one column of a rectangle have bitwise equal abscissae).
-    const bool                     x_only = functions.neumann() != nullptr;
+    const bool                     x_only = neumann != nullptr;
     std::map<double, unsigned int> abscissa;
     const auto                     index_of = [&](const Point<dim> &p) {
       if (!x_only)
@@ -617,11 +623,11 @@ namespace ContactStefan
       failed.push_back(std::to_string(inconsistent_enthalpy_nodes) +
                        " node-steps ended with an enthalpy outside H(Theta) (must be 0; see "
                        "doc/algorithms.md): the enthalpy step did not converge to a solution");
-    if (mechanical && prm.output.small_strain_limit > 0 &&
-        max_strain > prm.output.small_strain_limit)
+    if (mechanical && output_prm.small_strain_limit > 0 &&
+        max_strain > output_prm.small_strain_limit)
       failed.push_back(
         "the largest strain " + number(max_strain) +
-        " exceeds 'Output/Small-strain limit' = " + number(prm.output.small_strain_limit) +
+        " exceeds 'Output/Small-strain limit' = " + number(output_prm.small_strain_limit) +
         ": the linear small-strain model does not describe this deformation");
     return failed;
   }
@@ -638,7 +644,7 @@ namespace ContactStefan
       print_mechanical_results(n_steps);
     if (thermal && mechanical)
       print_coupling_results(n_steps);
-    if (prm.refinement.adaptive())
+    if (adaptive)
       {
         add_result("final cells", triangulation.n_global_active_cells());
         add_result("mesh adaptations", n_adaptations);
@@ -751,7 +757,7 @@ namespace ContactStefan
         else
           add_result("change of total enthalpy", std::abs(E_end - initial_total_enthalpy));
       }
-    if (const NeumannSolution *neumann = functions.neumann())
+    if (neumann)
       {
         // Fronts: from the melt area of each transition (strip of height Y).
         const auto  &g      = prm.geometry;
@@ -767,7 +773,7 @@ namespace ContactStefan
             add_result("exact front position" + suffix, s);
             add_result("front position error" + suffix, std::abs(s_h - s));
             add_result("front position error in mesh widths" + suffix, std::abs(s_h - s) / h);
-            if (prm.refinement.adaptive())
+            if (adaptive)
               {
                 // The widest cell the exact front crosses.
                 double local = 0;
@@ -902,7 +908,7 @@ namespace ContactStefan
         exact && time > prm.time.start_time)
       {
         exact->set_time(time);
-        const auto &lines  = prm.output.section_lines;
+        const auto &lines  = output_prm.section_lines;
         const auto  forces = mechanical->section_forces(lines);
         for (unsigned int l = 0; l < lines.size(); ++l)
           for (unsigned int side = 0; side < 2; ++side)
@@ -1045,7 +1051,7 @@ namespace ContactStefan
       }
     // The section forces at the end (both sides of each line, both stress
     // outputs), and their errors over the steps.
-    const auto &lines = prm.output.section_lines;
+    const auto &lines = output_prm.section_lines;
     if (!lines.empty())
       {
         const auto forces = mechanical->section_forces(lines);

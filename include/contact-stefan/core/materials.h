@@ -17,7 +17,6 @@
 
 namespace ContactStefan
 {
-  class NeumannSolution;
 
   // The plane-strain elasticity tensor C_ijkl of a body: from (E, nu), from the
   // Lame constants, or from the Voigt matrix (order xx, yy, xy).
@@ -79,7 +78,7 @@ namespace ContactStefan
   class Materials
   {
   public:
-    explicit Materials(const AllParameters &prm);
+    explicit Materials(const SceneParameters &prm);
     const Material &operator[](const unsigned int body) const
     {
       return materials.at(body);
@@ -99,8 +98,6 @@ namespace ContactStefan
 
   bool conductivity_is_isotropic(const Parameters::BodyMaterial &m);
 
-  // The Neumann solution of the exact-solution body's material (Type = neumann).
-  NeumannSolution neumann_solution(const AllParameters &prm);
 } // namespace ContactStefan
 
 #endif

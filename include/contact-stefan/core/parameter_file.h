@@ -7,12 +7,17 @@
 #ifndef contact_stefan_parameter_file_h
 #define contact_stefan_parameter_file_h
 
+#include <deal.II/base/parameter_handler.h>
+
 #include <cstddef>
+#include <exception>
 #include <string>
 #include <vector>
 
 namespace ContactStefan
 {
+  using namespace dealii;
+
   // The largest parameter file, and the largest text after the includes are
   // expanded: far above any scene (the largest shipped one has 7 kB), low
   // enough that /dev/zero, a FIFO or a diamond of includes cannot eat the
@@ -57,6 +62,12 @@ namespace ContactStefan
   std::string locate_lines(const std::string       &message,
                            const ParameterFileText &file,
                            const std::string       &filename);
+
+  // deal.II's parse error of `filename` as one line in the project's voice: an
+  // unknown subsection named with slashes and what to do, the file named where
+  // deal.II does not, and why a .xml or .json file was read in that format.
+  std::string
+  parse_error(const std::string &filename, const std::exception &e, const ParameterHandler &prm);
 } // namespace ContactStefan
 
 #endif

@@ -12,10 +12,12 @@
 #ifndef contact_stefan_parameters_h
 #define contact_stefan_parameters_h
 
-#include <deal.II/base/data_out_base.h>
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/point.h>
 
+#include <contact-stefan/core/checked_input.h>
+
+#include <functional>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -24,18 +26,6 @@
 namespace ContactStefan
 {
   using namespace dealii;
-
-  // A bad input: what() is a single line meant for the user.
-  class InputError : public std::runtime_error
-  {
-  public:
-    InputError(const std::string &parameter, const std::string &reason)
-      : std::runtime_error("parameter '" + parameter + "': " + reason)
-    {}
-    explicit InputError(const std::string &message)
-      : std::runtime_error(message)
-    {}
-  };
 
   namespace Parameters
   {
@@ -154,14 +144,7 @@ namespace ContactStefan
         contact,
         tied
       } interfaces;
-      std::string  interface_gap;
-      double       complementarity_constant;
-      unsigned int max_iterations;
-      double       tolerance;
-      unsigned int max_set_repetitions;
-      unsigned int max_c_reductions;
-      double       rigid_mode_tolerance;
-      double       corner_angle;
+      std::string interface_gap;
 
       static void declare(ParameterHandler &prm);
       void        parse(ParameterHandler &prm);
@@ -290,117 +273,6 @@ namespace ContactStefan
       void        parse(ParameterHandler &prm);
     };
 
-    struct Solver
-    {
-      enum class LinearSolverType
-      {
-        automatic,
-        direct,
-        cg_amg
-      } linear_solver;
-      unsigned int automatic_direct_limit; // automatic: direct below this many unknowns
-      std::string  direct_solver_type;
-      // cholmod: factorisations of earlier matrices kept for recall(), by key.
-      unsigned int kept_factorisations;
-      double       cg_tolerance;
-      double       cg_contact_set_tolerance;
-      // The enthalpy step's CG tolerance while its set changes (0: tight).
-      double cg_enthalpy_set_tolerance;
-      double amg_rebuild_ratio;
-      // ML's aggregation threshold for each system's AMG.
-      double elasticity_amg_threshold, enthalpy_amg_threshold;
-      // ML's smoother sweeps (Chebyshev degree) for each system's AMG.
-      unsigned int elasticity_amg_sweeps, enthalpy_amg_sweeps;
-      // Contact-set changes an elasticity AMG hierarchy is kept across before
-      // it is recomputed on its aggregates (0: no limit).
-      unsigned int elasticity_amg_reuse_limit;
-      // What update() does to an AMG hierarchy when the matrix values change
-      // in place: keep it as it is, recompute it on its aggregates, or build
-      // it afresh; automatic: each system's measured choice (LinearSolver).
-      enum class AMGUpdate
-      {
-        automatic,
-        reuse,
-        recompute,
-        rebuild
-      } amg_update;
-      double       refactorisation_backward_error;
-      unsigned int cg_max_iterations;
-      unsigned int max_active_set_iterations;
-      // The active-set method's large-step mode: the solves after which a step
-      // is handed over to the truncated Newton method, which then also solves
-      // the following steps until one needs at most hand_back solves (0: the
-      // hand-over only at max_active_set_iterations, for that step alone).
-      unsigned int truncated_newton_hand_over, active_set_hand_back;
-      enum class EnthalpySolver
-      {
-        active_set,
-        truncated_newton,
-        relaxation
-      } enthalpy_solver;
-      unsigned int gauss_seidel_sweeps;
-      double       active_set_step_tolerance;
-      double       line_search_sufficient_decrease;
-      double       line_search_min_step;
-      bool         extrapolate_active_set;
-      double       relaxation_parameter_fraction;
-      double       relaxation_tolerance;
-      unsigned int relaxation_max_iterations;
-
-      static void declare(ParameterHandler &prm);
-      void        parse(ParameterHandler &prm);
-    };
-
-    struct Refinement
-    {
-      unsigned int initial_global_refinements;
-      // Geometric pre-refinement: after the global refinements, refine the cells
-      // whose centre lies within radius of center, this many times.
-      Point<2>     prerefinement_center;
-      double       prerefinement_radius;
-      unsigned int prerefinement_steps;
-      unsigned int max_cells;
-
-      // Adaptive refinement during the time loop (doc/adaptivity.md).
-      enum class Strategy
-      {
-        fixed_fraction,
-        fixed_number
-      };
-      unsigned int adaptive_interval; // steps; 0: the mesh stays fixed
-      unsigned int initial_adaptive_refinements;
-      Strategy     strategy;
-      double       refine_fraction, coarsen_fraction;
-      unsigned int min_level, max_level; // min_level is resolved against the global refinements
-      double       temperature_weight, displacement_weight;
-      bool         mark_fronts, mark_contact;
-      unsigned int front_buffer, contact_buffer; // in cells
-
-      bool adaptive() const
-      {
-        return adaptive_interval > 0 || initial_adaptive_refinements > 0;
-      }
-
-      static void declare(ParameterHandler &prm);
-      void        parse(ParameterHandler &prm);
-    };
-
-    // Checkpoint/restart (doc/adaptivity.md).
-    struct Checkpoint
-    {
-      unsigned int interval_steps;   // 0: none by step count
-      double       interval_minutes; // 0: none by wall-clock time
-      bool         resume;
-
-      bool enabled() const
-      {
-        return interval_steps > 0 || interval_minutes > 0;
-      }
-
-      static void declare(ParameterHandler &prm);
-      void        parse(ParameterHandler &prm);
-    };
-
     // A straight mesh line x = value (axis 0) or y = value (axis 1) across
     // which the run integrates sigma n (doc/output.md, section forces).
     struct SectionLine
@@ -410,25 +282,30 @@ namespace ContactStefan
       std::string  name; // "y=0.75"
     };
 
-    struct Output
-    {
-      std::vector<SectionLine> section_lines;
-      std::string              directory;
-      unsigned int             vtu_interval;
-      std::string              statistics_file;
-      unsigned int             verbosity;
-      double                   small_strain_limit;
-      // zlib level of the VTU files' data (DataOutBase::VtkFlags::ZlibCompressionLevel).
-      DataOutBase::VtkFlags::ZlibCompressionLevel vtu_compression;
-
-      static void declare(ParameterHandler &prm);
-      void        parse(ParameterHandler &prm);
-    };
   } // namespace Parameters
 
 
 
-  struct AllParameters
+  /**
+   * The part of a parameter file that owners of other subsections read: its
+   * declarations (into any subsection, beside the scene's entries) and what it
+   * parses once the scene is read. The layers above the core declare theirs
+   * this way (coupling/all_parameters.h), so that the core reads one file
+   * without knowing them.
+   */
+  struct OwnerSection
+  {
+    std::function<void(ParameterHandler &)> declare;
+    std::function<void(ParameterHandler &)> parse;
+  };
+
+  /**
+   * The scene: what the bodies are, what they are made of, how they are held,
+   * heated and coupled, and how long the run is. The solvers', refinement's,
+   * output's and checkpoint's entries are declared and parsed by their owners
+   * (OwnerSection; all of them together: AllParameters).
+   */
+  struct SceneParameters
   {
     Parameters::Geometry                                   geometry;
     std::vector<unsigned int>                              body_ids;
@@ -441,29 +318,29 @@ namespace ContactStefan
     Parameters::InitialCondition                           initial_condition;
     Parameters::ExactSolution                              exact_solution;
     Parameters::TimeStepping                               time;
-    Parameters::Solver                                     solver;
-    Parameters::Refinement                                 refinement;
-    Parameters::Checkpoint                                 checkpoint;
     // Every parameter that determines the solution, as text (all entries in
     // canonical order, without the subsections Checkpoint and Output and
     // without Time stepping/End time): a checkpoint is resumed only by a scene
     // with the same text.
-    std::string        solution_parameters;
-    Parameters::Output output;
+    std::string solution_parameters;
     // The parameter text as read (includes expanded) and the files it came
     // from: the run's provenance record.
     std::string              source_text;
     std::vector<std::string> source_files;
 
-    // Declare everything for the given body and boundary lists.
+    /** Declare everything for the given body and boundary lists, the owners' entries too. */
     static void declare(ParameterHandler                &prm,
                         const std::vector<unsigned int> &body_ids,
                         const std::vector<unsigned int> &thermal_boundary_ids,
-                        const std::vector<unsigned int> &mechanical_boundary_ids);
+                        const std::vector<unsigned int> &mechanical_boundary_ids,
+                        const std::vector<OwnerSection> &owners = {});
 
-    // Read and check a parameter file; throws InputError.
-    void read(const std::string &filename);
-    // The checks across subsections (part of read()).
+    /**
+     * Read and check a parameter file, the owners' sections with it (parsed
+     * after the scene's); throws InputError.
+     */
+    void read(const std::string &filename, const std::vector<OwnerSection> &owners = {});
+    /** The checks across the scene's subsections (part of read()). */
     void check_consistency() const;
 
     // Both physics on, some body with a thermal stress tensor beta != 0, and the
@@ -476,23 +353,7 @@ namespace ContactStefan
     }
     // Some body's elasticity changes with its phase (both physics on).
     bool elasticity_depends_on_phase() const;
-
-    // The handler with every parameter at its default, for --print-parameters.
-    static void declare_defaults(ParameterHandler &prm);
   };
-  // deal.II's multi-line exception texts condensed to the sentence that matters.
-  std::string one_line(const std::string &text);
-
-  // True if a function expression of x, y, t is identically zero: it names no
-  // variable (and no random function) and evaluates to 0 ("0", "0.0", "2*0", "1e-400").
-  // Decided from the parsed expression, never from its spelling.
-  bool is_zero_expression(const std::string &expression);
-
-  // The keyword that stands for the configured exact solution in a function entry.
-  inline bool is_exact_keyword(const std::string &expression)
-  {
-    return expression == "exact";
-  }
 } // namespace ContactStefan
 
 #endif

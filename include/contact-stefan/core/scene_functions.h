@@ -18,9 +18,9 @@
 #include <deal.II/base/function.h>
 
 #include <contact-stefan/core/common.h>
-#include <contact-stefan/verification/neumann_solution.h>
 #include <contact-stefan/core/parameters.h>
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -32,7 +32,15 @@ namespace ContactStefan
   class SceneFunctions
   {
   public:
-    explicit SceneFunctions(const AllParameters &prm);
+    /**
+     * An exact temperature that a verification part provides (Exact
+     * solution/Type = neumann: verification/neumann_check.h), as a factory of
+     * fresh copies, each user setting its own time. The scene's own 'Exact
+     * solution/Function' (Type = function) needs none.
+     */
+    using ExactTemperature = std::function<std::unique_ptr<Function<dim>>()>;
+
+    explicit SceneFunctions(const SceneParameters &prm, ExactTemperature provided = {});
 
     // --- thermal -------------------------------------------------------------
     Function<dim> &heat_source(const unsigned int body)
@@ -57,10 +65,6 @@ namespace ContactStefan
     Function<dim> *exact_temperature()
     {
       return exact.get();
-    }
-    const NeumannSolution *neumann() const
-    {
-      return neumann_solution.get();
     }
 
     // --- mechanics (two components each) -----------------------------------------
@@ -141,9 +145,9 @@ namespace ContactStefan
                                            const std::string             &parameter,
                                            const std::vector<bool>       &used = {}) const;
 
-    const AllParameters             &prm;
+    const SceneParameters           &prm;
     std::unique_ptr<NonFiniteRecord> record;
-    std::unique_ptr<NeumannSolution> neumann_solution;
+    ExactTemperature                 provided_exact;
     std::unique_ptr<Function<dim>>   exact, initial, interface;
     std::unique_ptr<Function<dim>>   reference, stress, pressure, liquid, section_force;
     std::map<unsigned int, std::unique_ptr<Function<dim>>> heat_sources, thermal_boundaries;

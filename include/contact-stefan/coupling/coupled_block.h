@@ -28,6 +28,7 @@
 #include <deal.II/base/timer.h>
 
 #include <contact-stefan/core/common.h>
+#include <contact-stefan/coupling/all_parameters.h>
 #include <contact-stefan/mechanics/mechanical_field.h>
 #include <contact-stefan/thermal/thermal_field.h>
 

@@ -18,15 +18,16 @@
 
 #include <deal.II/distributed/tria.h>
 
-#include <contact-stefan/coupling/coupled_block.h>
 #include <contact-stefan/core/materials.h>
+#include <contact-stefan/core/scene_functions.h>
+#include <contact-stefan/coupling/all_parameters.h>
+#include <contact-stefan/coupling/coupled_block.h>
 #include <contact-stefan/mechanics/mechanical_field.h>
 #include <contact-stefan/mesh/mesh_adaptation.h>
-#include <contact-stefan/core/parameters.h>
 #include <contact-stefan/output/postprocessor.h>
 #include <contact-stefan/output/run_guard.h>
-#include <contact-stefan/core/scene_functions.h>
 #include <contact-stefan/thermal/thermal_field.h>
+#include <contact-stefan/verification/neumann_check.h>
 
 #include <memory>
 #include <string>
@@ -103,7 +104,10 @@ namespace ContactStefan
     double                                diameter = -1;
     double                                domain_diameter();
     const Materials                       materials;
-    SceneFunctions<dim>                   functions;
+    // The exact solution of a Neumann scene (else null), provided to the scene
+    // functions and the postprocessor.
+    const std::unique_ptr<const NeumannSolution> neumann;
+    SceneFunctions<dim>                          functions;
     std::unique_ptr<Postprocessor<dim>>   postprocessor;
     std::unique_ptr<ThermalField<dim>>    thermal;    // null: Physics/Thermal = false
     std::unique_ptr<MechanicalField<dim>> mechanical; // null: Physics/Mechanics = false

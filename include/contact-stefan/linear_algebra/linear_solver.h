@@ -13,8 +13,9 @@
 #include <deal.II/lac/trilinos_solver.h>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 
+#include <contact-stefan/core/checked_input.h>
 #include <contact-stefan/core/common.h>
-#include <contact-stefan/core/parameters.h>
+#include <contact-stefan/linear_algebra/linear_solver_parameters.h>
 
 #include <algorithm>
 #include <cstdint>
@@ -64,14 +65,14 @@ namespace ContactStefan
     // reuse_limit: with 'AMG update = reuse', the changed rows (as counted by
     // the callers of update()) a hierarchy is kept across before it is
     // recomputed for the current values (0: no limit).
-    LinearSolver(const Parameters::Solver           &parameters,
-                 const unsigned int                  verbosity,
-                 const ConditionalOStream           &pcout,
-                 const std::string                  &name,
-                 const Parameters::Solver::AMGUpdate automatic_amg_update,
-                 const double                        aggregation_threshold,
-                 const unsigned int                  smoother_sweeps,
-                 const unsigned int                  reuse_limit = 0);
+    LinearSolver(const Parameters::LinearSolvers           &parameters,
+                 const unsigned int                         verbosity,
+                 const ConditionalOStream                  &pcout,
+                 const std::string                         &name,
+                 const Parameters::LinearSolvers::AMGUpdate automatic_amg_update,
+                 const double                               aggregation_threshold,
+                 const unsigned int                         smoother_sweeps,
+                 const unsigned int                         reuse_limit = 0);
 
     // The near-null space the AMG hierarchy is built for: vectors over the
     // locally owned rows in their order (elasticity: the rigid-body modes; ML's
@@ -145,12 +146,12 @@ namespace ContactStefan
   private:
     void check_finite_matrix(const TrilinosWrappers::SparseMatrix &A) const;
 
-    const Parameters::Solver &prm;
+    const Parameters::LinearSolvers &prm;
     const unsigned int        verbosity;
     const ConditionalOStream &pcout;
     const std::string         name;
     // 'Solver/AMG update' with automatic resolved for this system.
-    const Parameters::Solver::AMGUpdate amg_update;
+    const Parameters::LinearSolvers::AMGUpdate amg_update;
     // ML's 'aggregation: threshold' for this system.
     const double                          aggregation_threshold;
     // ML's 'smoother: sweeps' for this system.

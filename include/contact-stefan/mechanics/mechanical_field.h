@@ -46,10 +46,11 @@
 #include <boost/serialization/string.hpp>
 
 #include <contact-stefan/core/common.h>
-#include <contact-stefan/linear_algebra/linear_solver.h>
 #include <contact-stefan/core/materials.h>
 #include <contact-stefan/core/parameters.h>
 #include <contact-stefan/core/scene_functions.h>
+#include <contact-stefan/linear_algebra/linear_solver.h>
+#include <contact-stefan/mechanics/contact_step_parameters.h>
 
 #include <array>
 #include <cstdint>
@@ -115,7 +116,15 @@ namespace ContactStefan
   class MechanicalField
   {
   public:
-    MechanicalField(const AllParameters                             &prm,
+    // prm: the scene; contact_prm: the contact step's own entries;
+    // linear_prm: the shared linear-solver entries; verbosity:
+    // Output/Verbosity; section_lines: the lines (Output/Section lines) that
+    // must be mesh lines.
+    MechanicalField(const SceneParameters                           &prm,
+                    const Parameters::ContactStep                   &contact_prm,
+                    const Parameters::LinearSolvers                 &linear_prm,
+                    const unsigned int                               verbosity,
+                    const std::vector<Parameters::SectionLine>      &section_lines,
                     const Materials                                 &materials,
                     SceneFunctions<dim>                             &functions,
                     const parallel::distributed::Triangulation<dim> &triangulation,
@@ -372,7 +381,11 @@ namespace ContactStefan
     contact_decisions(const Vector &residual, double &local_scale, double &max_penetration) const;
     void store_contact_output(const std::vector<Decision> &decisions, ContactStepReport &report);
 
-    const AllParameters                             &prm;
+    const SceneParameters                           &prm;
+    const Parameters::ContactStep                   &contact_prm;
+    const Parameters::LinearSolvers                 &linear_prm;
+    const unsigned int                               verbosity;
+    const std::vector<Parameters::SectionLine>       section_lines;
     const Materials                                 &materials;
     SceneFunctions<dim>                             &functions;
     const parallel::distributed::Triangulation<dim> &triangulation;

@@ -8,13 +8,15 @@
 #include <deal.II/distributed/tria.h>
 
 #include <contact-stefan/core/parameters.h>
+#include <contact-stefan/mesh/refinement_parameters.h>
 
 namespace ContactStefan
 {
   template <int dim>
   // coarse_only: the coarse mesh alone (checked the same way), on which a
   // checkpoint's refined mesh is loaded.
-  void make_mesh(const AllParameters                       &prm,
+  void make_mesh(const SceneParameters                     &prm,
+                 const Parameters::Refinement              &refinement,
                  parallel::distributed::Triangulation<dim> &triangulation,
                  const bool                                 coarse_only = false);
 } // namespace ContactStefan

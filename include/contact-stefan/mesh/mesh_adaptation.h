@@ -27,7 +27,7 @@
 
 #include <deal.II/numerics/rtree.h>
 
-#include <contact-stefan/core/parameters.h>
+#include <contact-stefan/mesh/refinement_parameters.h>
 
 #include <string>
 #include <vector>

@@ -17,11 +17,13 @@
 
 #include <contact-stefan/core/common.h>
 #include <contact-stefan/core/materials.h>
-#include <contact-stefan/mechanics/mechanical_field.h>
 #include <contact-stefan/core/parameters.h>
-#include <contact-stefan/output/run_guard.h>
 #include <contact-stefan/core/scene_functions.h>
+#include <contact-stefan/mechanics/mechanical_field.h>
+#include <contact-stefan/output/output_parameters.h>
+#include <contact-stefan/output/run_guard.h>
 #include <contact-stefan/thermal/thermal_field.h>
+#include <contact-stefan/verification/neumann_solution.h>
 
 #include <map>
 #include <memory>
@@ -45,7 +47,13 @@ namespace ContactStefan
   public:
     // Creates the output directory and checks that it is writable (an
     // InputError naming Output/Directory otherwise), before any work is done.
-    Postprocessor(const AllParameters                             &prm,
+    // prm: the scene; output_prm: subsection Output; adaptive: the mesh
+    // adapts during the run (errors are then reported per mesh); neumann: the
+    // exact solution of a Neumann scene (else null).
+    Postprocessor(const SceneParameters                           &prm,
+                  const Parameters::Output                        &output_prm,
+                  const bool                                       adaptive,
+                  const NeumannSolution                           *neumann,
                   const Materials                                 &materials,
                   SceneFunctions<dim>                             &functions,
                   const parallel::distributed::Triangulation<dim> &triangulation,
@@ -150,7 +158,10 @@ namespace ContactStefan
     double mesh_width() const;
     void   add_result(const std::string &name, const double value) const;
 
-    const AllParameters                             &prm;
+    const SceneParameters                           &prm;
+    const Parameters::Output                        &output_prm;
+    const bool                                       adaptive;
+    const NeumannSolution                           *neumann;
     const Materials                                 &materials;
     SceneFunctions<dim>                             &functions;
     const parallel::distributed::Triangulation<dim> &triangulation;

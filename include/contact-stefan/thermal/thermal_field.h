@@ -41,10 +41,11 @@
 
 #include <contact-stefan/core/common.h>
 #include <contact-stefan/core/enthalpy_law.h>
-#include <contact-stefan/linear_algebra/linear_solver.h>
 #include <contact-stefan/core/materials.h>
 #include <contact-stefan/core/parameters.h>
 #include <contact-stefan/core/scene_functions.h>
+#include <contact-stefan/linear_algebra/linear_solver.h>
+#include <contact-stefan/thermal/enthalpy_step_parameters.h>
 
 #include <array>
 #include <functional>
@@ -74,7 +75,12 @@ namespace ContactStefan
   class ThermalField
   {
   public:
-    ThermalField(const AllParameters                             &prm,
+    // prm: the scene; step_prm: the enthalpy step's own entries; linear_prm:
+    // the shared linear-solver entries; verbosity: Output/Verbosity.
+    ThermalField(const SceneParameters                           &prm,
+                 const Parameters::EnthalpyStep                  &step_prm,
+                 const Parameters::LinearSolvers                 &linear_prm,
+                 const unsigned int                               verbosity,
                  const Materials                                 &materials,
                  SceneFunctions<dim>                             &functions,
                  const parallel::distributed::Triangulation<dim> &triangulation,
@@ -275,7 +281,9 @@ namespace ContactStefan
     unsigned int relaxation_fallback();
     double       compute_energy_balance(unsigned int &inconsistent_nodes) const;
 
-    const AllParameters                             &prm;
+    const SceneParameters                           &prm;
+    const Parameters::EnthalpyStep                  &step_prm;
+    const unsigned int                               verbosity;
     const Materials                                 &materials;
     SceneFunctions<dim>                             &functions;
     const parallel::distributed::Triangulation<dim> &triangulation;

@@ -726,7 +726,7 @@ namespace ContactStefan
     // file: a checkpoint of another scene is refused before the mesh is loaded.
     {
       TimerOutput::Scope t(timer, "setup: mesh");
-      make_mesh(prm, triangulation, true);
+      make_mesh(prm, prm.refinement, triangulation, true);
     }
     std::vector<double> thermal_scalars;
     double              wall    = 0;

@@ -30,8 +30,16 @@ namespace ContactStefan
     , timer(pcout, TimerOutput::never, TimerOutput::wall_times)
     , triangulation(mpi_communicator)
     , materials(parameters)
-    , functions(parameters)
+    , neumann(parameters.exact_solution.type == Parameters::ExactSolution::Type::neumann ?
+                std::make_unique<const NeumannSolution>(neumann_solution(parameters)) :
+                nullptr)
+    , functions(parameters,
+                neumann ? neumann_temperature<dim>(*neumann, parameters.exact_solution.origin) :
+                          typename SceneFunctions<dim>::ExactTemperature())
     , postprocessor(std::make_unique<Postprocessor<dim>>(prm,
+                                                         prm.output,
+                                                         prm.refinement.adaptive(),
+                                                         neumann.get(),
                                                          materials,
                                                          functions,
                                                          triangulation,
@@ -41,11 +49,26 @@ namespace ContactStefan
   {
     assert_two_dimensional<dim>();
     if (prm.physics.thermal)
-      thermal =
-        std::make_unique<ThermalField<dim>>(prm, materials, functions, triangulation, timer, pcout);
+      thermal = std::make_unique<ThermalField<dim>>(prm,
+                                                    prm.enthalpy_step,
+                                                    prm.linear_solvers,
+                                                    prm.output.verbosity,
+                                                    materials,
+                                                    functions,
+                                                    triangulation,
+                                                    timer,
+                                                    pcout);
     if (prm.physics.mechanics)
-      mechanical = std::make_unique<MechanicalField<dim>>(
-        prm, materials, functions, triangulation, timer, pcout);
+      mechanical = std::make_unique<MechanicalField<dim>>(prm,
+                                                          prm.contact_step,
+                                                          prm.linear_solvers,
+                                                          prm.output.verbosity,
+                                                          prm.output.section_lines,
+                                                          materials,
+                                                          functions,
+                                                          triangulation,
+                                                          timer,
+                                                          pcout);
     postprocessor->attach(thermal.get(), mechanical.get());
   }
 
@@ -142,7 +165,7 @@ namespace ContactStefan
       {
         {
           TimerOutput::Scope t(timer, "setup: mesh");
-          make_mesh(prm, triangulation);
+          make_mesh(prm, prm.refinement, triangulation);
         }
         ContactStepReport initial_contact = set_initial_state();
         adapt_initial_mesh(initial_contact);

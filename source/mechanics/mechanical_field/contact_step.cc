@@ -213,7 +213,7 @@ namespace ContactStefan
             sum -= L[i * n_modes + k] * L[j * n_modes + k];
           if (i == j)
             {
-              if (sum <= prm.contact.rigid_mode_tolerance)
+              if (sum <= contact_prm.rigid_mode_tolerance)
                 throw std::runtime_error(
                   "body " + std::to_string(prm.body_ids[i / 3]) + " is not held against " +
                   names[i % 3] + " at t = " + number(time) +
@@ -348,7 +348,7 @@ namespace ContactStefan
         guess_pending = false;
         Vector       residual(owned, mpi_communicator);
         const double norm = system_matrix.residual(residual, displacement, system_rhs);
-        if (norm <= prm.solver.cg_tolerance * system_rhs.l2_norm())
+        if (norm <= linear_prm.cg_tolerance * system_rhs.l2_norm())
           {
             ++guesses_accepted;
             constraints.distribute(displacement);
@@ -358,7 +358,7 @@ namespace ContactStefan
       }
     linear_solver.solve(displacement,
                         system_rhs,
-                        settled ? prm.solver.cg_tolerance : prm.solver.cg_contact_set_tolerance);
+                        settled ? linear_prm.cg_tolerance : contact_prm.cg_contact_set_tolerance);
     constraints.distribute(displacement);
     displacement_ghosted = displacement;
   }
@@ -624,7 +624,7 @@ namespace ContactStefan
             }
           const double d = normal_displacement_jump(c) - c.gap;
           const double c_eff =
-            prm.contact.complementarity_constant * complementarity_scale * c.stiffness;
+            contact_prm.complementarity_constant * complementarity_scale * c.stiffness;
           decisions.push_back({&c, lambda, d, c_eff});
           local_scale     = std::max(local_scale, std::abs(lambda) + c_eff * std::abs(d));
           max_penetration = std::max(max_penetration, d);
@@ -679,10 +679,10 @@ namespace ContactStefan
     unsigned int tightening_solves = 0;
     for (unsigned int it = 1;; ++it)
       {
-        if (it - tightening_solves > prm.contact.max_iterations)
+        if (it - tightening_solves > contact_prm.max_iterations)
           throw std::runtime_error(
             "the contact step did not converge in 'Contact/Max iterations' = " +
-            std::to_string(prm.contact.max_iterations) + " iterations at t = " + number(time));
+            std::to_string(contact_prm.max_iterations) + " iterations at t = " + number(time));
         unsigned int skipped = 0;
         build_contact_constraints(skipped);
         // The matrix depends on the stiffness and the constraint pattern only:
@@ -730,7 +730,7 @@ namespace ContactStefan
         double       local_scale, max_penetration;
         const auto   decisions = contact_decisions(residual, local_scale, max_penetration);
         const double tolerance =
-          prm.contact.tolerance * Utilities::MPI::max(local_scale, mpi_communicator);
+          contact_prm.tolerance * Utilities::MPI::max(local_scale, mpi_communicator);
 
         unsigned int  local_changes = 0, local_active = 0;
         std::uint64_t local_hash       = 0;
@@ -772,7 +772,7 @@ namespace ContactStefan
         linear_solver.note_changed_rows(changes);
         const std::uint64_t set_hash = Utilities::MPI::sum(local_hash, mpi_communicator);
 
-        if (prm.output.verbosity >= 1)
+        if (verbosity >= 1)
           pcout << "      contact " << it << ": " << report.active_nodes << " active, " << changes
                 << " changes, max penetration "
                 << Utilities::MPI::max(max_penetration, mpi_communicator) << ", min active lambda "
@@ -805,7 +805,7 @@ namespace ContactStefan
               }
             const double violation = Utilities::MPI::max(local_violation, mpi_communicator);
             if (violation >
-                10 * prm.contact.tolerance * Utilities::MPI::max(local_size, mpi_communicator))
+                10 * contact_prm.tolerance * Utilities::MPI::max(local_size, mpi_communicator))
               throw std::runtime_error(
                 "the contact step converged to a set that violates the contact "
                 "conditions by " +
@@ -822,9 +822,9 @@ namespace ContactStefan
             settled = true;
             seen_sets.clear();
           }
-        else if (++seen_sets[set_hash] > prm.contact.max_set_repetitions)
+        else if (++seen_sets[set_hash] > contact_prm.max_set_repetitions)
           {
-            if (report.c_reductions == prm.contact.max_c_reductions)
+            if (report.c_reductions == contact_prm.max_c_reductions)
               throw std::runtime_error(
                 "the contact active set keeps cycling at t = " + number(time) + " after " +
                 std::to_string(report.c_reductions) +
@@ -875,7 +875,7 @@ namespace ContactStefan
         double local_scale, max_penetration;
         decisions = contact_decisions(residual, local_scale, max_penetration);
         const double tolerance =
-          prm.contact.tolerance * Utilities::MPI::max(local_scale, mpi_communicator);
+          contact_prm.tolerance * Utilities::MPI::max(local_scale, mpi_communicator);
         for (Vector *v : {&obstacle_active, &interface_active})
           *v = 0.;
         for (const auto &dec : decisions)

@@ -87,13 +87,21 @@ namespace ContactStefan
 
   template <int dim>
   MechanicalField<dim>::MechanicalField(
-    const AllParameters                             &prm,
+    const SceneParameters                           &prm,
+    const Parameters::ContactStep                   &contact_prm,
+    const Parameters::LinearSolvers                 &linear_prm,
+    const unsigned int                               verbosity,
+    const std::vector<Parameters::SectionLine>      &section_lines,
     const Materials                                 &materials,
     SceneFunctions<dim>                             &functions,
     const parallel::distributed::Triangulation<dim> &triangulation,
     TimerOutput                                     &timer,
     const ConditionalOStream                        &pcout)
     : prm(prm)
+    , contact_prm(contact_prm)
+    , linear_prm(linear_prm)
+    , verbosity(verbosity)
+    , section_lines(section_lines)
     , materials(materials)
     , functions(functions)
     , triangulation(triangulation)
@@ -103,14 +111,14 @@ namespace ContactStefan
     , dof_handler(triangulation)
     // A contact set changes boundary rows only: the first hierarchy serves
     // every set (Solver/AMG update = automatic).
-    , linear_solver(prm.solver,
-                    prm.output.verbosity,
+    , linear_solver(linear_prm,
+                    verbosity,
                     pcout,
                     "elasticity",
-                    Parameters::Solver::AMGUpdate::reuse,
-                    prm.solver.elasticity_amg_threshold,
-                    prm.solver.elasticity_amg_sweeps,
-                    prm.solver.elasticity_amg_reuse_limit)
+                    Parameters::LinearSolvers::AMGUpdate::reuse,
+                    contact_prm.elasticity_amg_threshold,
+                    contact_prm.elasticity_amg_sweeps,
+                    contact_prm.elasticity_amg_reuse_limit)
     , coupled(prm.coupling_active())
     , thermal_stress(prm.thermal_stress_active())
     , time(prm.time.start_time)
@@ -483,7 +491,7 @@ namespace ContactStefan
       {
         throw InputError("Boundary conditions/Mechanical boundaries", e.what());
       }
-    check_section_lines(prm.output.section_lines);
+    check_section_lines(section_lines);
   }
 
 
@@ -931,7 +939,7 @@ namespace ContactStefan
         const auto       n = e.normals.normal();
         c.normal           = {{n[0], n[1]}};
         c.weight           = e.normals.weight();
-        c.corner = e.normals.max_deviation() > prm.contact.corner_angle * numbers::PI / 180;
+        c.corner = e.normals.max_deviation() > contact_prm.corner_angle * numbers::PI / 180;
         normal_conditions.push_back(c);
         if (c.kind != Kind::roller)
           groups.insert(c.group);

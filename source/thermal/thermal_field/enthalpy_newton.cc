@@ -181,10 +181,10 @@ namespace ContactStefan
     double       *state = entries(phase_state), *th = entries(theta);
     const double *hn   = entries(h_new);
     const char   *free = owned_free.data();
-    for (unsigned int it = 1; it <= prm.solver.max_active_set_iterations; ++it)
+    for (unsigned int it = 1; it <= step_prm.max_active_set_iterations; ++it)
       {
         if (it > 1)
-          for (unsigned int s = 0; s < prm.solver.gauss_seidel_sweeps; ++s)
+          for (unsigned int s = 0; s < step_prm.gauss_seidel_sweeps; ++s)
             gauss_seidel_sweep(theta);
         // The truncation: a node exactly at a transition temperature stays there.
         unsigned int local_changes = 0;
@@ -219,7 +219,7 @@ namespace ContactStefan
         const bool consistent = Utilities::MPI::sum(local_inconsistent, mpi_communicator) == 0;
         const bool consistent_to_round_off =
           Utilities::MPI::max(local_distance, mpi_communicator) <=
-          prm.solver.active_set_step_tolerance *
+          step_prm.active_set_step_tolerance *
             (Utilities::MPI::max(local_size, mpi_communicator) + enthalpy_scale);
         if (consistent || consistent_to_round_off)
           {
@@ -231,7 +231,7 @@ namespace ContactStefan
                                    owned_node_law(i).state_of_temperature(t_in[i]);
             enthalpy_ghosted    = enthalpy;
             phase_state_ghosted = phase_state;
-            if (prm.output.verbosity >= 1)
+            if (verbosity >= 1)
               pcout << "      truncated Newton " << it << ": " << report.plateau_nodes
                     << " plateau nodes, converged" << std::endl;
             return true;
@@ -240,7 +240,7 @@ namespace ContactStefan
         v -= theta;
         const double alpha = exact_line_search(theta, v);
         report.damped_steps += (alpha < 1);
-        if (prm.output.verbosity >= 1)
+        if (verbosity >= 1)
           pcout << "      truncated Newton " << it << ": " << report.plateau_nodes
                 << " plateau nodes, step " << alpha << std::endl;
       }

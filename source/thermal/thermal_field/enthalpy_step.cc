@@ -391,7 +391,7 @@ namespace ContactStefan
   unsigned int ThermalField<dim>::relaxation_fallback()
   {
     TimerOutput::Scope t(timer, "enthalpy step: relaxation");
-    const double       fraction = prm.solver.relaxation_parameter_fraction;
+    const double       fraction = step_prm.relaxation_parameter_fraction;
     constraints.clear();
     constraints.reinit(relevant);
     constraints.merge(dirichlet_constraints);
@@ -402,7 +402,7 @@ namespace ContactStefan
 
     Vector A_theta(owned, mpi_communicator), A_abs_theta(owned, mpi_communicator);
 
-    for (unsigned int m = 1; m <= prm.solver.relaxation_max_iterations; ++m)
+    for (unsigned int m = 1; m <= step_prm.relaxation_max_iterations; ++m)
       {
         for (const auto dof : owned)
           nodal_rhs[dof] = old_enthalpy[dof] - enthalpy[dof] +
@@ -446,15 +446,15 @@ namespace ContactStefan
             }
         residual = Utilities::MPI::max(residual, mpi_communicator);
         scale    = Utilities::MPI::max(scale, mpi_communicator);
-        if (prm.output.verbosity >= 1)
+        if (verbosity >= 1)
           pcout << "      relaxation " << m << ": residual " << residual << " (scale " << scale
                 << ")" << std::endl;
-        if (residual <= prm.solver.relaxation_tolerance * scale)
+        if (residual <= step_prm.relaxation_tolerance * scale)
           return m;
       }
     throw std::runtime_error("the relaxation iteration of the enthalpy step did not converge in "
                              "'Solver/Relaxation max iterations' = " +
-                             std::to_string(prm.solver.relaxation_max_iterations) +
+                             std::to_string(step_prm.relaxation_max_iterations) +
                              " iterations at t = " + std::to_string(time));
   }
 
@@ -501,7 +501,7 @@ namespace ContactStefan
             const double slack = round_off_factor * std::numeric_limits<double>::epsilon() *
                                  (1 + std::abs(range.first) + std::abs(range.second));
             const bool outside = (h[i] < range.first - slack || h[i] > range.second + slack);
-            if (outside && prm.output.verbosity >= 2)
+            if (outside && verbosity >= 2)
               std::cout << "      node " << dof << ": h = " << h[i] << " outside [" << range.first
                         << ", " << range.second << "] of Theta = " << theta[i] << std::endl;
             inconsistent_nodes += outside;
@@ -562,7 +562,7 @@ namespace ContactStefan
     // The first solve is loose too where the warm start moved nodes to
     // another piece: that guess of a front reaching new nodes is often wrong
     // (the heat runs ahead while no node absorbs latent heat).
-    const double loose_tolerance = prm.solver.cg_enthalpy_set_tolerance;
+    const double loose_tolerance = step_prm.cg_enthalpy_set_tolerance;
     // (Decided from the system's size, not from the solver's last set-up:
     // a run resumed from a checkpoint has none yet and must take the same path.)
     // Later passes of a fixed-point coupling loop start from the last pass's set.
@@ -599,7 +599,7 @@ namespace ContactStefan
             }
         const bool step_negligible =
           it > 1 && Utilities::MPI::max(local_step, mpi_communicator) <=
-                      prm.solver.active_set_step_tolerance *
+                      step_prm.active_set_step_tolerance *
                         (Utilities::MPI::max(local_size, mpi_communicator) + enthalpy_scale);
 
         double alpha = 1;
@@ -639,10 +639,10 @@ namespace ContactStefan
                                   ArrayView<double>(sums, 2));
               const double linear = a * global[1], quadratic = 0.5 * a * a * global[2];
               return linear + quadratic + sums[0] <=
-                     prm.solver.line_search_sufficient_decrease * a * global[0] +
+                     step_prm.line_search_sufficient_decrease * a * global[0] +
                        round_off * (sums[1] + std::abs(linear) + std::abs(quadratic));
             };
-            while (alpha > prm.solver.line_search_min_step && !armijo_holds(alpha))
+            while (alpha > step_prm.line_search_min_step && !armijo_holds(alpha))
               alpha *= 0.5;
           }
         // h <- h + alpha (h_new - h), z <- (1 - alpha) z - alpha Theta_new.
@@ -665,7 +665,7 @@ namespace ContactStefan
         const unsigned int n_changes = Utilities::MPI::sum(local_changes, mpi_communicator);
         report.state_changes += n_changes;
         report.damped_steps += (alpha < 1);
-        if (prm.output.verbosity >= 1)
+        if (verbosity >= 1)
           pcout << "      active set " << it << ": " << report.plateau_nodes
                 << " plateau nodes, step " << alpha << ", " << n_changes << " state changes"
                 << std::endl;
@@ -699,8 +699,8 @@ namespace ContactStefan
     n_factorisations = 0;
     assemble_conductivity_matrix();
     assemble_step_load();
-    using EnthalpySolver = Parameters::Solver::EnthalpySolver;
-    const auto solver    = prm.solver.enthalpy_solver;
+    using EnthalpySolver = Parameters::EnthalpyStep::EnthalpySolver;
+    const auto solver    = step_prm.enthalpy_solver;
     bool       converged = false;
     // The large-step mode of the active-set method: where the front crosses
     // many cells in one step the active-set iteration advances it about a
@@ -710,8 +710,8 @@ namespace ContactStefan
     // one is solved in at most 'Active set hand-back' solves. The mode is
     // decided per step (begin_time_step()): every pass of a coupling loop
     // uses the method that solved the step's first pass.
-    const unsigned int hand_over      = prm.solver.truncated_newton_hand_over;
-    const unsigned int max_iterations = prm.solver.max_active_set_iterations;
+    const unsigned int hand_over      = step_prm.truncated_newton_hand_over;
+    const unsigned int max_iterations = step_prm.max_active_set_iterations;
     // (A later pass starts warm and is cheap: only the first judges the hand-back.)
     const bool first_pass = first_pass_of_step;
     // Another method continues a step: its solves add to the ones spent.
@@ -740,10 +740,10 @@ namespace ContactStefan
         report.truncated_newton = converged;
         if (!converged)
           converged = active_set_after_failure();
-        else if (first_pass && report.active_set_iterations <= prm.solver.active_set_hand_back)
+        else if (first_pass && report.active_set_iterations <= step_prm.active_set_hand_back)
           {
             large_step_mode = false;
-            if (prm.output.verbosity >= 1)
+            if (verbosity >= 1)
               pcout << "   Enthalpy step: " << report.active_set_iterations
                     << " truncated Newton solve(s) at t = " << time
                     << " ('Solver/Active set hand-back'); the next time step starts with the "
@@ -760,7 +760,7 @@ namespace ContactStefan
           {
             if (limit < max_iterations)
               {
-                if (prm.output.verbosity >= 1)
+                if (verbosity >= 1)
                   pcout << "   Enthalpy step: " << limit << " active-set solves at t = " << time
                         << " ('Solver/Truncated Newton hand-over'); this step and the next "
                            "ones go to the truncated Newton method"
@@ -794,7 +794,7 @@ namespace ContactStefan
               << (solver == EnthalpySolver::truncated_newton ? "truncated Newton method" :
                                                                "active-set and truncated Newton "
                                                                "methods")
-              << " in 'Solver/Max active-set iterations' = " << prm.solver.max_active_set_iterations
+              << " in 'Solver/Max active-set iterations' = " << step_prm.max_active_set_iterations
               << " at t = " << time << "; switching to the relaxation fallback" << std::endl;
         report.relaxation_iterations = relaxation_fallback();
         unsigned int local_plateau   = 0;

@@ -21,13 +21,18 @@
 namespace ContactStefan
 {
   template <int dim>
-  ThermalField<dim>::ThermalField(const AllParameters                             &prm,
+  ThermalField<dim>::ThermalField(const SceneParameters                           &prm,
+                                  const Parameters::EnthalpyStep                  &step_prm,
+                                  const Parameters::LinearSolvers                 &linear_prm,
+                                  const unsigned int                               verbosity,
                                   const Materials                                 &materials,
                                   SceneFunctions<dim>                             &functions,
                                   const parallel::distributed::Triangulation<dim> &triangulation,
                                   TimerOutput                                     &timer,
                                   const ConditionalOStream                        &pcout)
     : prm(prm)
+    , step_prm(step_prm)
+    , verbosity(verbosity)
     , materials(materials)
     , functions(functions)
     , triangulation(triangulation)
@@ -37,13 +42,13 @@ namespace ContactStefan
     , fe(1)
     , dof_handler(triangulation)
     // A phase front changes interior rows: recompute (Solver/AMG update = automatic).
-    , linear_solver(prm.solver,
-                    prm.output.verbosity,
+    , linear_solver(linear_prm,
+                    verbosity,
                     pcout,
                     "enthalpy",
-                    Parameters::Solver::AMGUpdate::recompute,
-                    prm.solver.enthalpy_amg_threshold,
-                    prm.solver.enthalpy_amg_sweeps)
+                    Parameters::LinearSolvers::AMGUpdate::recompute,
+                    step_prm.enthalpy_amg_threshold,
+                    step_prm.enthalpy_amg_sweeps)
     , heating(prm.thermoelastic_heating_active())
     , time(prm.time.start_time)
   {
@@ -524,7 +529,7 @@ namespace ContactStefan
     // The truncated Newton method starts from the temperature of that
     // extrapolated enthalpy (of the present one without extrapolation).
     {
-      const bool    extrapolate = !first_step && prm.solver.extrapolate_active_set;
+      const bool    extrapolate = !first_step && step_prm.extrapolate_active_set;
       const double  ratio       = extrapolate ? tau / previous_time_step : 0.;
       const double *h = entries(enthalpy), *h_old = entries(old_enthalpy);
       double       *state = entries(phase_state), *theta = entries(predicted_temperature);

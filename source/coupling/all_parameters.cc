@@ -1,0 +1,97 @@
+// Reading a run's parameters: the scene and its owners' subsections
+// (coupling/all_parameters.h).
+#include <contact-stefan/coupling/all_parameters.h>
+#include <contact-stefan/verification/neumann_check.h>
+
+#include <cmath>
+
+namespace ContactStefan
+{
+  using namespace Input;
+
+  namespace
+  {
+    // An owner's section whose parse() fills target.
+    template <typename Section>
+    OwnerSection section_of(Section *target)
+    {
+      return {[](ParameterHandler &prm) { Section::declare(prm); },
+              [target](ParameterHandler &prm) { target->parse(prm); }};
+    }
+  } // namespace
+
+
+
+  std::vector<OwnerSection> AllParameters::owner_sections()
+  {
+    return {section_of(&linear_solvers),
+            section_of(&enthalpy_step),
+            section_of(&contact_step),
+            section_of(&refinement),
+            section_of(&checkpoint),
+            section_of(&output)};
+  }
+
+
+
+  void AllParameters::read(const std::string &filename)
+  {
+    SceneParameters::read(filename, owner_sections());
+    if (exact_solution.type == Parameters::ExactSolution::Type::neumann)
+      check_neumann_scene(*this);
+    check_owner_consistency();
+  }
+
+
+
+  void AllParameters::declare(ParameterHandler                &prm,
+                              const std::vector<unsigned int> &body_ids,
+                              const std::vector<unsigned int> &thermal_boundary_ids,
+                              const std::vector<unsigned int> &mechanical_boundary_ids)
+  {
+    AllParameters unused;
+    SceneParameters::declare(
+      prm, body_ids, thermal_boundary_ids, mechanical_boundary_ids, unused.owner_sections());
+  }
+
+
+
+  void AllParameters::declare_defaults(ParameterHandler &prm)
+  {
+    declare(prm, {0}, {0}, {0});
+  }
+
+
+
+  void AllParameters::check_owner_consistency() const
+  {
+    if (geometry.mesh_type == Parameters::Geometry::MeshType::rectangle)
+      {
+        const double cells = double(geometry.subdivisions[0]) * geometry.subdivisions[1] *
+                             std::pow(4., refinement.initial_global_refinements);
+        require(cells <= refinement.max_cells,
+                "Geometry/Subdivisions",
+                "with the global refinements the mesh would have " + str(cells) +
+                  " cells, more than 'Mesh refinement/Max cells' = " +
+                  std::to_string(refinement.max_cells));
+      }
+    require(output.section_lines.empty() || physics.mechanics,
+            "Output/Section lines",
+            "section forces need Physics/Mechanics = true");
+    require(exact_solution.section_normal_force.empty() || !output.section_lines.empty(),
+            "Exact solution/Section normal force",
+            "needs at least one line in 'Output/Section lines'");
+    // The disk-in-ring nodes lie on the circles only as generated: refined cells
+    // would put theirs on the chords (no manifold is attached).
+    if (geometry.mesh_type == Parameters::Geometry::MeshType::disk_in_ring)
+      require(refinement.initial_global_refinements == 0 && refinement.prerefinement_steps == 0,
+              "Mesh refinement/Initial global refinements",
+              "'disk in ring' is refined by Geometry/Subdivisions (refined cells would "
+              "leave the circles); set the refinements to 0");
+    if (geometry.mesh_type == Parameters::Geometry::MeshType::disk_in_ring)
+      require(!refinement.adaptive(),
+              "Mesh refinement/Adaptive refinement interval",
+              "'disk in ring' cannot be refined (refined cells would leave the circles); set "
+              "it and Initial adaptive refinements to 0");
+  }
+} // namespace ContactStefan

@@ -1,0 +1,139 @@
+// Declaration and parsing of the shared linear-solver entries
+// (linear_algebra/linear_solver_parameters.h).
+#include <deal.II/base/mpi.h>
+
+#include <contact-stefan/core/checked_input.h>
+#include <contact-stefan/linear_algebra/linear_solver_parameters.h>
+
+#include <Amesos.h>
+
+namespace ContactStefan
+{
+  namespace Parameters
+  {
+    using namespace Input;
+
+    void LinearSolvers::declare(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Solver");
+      prm.declare_entry("Linear solver",
+                        "automatic",
+                        Patterns::Selection("automatic|direct|cg-amg"),
+                        "'direct': Trilinos Amesos sparse direct solver; 'cg-amg': conjugate "
+                        "gradients preconditioned by ML algebraic multigrid (for elasticity "
+                        "built for the rigid-body modes); 'automatic': direct for a system "
+                        "with fewer unknowns than Automatic direct limit, cg-amg otherwise, "
+                        "decided per system.");
+      prm.declare_entry("Automatic direct limit",
+                        "20000",
+                        Patterns::Integer(0),
+                        "Linear solver = automatic: systems with fewer unknowns are solved "
+                        "directly. Measured on the contact block of doc/results.md: equal "
+                        "at 8 450 DoFs, CG + AMG 2.7 times faster at 33 282, 8.2 times at "
+                        "132 098 (commit 240dff8, 2026-11-22, 2-core development VM).");
+      prm.declare_entry("Direct solver type",
+                        "automatic",
+                        Patterns::Selection(
+                          "automatic|cholmod|Amesos_Klu|Amesos_Mumps|Amesos_Superludist"),
+                        "Back end of the direct solver: 'cholmod', SuiteSparse's sparse "
+                        "Cholesky factorisation (our systems are symmetric positive definite; "
+                        "one MPI rank only; it keeps its ordering and symbolic analysis while "
+                        "only the active set changes), or an Amesos one this Trilinos was "
+                        "built with (Debian's has KLU and MUMPS; a missing one is refused). "
+                        "'automatic': cholmod on one MPI rank, Amesos_Klu on several.");
+      prm.declare_entry("Kept factorisations",
+                        "2",
+                        Patterns::Integer(0, 100),
+                        "The enthalpy step keeps this many factorisations (direct solvers) "
+                        "or AMG hierarchies (with 'AMG update' = recompute, the enthalpy system's "
+                        "automatic choice) of earlier active sets "
+                        "besides the current one, the least recently used being replaced: a "
+                        "set that recurs, as the set without plateau nodes does each time a "
+                        "melting front passes a row of nodes, is solved without factorising "
+                        "or recomputing again. Each costs the memory of one factor or "
+                        "hierarchy. 0: keep none.");
+      prm.declare_entry("CG tolerance",
+                        "1e-12",
+                        Patterns::Double(0),
+                        "Relative residual reduction of CG. Also the relative residual "
+                        "below which the displacement the fixed point's block correction "
+                        "hands the contact step is taken as its solution, without a linear "
+                        "solve (on the direct path too).");
+      prm.declare_entry("AMG rebuild ratio",
+                        "1.5",
+                        Patterns::Double(1),
+                        "An AMG hierarchy kept across active sets (recomputed on its "
+                        "aggregates) is rebuilt from scratch when CG needs more than this "
+                        "times (plus 0.5) the iterations per decade of residual reduction "
+                        "of the first solve after the last build.");
+      prm.declare_entry("AMG update",
+                        "automatic",
+                        Patterns::Selection("automatic|reuse|recompute|rebuild"),
+                        "What happens to an AMG hierarchy when only the active set (contact "
+                        "or phase) changed the matrix: 'reuse' keeps it as the preconditioner "
+                        "of the new matrix, 'recompute' recomputes it on its aggregates (about "
+                        "half a build), 'rebuild' builds it afresh. Any of them is rebuilt "
+                        "when CG slows down by 'AMG rebuild ratio', and a CG solve that fails "
+                        "with a kept or recomputed hierarchy is repeated with a fresh one. "
+                        "'automatic': 'reuse' for the elasticity system (a contact set "
+                        "changes boundary rows only: 24 % faster on the contact block at "
+                        "N = 256, same CG time) and 'recompute' for the enthalpy system (a "
+                        "phase front changes interior rows: 'reuse' was 12 % slower on the "
+                        "Stefan strip at nx = 800); see doc/performance.md.");
+      prm.declare_entry("Refactorisation backward error",
+                        "1e-10",
+                        Patterns::Double(0),
+                        "A direct solve that reused the pivot order of an earlier "
+                        "factorisation is accepted if |b - A x| <= this times "
+                        "(|A| |x| + |b|) (max norms); otherwise the matrix is factorised "
+                        "afresh with pivoting. Round-off is about 1e-16 times the growth.");
+      prm.declare_entry("CG max iterations",
+                        "1000",
+                        Patterns::Integer(1, 100000),
+                        "Iteration limit of CG; hitting it is an error. (At most 100000.)");
+      prm.leave_subsection();
+    }
+
+
+
+    void LinearSolvers::parse(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Solver");
+      const std::string solver = prm.get("Linear solver");
+      linear_solver            = solver == "direct"    ? LinearSolverType::direct :
+                                 solver == "automatic" ? LinearSolverType::automatic :
+                                                         LinearSolverType::cg_amg;
+      automatic_direct_limit   = prm.get_integer("Automatic direct limit");
+      direct_solver_type       = prm.get("Direct solver type");
+      // (Without MPI, --check alone: one process.)
+      const unsigned int n_ranks =
+        Utilities::MPI::job_supports_mpi() ? Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) : 1;
+      if (direct_solver_type == "cholmod")
+        require(n_ranks == 1,
+                "Solver/Direct solver type",
+                "'cholmod' runs on one MPI rank only (this run has " + std::to_string(n_ranks) +
+                  ")");
+      else if (direct_solver_type != "automatic")
+        require(Amesos().Query(direct_solver_type.c_str()),
+                "Solver/Direct solver type",
+                "'" + direct_solver_type + "' is not available in this Trilinos build");
+      kept_factorisations = prm.get_integer("Kept factorisations");
+      cg_tolerance        = get_finite(prm, "Solver/", "CG tolerance");
+      amg_rebuild_ratio   = get_finite(prm, "Solver/", "AMG rebuild ratio");
+      {
+        const std::string update = prm.get("AMG update");
+        amg_update               = update == "automatic" ? AMGUpdate::automatic :
+                                   update == "reuse"     ? AMGUpdate::reuse :
+                                   update == "recompute" ? AMGUpdate::recompute :
+                                                           AMGUpdate::rebuild;
+      }
+      refactorisation_backward_error = get_finite(prm, "Solver/", "Refactorisation backward error");
+      cg_max_iterations              = prm.get_integer("CG max iterations");
+      prm.leave_subsection();
+      require(cg_tolerance > 0 && cg_tolerance < 1, "Solver/CG tolerance", "must lie in (0, 1)");
+      require(refactorisation_backward_error > 0 && refactorisation_backward_error < 1,
+              "Solver/Refactorisation backward error",
+              "must lie in (0, 1)");
+    }
+  } // namespace Parameters
+} // namespace ContactStefan

@@ -1,0 +1,116 @@
+// Unit test of what a checkpoint's parameter fingerprint covers
+// (SceneParameters::solution_parameters, doc/adaptivity.md "Which checkpoint").
+// The owners of the parameter subsections declare their entries in many files
+// (coupling/all_parameters.h lists them); every entry that any of them
+// declares must be in the fingerprint, except the documented exclusions: the
+// subsections Checkpoint and Output and the entry Time stepping/End time,
+// which a resumed run may change. An entry declared somewhere new is covered
+// without further work; one that escaped the fingerprint fails here.
+#include <deal.II/base/mpi.h>
+
+#include <contact-stefan/coupling/all_parameters.h>
+
+#include <set>
+#include <sstream>
+
+#include "unit_test_tools.h"
+
+using namespace ContactStefan;
+using UnitTest::check;
+
+namespace
+{
+  // The entry paths ("A/B/Name") of a ShortPRM listing; leading blanks are
+  // ignored, so it reads both a handler's listing and the fingerprint text.
+  std::set<std::string> entry_paths(const std::string &listing)
+  {
+    std::set<std::string>    paths;
+    std::vector<std::string> stack;
+    std::istringstream       in(listing);
+    for (std::string line; std::getline(in, line);)
+      {
+        const auto first = line.find_first_not_of(' ');
+        if (first == std::string::npos)
+          continue;
+        line = line.substr(first);
+        if (line.rfind("subsection ", 0) == 0)
+          {
+            std::string name = line.substr(11);
+            while (!name.empty() && name.back() == ' ')
+              name.pop_back();
+            stack.push_back(name);
+          }
+        else if (line == "end")
+          stack.pop_back();
+        else if (line.rfind("set ", 0) == 0)
+          {
+            std::string path;
+            for (const auto &s : stack)
+              path += s + "/";
+            std::string name = line.substr(4, line.find(" = ") - 4);
+            while (!name.empty() && name.back() == ' ')
+              name.pop_back();
+            paths.insert(path + name);
+          }
+      }
+    return paths;
+  }
+
+  bool documented_exclusion(const std::string &path)
+  {
+    return path.rfind("Checkpoint/", 0) == 0 || path.rfind("Output/", 0) == 0 ||
+           path == "Time stepping/End time";
+  }
+
+  void check_scene(const std::string &file)
+  {
+    AllParameters prm;
+    prm.read(file);
+    std::vector<unsigned int> thermal_ids, mechanical_ids;
+    for (const auto &[id, b] : prm.thermal_boundaries)
+      thermal_ids.push_back(id);
+    for (const auto &[id, b] : prm.mechanical_boundaries)
+      mechanical_ids.push_back(id);
+    ParameterHandler handler;
+    AllParameters::declare(handler, prm.body_ids, thermal_ids, mechanical_ids);
+    std::ostringstream listing;
+    handler.print_parameters(listing, ParameterHandler::ShortPRM);
+
+    const std::set<std::string> declared    = entry_paths(listing.str());
+    const std::set<std::string> fingerprint = entry_paths(prm.solution_parameters);
+    std::printf("%s: %zu bodies, %zu thermal and %zu mechanical boundaries\n",
+                file.substr(file.rfind('/') + 1).c_str(),
+                prm.body_ids.size(),
+                thermal_ids.size(),
+                mechanical_ids.size());
+    bool        covered = true, known = true;
+    std::string excluded;
+    for (const auto &path : declared)
+      if (fingerprint.count(path) == 0)
+        {
+          excluded += "  " + path + "\n";
+          covered = covered && documented_exclusion(path);
+        }
+      else
+        covered = covered && !documented_exclusion(path);
+    for (const auto &path : fingerprint)
+      known = known && declared.count(path) == 1;
+    std::printf("not in the fingerprint:\n%s", excluded.c_str());
+    check(covered, "every declared entry but the documented exclusions is in the fingerprint");
+    check(known, "the fingerprint names only declared entries");
+    check(
+      declared.count("Solver/Enthalpy solver") == 1 &&
+        declared.count("Contact/Complementarity constant") == 1 &&
+        declared.count("Mesh refinement/Maximum level") == 1 &&
+        declared.count("Solver/CG tolerance") == 1,
+      "the owners' entries (enthalpy step, contact step, refinement, linear solvers) are declared");
+  }
+} // namespace
+
+int main(int argc, char **argv)
+{
+  Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  for (int i = 1; i < argc; ++i)
+    check_scene(argv[i]);
+  return UnitTest::finish();
+}
