@@ -256,12 +256,55 @@ namespace ContactStefan
                         "contact",
                         Patterns::Selection("contact|tied"),
                         "Where two bodies share faces: 'contact' makes the interface a "
-                        "frictionless Signorini contact, 'tied' glues the bodies.");
+                        "frictionless Signorini contact, 'tied' glues the bodies. The default "
+                        "of every interface; 'Interface k-l/Kind' sets one.");
       prm.declare_entry("Interface gap",
                         "0",
                         Patterns::Anything(),
-                        "Initial normal gap g(x, y, t) (m) of contact interfaces.");
+                        "Initial normal gap g(x, y, t) (m) of contact interfaces; the "
+                        "default of every interface, 'Interface k-l/Gap' sets one.");
       prm.leave_subsection();
+    }
+
+
+
+    std::string InterfacePair::section(const unsigned int k, const unsigned int l)
+    {
+      return "Interface " + std::to_string(k) + "-" + std::to_string(l);
+    }
+
+    void InterfacePair::declare(ParameterHandler &prm)
+    {
+      prm.declare_entry("Kind",
+                        "default",
+                        Patterns::Selection("default|contact|tied"),
+                        "This interface: 'contact' (frictionless Signorini) or 'tied'; "
+                        "'default': as 'Contact/Interfaces'.");
+      prm.declare_entry("Gap",
+                        "",
+                        Patterns::Anything(),
+                        "This interface's initial normal gap g(x, y, t) (m); empty: "
+                        "'Contact/Interface gap'.");
+      prm.declare_entry("Thermal contact",
+                        "perfect",
+                        Patterns::Selection("perfect"),
+                        "The thermal law across this interface: 'perfect' (one continuous "
+                        "temperature) is the only one so far.");
+    }
+
+    void
+    InterfacePair::parse(ParameterHandler &prm, const std::string &path, const Contact &defaults)
+    {
+      const std::string k = prm.get("Kind");
+      kind                = k == "default" ? defaults.interfaces :
+                            k == "tied"    ? Contact::Interfaces::tied :
+                                             Contact::Interfaces::contact;
+      gap                 = prm.get("Gap");
+      if (gap.empty())
+        gap = defaults.interface_gap;
+      else
+        check_function(gap, path + "/Gap", false);
+      thermal_contact = ThermalContact::perfect;
     }
 
     void Contact::parse(ParameterHandler &prm)
@@ -540,6 +583,16 @@ namespace ContactStefan
   {
     Parameters::Physics::declare(prm);
     Parameters::Contact::declare(prm);
+    prm.enter_subsection("Contact");
+    for (unsigned int i = 0; i < body_ids.size(); ++i)
+      for (unsigned int j = 0; j < body_ids.size(); ++j)
+        if (body_ids[i] < body_ids[j])
+          {
+            prm.enter_subsection(Parameters::InterfacePair::section(body_ids[i], body_ids[j]));
+            Parameters::InterfacePair::declare(prm);
+            prm.leave_subsection();
+          }
+    prm.leave_subsection();
     Parameters::Coupling::declare(prm);
     Parameters::Geometry::declare(prm);
 
@@ -701,6 +754,18 @@ namespace ContactStefan
     prm.leave_subsection();
     physics.parse(prm);
     contact.parse(prm);
+    prm.enter_subsection("Contact");
+    interface_pairs.clear();
+    for (const unsigned int k : body_ids)
+      for (const unsigned int l : body_ids)
+        if (k < l)
+          {
+            const std::string section = Parameters::InterfacePair::section(k, l);
+            prm.enter_subsection(section);
+            interface_pairs[{k, l}].parse(prm, "Contact/" + section, contact);
+            prm.leave_subsection();
+          }
+    prm.leave_subsection();
     coupling.parse(prm);
 
     initial_condition.parse(prm);

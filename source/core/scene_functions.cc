@@ -153,7 +153,13 @@ namespace ContactStefan
         mechanical_load |= bc.type == Mechanical::traction &&
                            (!is_zero_expression(bc.value[0]) || !is_zero_expression(bc.value[1]));
       }
-    interface = checked(parse<dim>({prm.contact.interface_gap}), "Contact/Interface gap");
+    for (const auto &[pair, law] : prm.interface_pairs)
+      interface_gaps[pair] =
+        checked(parse<dim>({law.gap}),
+                law.gap == prm.contact.interface_gap ?
+                  std::string("Contact/Interface gap") :
+                  "Contact/" + Parameters::InterfacePair::section(pair.first, pair.second) +
+                    "/Gap");
     reference =
       checked(parse<dim>({prm.coupling.reference_temperature}), "Coupling/Reference temperature");
     reference->set_time(prm.time.start_time);

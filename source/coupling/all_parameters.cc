@@ -59,6 +59,13 @@ namespace ContactStefan
   void AllParameters::declare_defaults(ParameterHandler &prm)
   {
     declare(prm, {0}, {0}, {0});
+    // One interface pair, as the documented example of 'Contact/Interface k-l'
+    // (declared for every pair of listed bodies).
+    prm.enter_subsection("Contact");
+    prm.enter_subsection(Parameters::InterfacePair::section(0, 1));
+    Parameters::InterfacePair::declare(prm);
+    prm.leave_subsection();
+    prm.leave_subsection();
   }
 
 

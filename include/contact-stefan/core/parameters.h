@@ -17,6 +17,7 @@
 
 #include <contact-stefan/core/checked_input.h>
 
+#include <algorithm>
 #include <functional>
 #include <map>
 #include <stdexcept>
@@ -138,16 +139,40 @@ namespace ContactStefan
 
     struct Contact
     {
-      // Where two bodies share faces: "contact" (frictionless Signorini) or "tied".
+      // Where two bodies share faces: "contact" (frictionless Signorini) or
+      // "tied"; the default of every interface (InterfacePair).
       enum class Interfaces
       {
         contact,
         tied
       } interfaces;
+      // The default gap g(x, y, t) of every interface.
       std::string interface_gap;
 
       static void declare(ParameterHandler &prm);
       void        parse(ParameterHandler &prm);
+    };
+
+    /**
+     * The laws of one interface, between bodies k < l (subsection 'Contact/
+     * Interface k-l', declared for every pair of listed bodies; a pair whose
+     * bodies do not touch has no interface and its entries are unused). Each
+     * entry left at 'default' (or empty) takes the global entry of 'Contact'.
+     */
+    struct InterfacePair
+    {
+      Contact::Interfaces kind; // contact (Signorini) or tied
+      std::string         gap;  // g(x, y, t)
+      // The thermal law across it: perfect contact (a continuous temperature)
+      // is the only one today.
+      enum class ThermalContact
+      {
+        perfect
+      } thermal_contact;
+
+      static std::string section(const unsigned int k, const unsigned int l);
+      static void        declare(ParameterHandler &prm);
+      void parse(ParameterHandler &prm, const std::string &path, const Contact &defaults);
     };
 
     // The two-way thermo-mechanical coupling (doc/coupling.md).
@@ -313,6 +338,8 @@ namespace ContactStefan
     std::map<unsigned int, Parameters::ThermalBoundary>    thermal_boundaries;
     std::map<unsigned int, Parameters::MechanicalBoundary> mechanical_boundaries;
     Parameters::Contact                                    contact;
+    // Every pair (k, l), k < l, of listed bodies.
+    std::map<std::pair<unsigned int, unsigned int>, Parameters::InterfacePair> interface_pairs;
     Parameters::Coupling                                   coupling;
     Parameters::Physics                                    physics;
     Parameters::InitialCondition                           initial_condition;
@@ -353,6 +380,12 @@ namespace ContactStefan
     }
     // Some body's elasticity changes with its phase (both physics on).
     bool elasticity_depends_on_phase() const;
+    // The laws of the interface between bodies a and b (either order).
+    const Parameters::InterfacePair &interface_pair(const unsigned int a,
+                                                    const unsigned int b) const
+    {
+      return interface_pairs.at({std::min(a, b), std::max(a, b)});
+    }
   };
 } // namespace ContactStefan
 

@@ -81,9 +81,10 @@ namespace ContactStefan
     {
       return *obstacle_gaps.at(id);
     }
-    Function<dim> &interface_gap()
+    // The gap of the interface between bodies a and b (either order).
+    Function<dim> &interface_gap(const unsigned int a, const unsigned int b)
     {
-      return *interface;
+      return *interface_gaps.at({std::min(a, b), std::max(a, b)});
     }
     // --- coupling and mechanical exact solutions ----------------------------------
     // Theta_0(x, y) in the scene's temperature unit (evaluated at the start time).
@@ -148,7 +149,8 @@ namespace ContactStefan
     const SceneParameters           &prm;
     std::unique_ptr<NonFiniteRecord> record;
     ExactTemperature                 provided_exact;
-    std::unique_ptr<Function<dim>>   exact, initial, interface;
+    std::unique_ptr<Function<dim>>                                                  exact, initial;
+    std::map<std::pair<unsigned int, unsigned int>, std::unique_ptr<Function<dim>>> interface_gaps;
     std::unique_ptr<Function<dim>>   reference, stress, pressure, liquid, section_force;
     std::map<unsigned int, std::unique_ptr<Function<dim>>> heat_sources, thermal_boundaries;
     std::map<unsigned int, std::unique_ptr<Function<dim>>> body_forces, mechanical_values,

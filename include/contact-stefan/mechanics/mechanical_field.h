@@ -35,6 +35,7 @@
 #include <deal.II/hp/fe_collection.h>
 
 #include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/lac/vector.h>
@@ -60,6 +61,7 @@
 #include <set>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 namespace ContactStefan
@@ -101,6 +103,8 @@ namespace ContactStefan
       obstacle
     } kind;
     std::string                  group;       // "boundary N" or "interface k-l"
+    unsigned int                 body_k = 0, body_l = 0; // interfaces: the two bodies, k < l
+    bool                         tied = false;           // interfaces: 'Kind' = tied
     unsigned int                 boundary_id; // roller and obstacle nodes
     Point<2>                     position;
     std::array<std::uint64_t, 2> dofs_k, dofs_l;
@@ -353,6 +357,12 @@ namespace ContactStefan
     void find_normal_conditions();
     void make_body_frames();
     void make_sparsity_pattern();
+    void add_closed_cell_couplings(
+      DynamicSparsityPattern                                                        &dsp,
+      const std::map<types::global_dof_index, std::vector<types::global_dof_index>> &condition_dofs)
+      const;
+    void settle_imposable_conditions(std::unordered_set<types::global_dof_index> &contact_dofs);
+    void set_rigid_body_modes();
     void assemble_load();
     void make_fixed_constraints();
 

@@ -81,15 +81,17 @@ namespace ContactStefan
   template <int dim>
   void MechanicalField<dim>::update_condition_gaps()
   {
-    functions.interface_gap().set_time(time);
+    for (const auto &[pair, law] : prm.interface_pairs)
+      functions.interface_gap(pair.first, pair.second).set_time(time);
     for (const auto &[id, bc] : prm.mechanical_boundaries)
       if (bc.type == Parameters::MechanicalBoundary::Type::obstacle)
         functions.obstacle_gap(id).set_time(time);
     for (auto &c : normal_conditions)
       if (c.kind != NormalCondition::Kind::roller)
-        c.gap = (c.kind == NormalCondition::Kind::obstacle ? functions.obstacle_gap(c.boundary_id) :
-                                                             functions.interface_gap())
-                  .value(Point<dim>(c.position));
+        c.gap =
+          (c.kind == NormalCondition::Kind::obstacle ? functions.obstacle_gap(c.boundary_id) :
+                                                       functions.interface_gap(c.body_k, c.body_l))
+            .value(Point<dim>(c.position));
   }
 
 
@@ -119,8 +121,7 @@ namespace ContactStefan
     for (const auto &c : normal_conditions)
       {
         const bool is_interface = c.kind == NormalCondition::Kind::interface;
-        if (c.kind == NormalCondition::Kind::roller ||
-            (is_interface && prm.contact.interfaces == Parameters::Contact::Interfaces::tied))
+        if (c.kind == NormalCondition::Kind::roller || (is_interface && c.tied))
           continue;
         const Vector &active = active_flags_ghosted(c);
         if (active[c.dofs_k[0]] < 0.5)
@@ -518,9 +519,8 @@ namespace ContactStefan
                                           double       &max_penetration) const
   {
     using Kind            = NormalCondition::Kind;
-    const bool tied       = prm.contact.interfaces == Parameters::Contact::Interfaces::tied;
     const auto is_contact = [&](const NormalCondition &c) {
-      return c.kind != Kind::roller && !(c.kind == Kind::interface && tied);
+      return c.kind != Kind::roller && !(c.kind == Kind::interface && c.tied);
     };
     Vector r(owned, relevant, mpi_communicator);
     r = residual;

@@ -25,6 +25,7 @@
 
 #include <deal.II/numerics/vector_tools.h>
 
+#include <contact-stefan/interfaces/body_interface.h>
 #include <contact-stefan/interfaces/contact.h>
 #include <contact-stefan/mechanics/mechanical_field.h>
 
@@ -255,6 +256,7 @@ namespace ContactStefan
   template <int dim>
   void MechanicalField<dim>::make_sparsity_pattern()
   {
+    // Each condition couples the DoFs it names (both sides of an interface).
     std::map<types::global_dof_index, std::vector<types::global_dof_index>> condition_dofs;
     for (const auto &c : normal_conditions)
       {
@@ -272,19 +274,37 @@ namespace ContactStefan
     // interfaces unless tied): a cell whose closure reaches one is re-assembled
     // in each contact iteration, the others go into the bulk matrix (below,
     // once the contact lines of other ranks are known).
-    const bool tied = prm.contact.interfaces == Parameters::Contact::Interfaces::tied;
     std::unordered_set<types::global_dof_index> contact_dofs;
     for (const auto &c : normal_conditions)
       if (c.kind == NormalCondition::Kind::obstacle ||
-          (c.kind == NormalCondition::Kind::interface && !tied))
+          (c.kind == NormalCondition::Kind::interface && !c.tied))
         for (unsigned int d = 0; d < dim; ++d)
           {
             contact_dofs.insert(c.dofs_k[d]);
             if (c.has_partner)
               contact_dofs.insert(c.dofs_l[d]);
           }
-    cell_near_contact.assign(triangulation.n_active_cells(), false);
-    DynamicSparsityPattern               dsp(relevant);
+    DynamicSparsityPattern dsp(relevant);
+    add_closed_cell_couplings(dsp, condition_dofs);
+    settle_imposable_conditions(contact_dofs);
+
+    SparsityTools::distribute_sparsity_pattern(dsp, owned, mpi_communicator, relevant);
+    linear_solver.clear();
+    system_matrix.reinit(owned, owned, dsp, mpi_communicator);
+    set_rigid_body_modes();
+  }
+
+
+
+  // The couplings of each owned cell: its DoFs closed under every constraint
+  // that may ever apply (the fixed ones, and all DoFs of each condition), so
+  // that any mixture of active and inactive nodes fits the pattern.
+  template <int dim>
+  void MechanicalField<dim>::add_closed_cell_couplings(
+    DynamicSparsityPattern                                                        &dsp,
+    const std::map<types::global_dof_index, std::vector<types::global_dof_index>> &condition_dofs)
+    const
+  {
     std::vector<types::global_dof_index> dofs;
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
@@ -323,7 +343,21 @@ namespace ContactStefan
             if (relevant.is_element(row))
               dsp.add_entries(row, columns.begin(), columns.end(), true);
         }
+  }
 
+
+
+  // With every node active: which conditions can be imposed at all (counted
+  // per group, for the check of initialize()), which cells are near a contact
+  // DoF (re-assembled in each contact iteration), and the conditions that can
+  // never be imposed, left out (their weight goes to a partner at the same
+  // vertex where there is one).
+  template <int dim>
+  void MechanicalField<dim>::settle_imposable_conditions(
+    std::unordered_set<types::global_dof_index> &contact_dofs)
+  {
+    cell_near_contact.assign(triangulation.n_active_cells(), false);
+    std::vector<types::global_dof_index> dofs;
     // Every node active: which conditions can be imposed at all.
     for (Vector *v : {&obstacle_active, &interface_active})
       *v = 1.;
@@ -363,7 +397,7 @@ namespace ContactStefan
     unsigned int                 dropped = 0;
     for (const auto &c : normal_conditions)
       if (c.kind == NormalCondition::Kind::roller ||
-          (c.kind == NormalCondition::Kind::interface && tied) ||
+          (c.kind == NormalCondition::Kind::interface && c.tied) ||
           imposed_conditions.count({c.dofs_k[0], static_cast<int>(c.kind)}) == 1)
         kept.push_back(c);
       else
@@ -389,11 +423,13 @@ namespace ContactStefan
     for (Vector *v :
          {&obstacle_active, &interface_active, &obstacle_active_ghosted, &interface_active_ghosted})
       *v = 0.;
+  }
 
-    SparsityTools::distribute_sparsity_pattern(dsp, owned, mpi_communicator, relevant);
-    linear_solver.clear();
-    system_matrix.reinit(owned, owned, dsp, mpi_communicator);
 
+
+  template <int dim>
+  void MechanicalField<dim>::set_rigid_body_modes()
+  {
     // The rigid-body modes of plane elasticity (two translations and the
     // rotation about each body's centre) as the AMG near-null space: with ML's
     // default constant mode CG needs hundreds of iterations.
@@ -416,19 +452,30 @@ namespace ContactStefan
   template <int dim>
   std::string MechanicalField<dim>::describe() const
   {
-    unsigned int n_rollers = 0, n_obstacle = 0, n_interface = 0;
+    unsigned int n_rollers = 0, n_obstacle = 0, n_interface = 0, n_tied = 0;
     for (const auto &c : normal_conditions)
       if (owned.is_element(c.dofs_k[0]))
-        (c.kind == NormalCondition::Kind::roller   ? n_rollers :
-         c.kind == NormalCondition::Kind::obstacle ? n_obstacle :
-                                                     n_interface)++;
+        {
+          (c.kind == NormalCondition::Kind::roller   ? n_rollers :
+           c.kind == NormalCondition::Kind::obstacle ? n_obstacle :
+                                                       n_interface)++;
+          n_tied += c.kind == NormalCondition::Kind::interface && c.tied;
+        }
+    // The interfaces' kind: each interface has its own ('Contact/Interface k-l/
+    // Kind'); without interface nodes, the default.
+    const unsigned int all_tied      = Utilities::MPI::sum(n_tied, mpi_communicator);
+    const unsigned int all_interface = Utilities::MPI::sum(n_interface, mpi_communicator);
+    const std::string  kind =
+      all_interface == 0 ?
+         (prm.contact.interfaces == Parameters::Contact::Interfaces::tied ? "tied" : "contact") :
+       all_tied == all_interface ? "tied" :
+       all_tied == 0             ? "contact" :
+                                   "contact and tied";
     return "Mechanics: " + std::to_string(dof_handler.n_dofs()) + " displacement DoFs in " +
            std::to_string(prm.body_ids.size()) + " body(ies); " +
            std::to_string(Utilities::MPI::sum(n_obstacle, mpi_communicator)) + " obstacle, " +
-           std::to_string(Utilities::MPI::sum(n_interface, mpi_communicator)) + " interface (" +
-           (prm.contact.interfaces == Parameters::Contact::Interfaces::tied ? "tied" : "contact") +
-           ") and " + std::to_string(Utilities::MPI::sum(n_rollers, mpi_communicator)) +
-           " roller nodes" +
+           std::to_string(all_interface) + " interface (" + kind + ") and " +
+           std::to_string(Utilities::MPI::sum(n_rollers, mpi_communicator)) + " roller nodes" +
            (n_dropped_conditions == 0 ?
               std::string() :
               "\nContact: " + std::to_string(n_dropped_conditions) +
@@ -453,14 +500,16 @@ namespace ContactStefan
     // The data at t0 (checked for finite values below, before any output).
     assemble_load();
     make_fixed_constraints();
-    const bool            tied = prm.contact.interfaces == Parameters::Contact::Interfaces::tied;
-    std::set<std::string> obstacle_groups;
+    std::set<std::string> obstacle_groups, tied_groups;
+    for (const auto &c : normal_conditions)
+      if (c.kind == NormalCondition::Kind::interface && c.tied)
+        tied_groups.insert(c.group);
     for (const auto &[id, bc] : prm.mechanical_boundaries)
       if (bc.type == Parameters::MechanicalBoundary::Type::obstacle)
         obstacle_groups.insert(boundary_group(id));
     for (const auto &group : contact_groups)
       if (Utilities::MPI::sum(imposable_per_group[group], mpi_communicator) == 0 &&
-          (obstacle_groups.count(group) == 1 || !tied))
+          (obstacle_groups.count(group) == 1 || tied_groups.count(group) == 0))
         {
           const bool boundary = obstacle_groups.count(group) == 1;
           throw InputError(boundary ? "Boundary conditions/Mechanical " + group :
@@ -758,20 +807,19 @@ namespace ContactStefan
             dof_handler, id, value, fixed_constraints, ComponentMask(mask));
         }
     // Ties first: u_k = u_l componentwise, or u_l = u_k where u_k is taken.
-    if (prm.contact.interfaces == Parameters::Contact::Interfaces::tied)
-      for (const auto &c : normal_conditions)
-        if (c.kind == NormalCondition::Kind::interface)
-          for (unsigned int d = 0; d < dim; ++d)
-            {
-              const auto [target, other] = !fixed_constraints.is_constrained(c.dofs_k[d]) ?
-                                             std::pair(c.dofs_k[d], c.dofs_l[d]) :
-                                             std::pair(c.dofs_l[d], c.dofs_k[d]);
-              if (!fixed_constraints.is_constrained(target))
-                {
-                  fixed_constraints.add_line(target);
-                  fixed_constraints.add_entry(target, other, 1.);
-                }
-            }
+    for (const auto &c : normal_conditions)
+      if (c.kind == NormalCondition::Kind::interface && c.tied)
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            const auto [target, other] = !fixed_constraints.is_constrained(c.dofs_k[d]) ?
+                                           std::pair(c.dofs_k[d], c.dofs_l[d]) :
+                                           std::pair(c.dofs_l[d], c.dofs_k[d]);
+            if (!fixed_constraints.is_constrained(target))
+              {
+                fixed_constraints.add_line(target);
+                fixed_constraints.add_entry(target, other, 1.);
+              }
+          }
     // Then rollers: u.n = 0, solved for the component with the larger |n_c| that
     // is free. At a corner of a roller boundary (face normals differing by more
     // than the corner angle) u.n = 0 must hold for both faces: both components
@@ -827,18 +875,21 @@ namespace ContactStefan
         for (const unsigned int v : cell->vertex_indices())
           vertex_of_owned_cell[cell->vertex_index(v)] = true;
 
+    // One entry per vertex, kind and group, in the order of their x DoF: the
+    // order of normal_conditions. Rollers and obstacles sum their faces'
+    // normals here; an interface vertex comes with its geometry
+    // (BodyInterface).
     struct Entry
     {
       NormalCondition            condition;
       Contact::NormalAccumulator normals;
+      bool                       given = false; // normal, weight, corner from the interface
     };
     std::map<std::tuple<types::global_dof_index, int, std::string>, Entry> entries;
-    const auto add = [&](const typename DoFHandler<dim>::active_cell_iterator &cell,
-                         const unsigned int                                    face,
-                         const Kind                                            kind,
-                         const std::string                                    &group,
-                         const typename DoFHandler<dim>::active_cell_iterator *partner,
-                         const unsigned int                                    boundary_id) {
+    const auto add_boundary_face = [&](const typename DoFHandler<dim>::active_cell_iterator &cell,
+                                       const unsigned int                                    face,
+                                       const Kind                                            kind,
+                                       const unsigned int boundary_id) {
       const auto dofs = vertex_dofs<dim>(cell);
       const auto a    = cell->face(face)->vertex(0);
       const auto b    = cell->face(face)->vertex(1);
@@ -848,59 +899,72 @@ namespace ContactStefan
           const unsigned int v = GeometryInfo<dim>::face_to_cell_vertices(face, fv);
           if (!vertex_of_owned_cell[cell->vertex_index(v)])
             continue;
-          Entry &e                = entries[{dofs[v][0], static_cast<int>(kind), group}];
+          const std::string group = boundary_group(boundary_id);
+          Entry            &e     = entries[{dofs[v][0], static_cast<int>(kind), group}];
           e.condition.kind        = kind;
           e.condition.group       = group;
           e.condition.boundary_id = boundary_id;
           e.condition.position    = cell->vertex(v);
           e.condition.dofs_k      = {{dofs[v][0], dofs[v][1]}};
-          e.condition.has_partner = (partner != nullptr);
-          if (partner)
-            {
-              const auto partner_dofs = vertex_dofs<dim>(*partner);
-              for (const unsigned int pv : (*partner)->vertex_indices())
-                if ((*partner)->vertex_index(pv) == cell->vertex_index(v))
-                  e.condition.dofs_l = {{partner_dofs[pv][0], partner_dofs[pv][1]}};
-            }
+          e.condition.has_partner = false;
           e.normals.add_face({{a[0], a[1]}}, {{b[0], b[1]}}, {{c[0], c[1]}});
         }
     };
-
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (!cell->is_artificial())
         for (const unsigned int face : cell->face_indices())
+          if (cell->face(face)->at_boundary())
+            {
+              const auto bc = prm.mechanical_boundaries.find(cell->face(face)->boundary_id());
+              if (bc == prm.mechanical_boundaries.end())
+                continue;
+              if (bc->second.type == Parameters::MechanicalBoundary::Type::roller)
+                add_boundary_face(cell, face, Kind::roller, bc->first);
+              else if (bc->second.type == Parameters::MechanicalBoundary::Type::obstacle)
+                add_boundary_face(cell, face, Kind::obstacle, bc->first);
+            }
+
+    // The interfaces: the vertices of each, mapped to the displacement DoFs of
+    // the two sides through the cells that have them, with the interface's
+    // law (tied or contact, Contact/Interface k-l).
+    std::string problem; // found on this rank
+    for (const auto &interface :
+         find_body_interfaces(triangulation, contact_prm.corner_angle, problem))
+      {
+        const bool tied = prm.interface_pair(interface.body_k, interface.body_l).kind ==
+                          Parameters::Contact::Interfaces::tied;
+        for (const auto &vertex : interface.vertices)
           {
-            if (cell->face(face)->at_boundary())
-              {
-                const auto bc = prm.mechanical_boundaries.find(cell->face(face)->boundary_id());
-                if (bc == prm.mechanical_boundaries.end())
-                  continue;
-                const std::string group = boundary_group(bc->first);
-                if (bc->second.type == Parameters::MechanicalBoundary::Type::roller)
-                  add(cell, face, Kind::roller, group, nullptr, bc->first);
-                else if (bc->second.type == Parameters::MechanicalBoundary::Type::obstacle)
-                  add(cell, face, Kind::obstacle, group, nullptr, bc->first);
-              }
-            else
-              {
-                if (cell->neighbor(face)->is_artificial() ||
-                    cell->neighbor(face)->material_id() == cell->material_id())
-                  continue;
-                if (cell->neighbor(face)->has_children() ||
-                    cell->neighbor(face)->level() != cell->level())
-                  throw std::runtime_error(
-                    "the interface between bodies " + std::to_string(cell->material_id()) +
-                    " and " + std::to_string(cell->neighbor(face)->material_id()) +
-                    " is not conforming (refined differently on its two sides)");
-                const typename DoFHandler<dim>::active_cell_iterator neighbor =
-                  cell->neighbor(face);
-                if (cell->material_id() > neighbor->material_id())
-                  continue; // the face is counted from side k
-                const std::string group = "interface " + std::to_string(cell->material_id()) + "-" +
-                                          std::to_string(neighbor->material_id());
-                add(cell, face, Kind::interface, group, &neighbor, 0);
-              }
+            const typename DoFHandler<dim>::active_cell_iterator cell_k(&triangulation,
+                                                                        vertex.cell_k->level(),
+                                                                        vertex.cell_k->index(),
+                                                                        &dof_handler);
+            const typename DoFHandler<dim>::active_cell_iterator cell_l(&triangulation,
+                                                                        vertex.cell_l->level(),
+                                                                        vertex.cell_l->index(),
+                                                                        &dof_handler);
+            const auto dofs_k = vertex_dofs<dim>(cell_k)[vertex.vertex_k];
+            const auto dofs_l = vertex_dofs<dim>(cell_l)[vertex.vertex_l];
+            Entry &e = entries[{dofs_k[0], static_cast<int>(Kind::interface), interface.name()}];
+            NormalCondition &c = e.condition;
+            c.kind             = Kind::interface;
+            c.group            = interface.name();
+            c.boundary_id      = 0;
+            c.position         = vertex.position;
+            c.dofs_k           = {{dofs_k[0], dofs_k[1]}};
+            c.dofs_l           = {{dofs_l[0], dofs_l[1]}};
+            c.has_partner      = true;
+            c.body_k           = interface.body_k;
+            c.body_l           = interface.body_l;
+            c.tied             = tied;
+            c.normal           = vertex.normal;
+            c.weight           = vertex.weight;
+            c.corner           = vertex.corner;
+            e.given            = true;
           }
+      }
+    if (!problem.empty())
+      problem = "the mesh: " + problem;
 
     normal_conditions.clear();
     std::set<std::string> groups;
@@ -908,7 +972,6 @@ namespace ContactStefan
     // per vertex and kind, and a corner of two obstacle boundaries has no single
     // normal. Refuse it instead of mixing them.
     std::map<types::global_dof_index, std::string> obstacle_at;
-    std::string                                    problem; // found on this rank
     for (auto &[key, e] : entries)
       if (e.condition.kind == Kind::obstacle)
         {
@@ -921,7 +984,7 @@ namespace ContactStefan
                       "); give the corner to one of them";
         }
     for (auto &[key, e] : entries)
-      if (problem.empty())
+      if (problem.empty() && !e.given)
         try
           {
             e.normals.normal();
@@ -936,10 +999,13 @@ namespace ContactStefan
     for (auto &[key, e] : entries)
       {
         NormalCondition &c = e.condition;
-        const auto       n = e.normals.normal();
-        c.normal           = {{n[0], n[1]}};
-        c.weight           = e.normals.weight();
-        c.corner = e.normals.max_deviation() > contact_prm.corner_angle * numbers::PI / 180;
+        if (!e.given)
+          {
+            const auto n = e.normals.normal();
+            c.normal     = {{n[0], n[1]}};
+            c.weight     = e.normals.weight();
+            c.corner     = e.normals.max_deviation() > contact_prm.corner_angle * numbers::PI / 180;
+          }
         normal_conditions.push_back(c);
         if (c.kind != Kind::roller)
           groups.insert(c.group);

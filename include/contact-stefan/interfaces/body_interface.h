@@ -1,0 +1,82 @@
+// The geometry of the places where two bodies meet, in mesh entities.
+//
+// A body interface is the set of faces between cells of body k and cells of
+// body l (material ids, k < l). It holds its face pairs and, per vertex, the
+// cells on either side that have it, the length-weighted average normal
+// (pointing out of body k), the lumped weight (half the length of its faces)
+// and whether the faces at the vertex disagree by more than a corner angle.
+// It knows no DoF: each field maps the vertices to its own DoFs through the
+// cells it names (the mechanical field to the two sides' displacements, a
+// thermal interface law to the two sides' temperatures). It is rebuilt
+// whenever the mesh changes. The laws that act on it -- contact or tied,
+// the gap, the thermal law -- are chosen per interface in the parameter file
+// (Parameters::InterfacePair, doc/contact.md).
+#ifndef contact_stefan_body_interface_h
+#define contact_stefan_body_interface_h
+
+#include <deal.II/base/point.h>
+
+#include <deal.II/grid/tria.h>
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace ContactStefan
+{
+  using namespace dealii;
+
+  template <int dim>
+  struct BodyInterface
+  {
+    using Cell = typename Triangulation<dim>::active_cell_iterator;
+
+    unsigned int body_k = 0, body_l = 0; // material ids, k < l
+
+    /** "interface k-l": the name in messages, statistics and RESULT lines. */
+    std::string name() const
+    {
+      return "interface " + std::to_string(body_k) + "-" + std::to_string(body_l);
+    }
+
+    /** One face seen from both sides. */
+    struct FacePair
+    {
+      Cell         cell_k, cell_l;
+      unsigned int face_k = 0, face_l = 0;
+    };
+
+    /** One vertex of the interface, with a cell of each side that has it. */
+    struct Vertex
+    {
+      unsigned int          index = 0; // the triangulation's vertex index
+      Point<dim>            position;
+      Cell                  cell_k, cell_l;
+      unsigned int          vertex_k = 0, vertex_l = 0; // its number in each cell
+      std::array<double, 2> normal{{0., 0.}};           // out of body k
+      double                weight = 0;
+      bool                  corner = false;
+    };
+
+    /** The faces of cells that are not artificial, in cell order. */
+    std::vector<FacePair> faces;
+    /** The vertices of locally owned cells, by vertex index. */
+    std::vector<Vertex> vertices;
+  };
+
+  /**
+   * The interfaces of a mesh, ordered by (k, l). corner_angle (degrees): the
+   * deviation of a face normal from the vertex normal above which the vertex
+   * is a corner. Faces are visited cell by cell, so that each vertex sums its
+   * faces in the order in which the mesh lists them. A refused interface
+   * (refined differently on its two sides) throws; a vertex whose normal is
+   * undefined (faces that cancel) gets the reason in `problem` (the caller
+   * decides collectively).
+   */
+  template <int dim>
+  std::vector<BodyInterface<dim>> find_body_interfaces(const Triangulation<dim> &triangulation,
+                                                       const double              corner_angle,
+                                                       std::string              &problem);
+} // namespace ContactStefan
+
+#endif
