@@ -19,29 +19,13 @@ namespace ContactStefan
 {
   using ExactType = Parameters::ExactSolution::Type;
 
-  // After each step (and at the start) with mechanics: the energy terms, the
-  // errors against an exact stress and contact pressure, and the opening of each
-  // contact group (the time its force reaches zero, from the last two loaded
-  // steps: exact while the force falls linearly, as in doc/benchmarks.md T4).
+  // The opening of each contact group: the time its force reaches zero,
+  // extrapolated from the last two loaded steps (exact while the force falls
+  // linearly, as in doc/benchmarks.md T4).
   template <int dim>
-  void Postprocessor<dim>::accumulate_mechanical_results(const double             time,
-                                                         const ContactStepReport &contact_report)
+  void Postprocessor<dim>::track_contact_opening(const double             time,
+                                                 const ContactStepReport &contact_report)
   {
-    TimerOutput::Scope t(timer, "statistics: mechanical");
-    const auto         elastic = mechanical->elastic_statistics();
-    elastic_energy             = elastic.energy;
-    max_strain                 = std::max(max_strain, elastic.max_strain);
-    const auto [von_mises, where] = mechanical->max_cell_von_mises();
-    max_von_mises                 = von_mises;
-    // (A later step counts only if it is larger beyond round-off: the time and
-    // place must not depend on the partition.)
-    if (von_mises > max_von_mises_over_steps * (1 + 1e-10))
-      {
-        max_von_mises_over_steps = von_mises;
-        max_von_mises_time       = time;
-        max_von_mises_point      = where;
-      }
-    total_contact_work += mechanical->contact_work();
     for (const auto &[group, force] : contact_report.forces)
       {
         // Zero up to round-off of the largest force the group carried: the
@@ -66,122 +50,176 @@ namespace ContactStefan
             opening_time[group] = f0 > f1 ? t1 + f1 * (t1 - t0) / (f0 - f1) : t1;
           }
       }
+  }
+
+
+
+  // The stress error against the exact stress at the current time: by the
+  // vertex rule at the vertices (the historical measure), and of the two stress
+  // outputs (doc/output.md), each relative to the exact stress plus the thermal
+  // stress. Collective.
+  template <int dim>
+  void Postprocessor<dim>::accumulate_stress_errors(Function<dim> &exact, const double time)
+  {
+    exact.set_time(time);
+    double error2 = 0, norm2 = 0, thermal2 = 0;
+    mechanical->for_each_vertex_stress([&](const Point<dim>              &x,
+                                           const double                   w,
+                                           const SymmetricTensor<2, dim> &sigma,
+                                           const double                   szz,
+                                           const SymmetricTensor<2, dim> &thermal_part,
+                                           const ElasticModuli &) {
+      const double e[4] = {sigma[0][0] - exact.value(x, 0),
+                           sigma[1][1] - exact.value(x, 1),
+                           sigma[0][1] - exact.value(x, 2),
+                           szz - exact.value(x, 3)};
+      error2 += w * (e[0] * e[0] + e[1] * e[1] + 2 * e[2] * e[2] + e[3] * e[3]);
+      norm2 += w * (std::pow(exact.value(x, 0), 2) + std::pow(exact.value(x, 1), 2) +
+                    2 * std::pow(exact.value(x, 2), 2) + std::pow(exact.value(x, 3), 2));
+      thermal2 += w * (thermal_part * thermal_part);
+    });
+    // The same error of the two stress outputs (doc/output.md): the
+    // cell-centre values by the midpoint rule, the recovered nodal field by
+    // the vertex rule.
+    const auto squared_error =
+      [&](const Point<dim> &x, const SymmetricTensor<2, dim> &sigma, const double szz) {
+        const double e[4] = {sigma[0][0] - exact.value(x, 0),
+                             sigma[1][1] - exact.value(x, 1),
+                             sigma[0][1] - exact.value(x, 2),
+                             szz - exact.value(x, 3)};
+        return e[0] * e[0] + e[1] * e[1] + 2 * e[2] * e[2] + e[3] * e[3];
+      };
+    double     cell_error2 = 0, recovered_error2 = 0;
+    const auto stresses = mechanical->cell_centre_stresses();
+    for (const auto &cell : triangulation.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const auto &s = stresses[cell->active_cell_index()];
+          cell_error2 += cell->measure() * squared_error(cell->center(), s.sigma, s.sigma_zz);
+        }
+    mechanical->for_each_recovered_vertex_stress(
+      [&](const Point<dim>              &x,
+          const double                   w,
+          const SymmetricTensor<2, dim> &sigma,
+          const double szz) { recovered_error2 += w * squared_error(x, sigma, szz); });
+    functions.check_finite_values(mpi_communicator);
+    error2             = Utilities::MPI::sum(error2, mpi_communicator);
+    cell_error2        = Utilities::MPI::sum(cell_error2, mpi_communicator);
+    recovered_error2   = Utilities::MPI::sum(recovered_error2, mpi_communicator);
+    norm2              = Utilities::MPI::sum(norm2, mpi_communicator);
+    thermal2           = Utilities::MPI::sum(thermal2, mpi_communicator);
+    const double scale = std::sqrt(norm2) + std::sqrt(thermal2);
+    if (scale > 0)
+      {
+        max_relative_stress_error =
+          max_with_nan(max_relative_stress_error, std::sqrt(error2) / scale);
+        max_relative_stress_error_cell =
+          max_with_nan(max_relative_stress_error_cell, std::sqrt(cell_error2) / scale);
+        max_relative_stress_error_recovered =
+          max_with_nan(max_relative_stress_error_recovered, std::sqrt(recovered_error2) / scale);
+      }
+  }
+
+
+
+  // The section forces of both stress outputs against 'Exact solution/Section
+  // normal force' at the current time, over the lines and their sides.
+  // Collective.
+  template <int dim>
+  void Postprocessor<dim>::accumulate_section_force_errors(Function<dim> &exact, const double time)
+  {
+    exact.set_time(time);
+    const auto &lines  = output_prm.section_lines;
+    const auto  forces = mechanical->section_forces(lines);
+    for (unsigned int l = 0; l < lines.size(); ++l)
+      for (unsigned int side = 0; side < 2; ++side)
+        if (forces[l].length[side] > 0)
+          {
+            const unsigned int axis = lines[l].axis;
+            // The exact force at the line's point on the axis: (c, 0) for
+            // x = c, (0, c) for y = c.
+            Point<dim> on_line;
+            on_line[axis]           = lines[l].value;
+            const double force      = exact.value(on_line);
+            max_exact_section_force = std::max(max_exact_section_force, std::abs(force));
+            max_section_error_cell =
+              max_with_nan(max_section_error_cell,
+                           std::abs(forces[l].cell_centre[side][axis] - force));
+            max_section_error_recovered =
+              max_with_nan(max_section_error_recovered,
+                           std::abs(forces[l].recovered[side][axis] - force));
+            ++section_sides_checked;
+            if (forces[l].uniform_row(side))
+              {
+                ++section_sides_uniform;
+                max_section_error_cell_uniform =
+                  max_with_nan(max_section_error_cell_uniform,
+                               std::abs(forces[l].cell_centre[side][axis] - force));
+              }
+          }
+    functions.check_finite_values(mpi_communicator);
+  }
+
+
+
+  // The nodal contact pressure against the exact one at the current time: the
+  // largest error and the largest exact pressure. Collective.
+  template <int dim>
+  void Postprocessor<dim>::accumulate_pressure_errors(Function<dim> &exact, const double time)
+  {
+    exact.set_time(time);
+    double error = 0, size = 0;
+    for (const auto &c : mechanical->get_normal_conditions())
+      if (c.kind != NormalCondition::Kind::roller &&
+          mechanical->get_dof_handler().locally_owned_dofs().is_element(c.dofs_k[0]))
+        {
+          const double p = exact.value(c.position);
+          error          = max_with_nan(error, std::abs(mechanical->contact_pressure(c) - p));
+          size           = std::max(size, std::abs(p));
+        }
+    functions.check_finite_values(mpi_communicator);
+    max_pressure_error =
+      max_with_nan(max_pressure_error, global_max_with_nan(error, mpi_communicator));
+    max_exact_pressure = std::max(max_exact_pressure, Utilities::MPI::max(size, mpi_communicator));
+  }
+
+
+
+  // After each step (and at the start) with mechanics: the energy terms, the
+  // errors against an exact stress and contact pressure, and the opening of each
+  // contact group (the time its force reaches zero, from the last two loaded
+  // steps: exact while the force falls linearly, as in doc/benchmarks.md T4).
+  template <int dim>
+  void Postprocessor<dim>::accumulate_mechanical_results(const double             time,
+                                                         const ContactStepReport &contact_report)
+  {
+    TimerOutput::Scope t(timer, "statistics: mechanical");
+    const auto         elastic    = mechanical->elastic_statistics();
+    elastic_energy                = elastic.energy;
+    max_strain                    = std::max(max_strain, elastic.max_strain);
+    const auto [von_mises, where] = mechanical->max_cell_von_mises();
+    max_von_mises                 = von_mises;
+    // (A later step counts only if it is larger beyond round-off: the time and
+    // place must not depend on the partition.)
+    if (von_mises > max_von_mises_over_steps * (1 + 1e-10))
+      {
+        max_von_mises_over_steps = von_mises;
+        max_von_mises_time       = time;
+        max_von_mises_point      = where;
+      }
+    total_contact_work += mechanical->contact_work();
+    track_contact_opening(time, contact_report);
 
     // The exact stress and pressure are compared after each step, not at t0
     // (a scene may start before its loading does, as T4 with its first step).
     if (Function<dim> *exact = functions.exact_stress(); exact && time > prm.time.start_time)
-      {
-        exact->set_time(time);
-        double error2 = 0, norm2 = 0, thermal2 = 0;
-        mechanical->for_each_vertex_stress([&](const Point<dim>              &x,
-                                               const double                   w,
-                                               const SymmetricTensor<2, dim> &sigma,
-                                               const double                   szz,
-                                               const SymmetricTensor<2, dim> &thermal_part,
-                                               const ElasticModuli &) {
-          const double e[4] = {sigma[0][0] - exact->value(x, 0),
-                               sigma[1][1] - exact->value(x, 1),
-                               sigma[0][1] - exact->value(x, 2),
-                               szz - exact->value(x, 3)};
-          error2 += w * (e[0] * e[0] + e[1] * e[1] + 2 * e[2] * e[2] + e[3] * e[3]);
-          norm2 += w * (std::pow(exact->value(x, 0), 2) + std::pow(exact->value(x, 1), 2) +
-                        2 * std::pow(exact->value(x, 2), 2) + std::pow(exact->value(x, 3), 2));
-          thermal2 += w * (thermal_part * thermal_part);
-        });
-        // The same error of the two stress outputs (doc/output.md): the
-        // cell-centre values by the midpoint rule, the recovered nodal field by
-        // the vertex rule.
-        const auto squared_error =
-          [&](const Point<dim> &x, const SymmetricTensor<2, dim> &sigma, const double szz) {
-            const double e[4] = {sigma[0][0] - exact->value(x, 0),
-                                 sigma[1][1] - exact->value(x, 1),
-                                 sigma[0][1] - exact->value(x, 2),
-                                 szz - exact->value(x, 3)};
-            return e[0] * e[0] + e[1] * e[1] + 2 * e[2] * e[2] + e[3] * e[3];
-          };
-        double     cell_error2 = 0, recovered_error2 = 0;
-        const auto stresses = mechanical->cell_centre_stresses();
-        for (const auto &cell : triangulation.active_cell_iterators())
-          if (cell->is_locally_owned())
-            {
-              const auto &s = stresses[cell->active_cell_index()];
-              cell_error2 += cell->measure() * squared_error(cell->center(), s.sigma, s.sigma_zz);
-            }
-        mechanical->for_each_recovered_vertex_stress(
-          [&](const Point<dim>              &x,
-              const double                   w,
-              const SymmetricTensor<2, dim> &sigma,
-              const double szz) { recovered_error2 += w * squared_error(x, sigma, szz); });
-        functions.check_finite_values(mpi_communicator);
-        error2             = Utilities::MPI::sum(error2, mpi_communicator);
-        cell_error2        = Utilities::MPI::sum(cell_error2, mpi_communicator);
-        recovered_error2   = Utilities::MPI::sum(recovered_error2, mpi_communicator);
-        norm2              = Utilities::MPI::sum(norm2, mpi_communicator);
-        thermal2           = Utilities::MPI::sum(thermal2, mpi_communicator);
-        const double scale = std::sqrt(norm2) + std::sqrt(thermal2);
-        if (scale > 0)
-          {
-            max_relative_stress_error =
-              max_with_nan(max_relative_stress_error, std::sqrt(error2) / scale);
-            max_relative_stress_error_cell =
-              max_with_nan(max_relative_stress_error_cell, std::sqrt(cell_error2) / scale);
-            max_relative_stress_error_recovered = max_with_nan(max_relative_stress_error_recovered,
-                                                               std::sqrt(recovered_error2) / scale);
-          }
-      }
+      accumulate_stress_errors(*exact, time);
     if (Function<dim> *exact = functions.exact_section_normal_force();
         exact && time > prm.time.start_time)
-      {
-        exact->set_time(time);
-        const auto &lines  = output_prm.section_lines;
-        const auto  forces = mechanical->section_forces(lines);
-        for (unsigned int l = 0; l < lines.size(); ++l)
-          for (unsigned int side = 0; side < 2; ++side)
-            if (forces[l].length[side] > 0)
-              {
-                const unsigned int axis = lines[l].axis;
-                // The exact force at the line's point on the axis: (c, 0) for
-                // x = c, (0, c) for y = c.
-                Point<dim> on_line;
-                on_line[axis]           = lines[l].value;
-                const double force      = exact->value(on_line);
-                max_exact_section_force = std::max(max_exact_section_force, std::abs(force));
-                max_section_error_cell =
-                  max_with_nan(max_section_error_cell,
-                               std::abs(forces[l].cell_centre[side][axis] - force));
-                max_section_error_recovered =
-                  max_with_nan(max_section_error_recovered,
-                               std::abs(forces[l].recovered[side][axis] - force));
-                ++section_sides_checked;
-                if (forces[l].uniform_row(side))
-                  {
-                    ++section_sides_uniform;
-                    max_section_error_cell_uniform =
-                      max_with_nan(max_section_error_cell_uniform,
-                                   std::abs(forces[l].cell_centre[side][axis] - force));
-                  }
-              }
-        functions.check_finite_values(mpi_communicator);
-      }
+      accumulate_section_force_errors(*exact, time);
     if (Function<dim> *exact = functions.exact_contact_pressure();
         exact && time > prm.time.start_time)
-      {
-        exact->set_time(time);
-        double error = 0, size = 0;
-        for (const auto &c : mechanical->get_normal_conditions())
-          if (c.kind != NormalCondition::Kind::roller &&
-              mechanical->get_dof_handler().locally_owned_dofs().is_element(c.dofs_k[0]))
-            {
-              const double p = exact->value(c.position);
-              error          = max_with_nan(error, std::abs(mechanical->contact_pressure(c) - p));
-              size           = std::max(size, std::abs(p));
-            }
-        functions.check_finite_values(mpi_communicator);
-        max_pressure_error =
-          max_with_nan(max_pressure_error, global_max_with_nan(error, mpi_communicator));
-        max_exact_pressure =
-          std::max(max_exact_pressure, Utilities::MPI::max(size, mpi_communicator));
-      }
+      accumulate_pressure_errors(*exact, time);
   }
 
 
@@ -233,6 +271,44 @@ namespace ContactStefan
         add_result("max relative stress L2 error (cell centres)", max_relative_stress_error_cell);
         add_result("max relative stress L2 error (recovered)", max_relative_stress_error_recovered);
       }
+    print_section_force_results();
+    if (functions.exact_contact_pressure())
+      {
+        add_result("max contact pressure error", max_pressure_error);
+        add_result("max relative contact pressure error",
+                   max_exact_pressure > 0 ? max_pressure_error / max_exact_pressure : 0.);
+      }
+    if (!prm.exact_solution.contact_pressure.empty() || !opening_time.empty())
+      for (const auto &group : mechanical->get_contact_groups())
+        {
+          // Mean gap over the group's nodes at the end (0 where closed).
+          double       sum = 0;
+          unsigned int n   = 0;
+          for (const auto &c : mechanical->get_normal_conditions())
+            if (c.group == group &&
+                mechanical->get_dof_handler().locally_owned_dofs().is_element(c.dofs_k[0]))
+              {
+                sum += mechanical->contact_gap(c);
+                ++n;
+              }
+          sum = Utilities::MPI::sum(sum, mpi_communicator);
+          n   = Utilities::MPI::sum(n, mpi_communicator);
+          add_result("mean gap " + group, n > 0 ? sum / n : 0.);
+        }
+
+    if (prm.exact_solution.type == ExactType::hertz)
+      print_hertz_results();
+    if (prm.exact_solution.type == ExactType::patch)
+      print_patch_results();
+  }
+
+
+
+  // The section forces at the end and, with an exact section force, their
+  // errors over the steps.
+  template <int dim>
+  void Postprocessor<dim>::print_section_force_results() const
+  {
     // The section forces at the end (both sides of each line, both stress
     // outputs), and their errors over the steps.
     const auto &lines = output_prm.section_lines;
@@ -282,34 +358,6 @@ namespace ContactStefan
                 max_section_error_cell_uniform / max_exact_section_force);
           }
       }
-    if (functions.exact_contact_pressure())
-      {
-        add_result("max contact pressure error", max_pressure_error);
-        add_result("max relative contact pressure error",
-                   max_exact_pressure > 0 ? max_pressure_error / max_exact_pressure : 0.);
-      }
-    if (!prm.exact_solution.contact_pressure.empty() || !opening_time.empty())
-      for (const auto &group : mechanical->get_contact_groups())
-        {
-          // Mean gap over the group's nodes at the end (0 where closed).
-          double       sum = 0;
-          unsigned int n   = 0;
-          for (const auto &c : mechanical->get_normal_conditions())
-            if (c.group == group &&
-                mechanical->get_dof_handler().locally_owned_dofs().is_element(c.dofs_k[0]))
-              {
-                sum += mechanical->contact_gap(c);
-                ++n;
-              }
-          sum = Utilities::MPI::sum(sum, mpi_communicator);
-          n   = Utilities::MPI::sum(n, mpi_communicator);
-          add_result("mean gap " + group, n > 0 ? sum / n : 0.);
-        }
-
-    if (prm.exact_solution.type == ExactType::hertz)
-      print_hertz_results();
-    if (prm.exact_solution.type == ExactType::patch)
-      print_patch_results();
   }
 
 
@@ -441,9 +489,16 @@ namespace ContactStefan
 
 
 
+  template void Postprocessor<2>::track_contact_opening(const double             time,
+                                                        const ContactStepReport &contact_report);
+  template void Postprocessor<2>::accumulate_stress_errors(Function<2> &exact, const double time);
+  template void Postprocessor<2>::accumulate_section_force_errors(Function<2> &exact,
+                                                                  const double time);
+  template void Postprocessor<2>::accumulate_pressure_errors(Function<2> &exact, const double time);
   template void
                 Postprocessor<2>::accumulate_mechanical_results(const double             time,
                                                   const ContactStepReport &contact_report);
+  template void Postprocessor<2>::print_section_force_results() const;
   template void Postprocessor<2>::print_mechanical_results(const unsigned int n_steps) const;
   template void Postprocessor<2>::print_hertz_results() const;
   template void Postprocessor<2>::print_patch_results() const;

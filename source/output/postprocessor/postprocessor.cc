@@ -252,6 +252,187 @@ namespace ContactStefan
 
 
 
+  // One row of the statistics table: the columns this scene has, each with
+  // name, unit, meaning (the header's comment lines, at step 0) and this
+  // step's value as written. A real value is checked before anything is
+  // written: every number of the row is the same on every rank, and no row
+  // with a NaN may reach the file.
+  template <int dim>
+  class Postprocessor<dim>::StatisticsRow
+  {
+  public:
+    explicit StatisticsRow(const unsigned int step)
+      : step(step)
+    {}
+
+    void count(const std::string &name, const std::string &meaning, const unsigned int value)
+    {
+      std::snprintf(field, sizeof(field), "%u", value);
+      columns.push_back({name, "-", meaning, field});
+    }
+
+    void real(const std::string &name,
+              const std::string &unit,
+              const std::string &meaning,
+              const char        *format,
+              const double       value)
+    {
+      if (!std::isfinite(value))
+        throw std::runtime_error("step " + std::to_string(step) + ": the statistics value '" +
+                                 name + "' is not finite (" + std::to_string(value) + ")");
+      std::snprintf(field, sizeof(field), format, value);
+      columns.push_back({name, unit, meaning, field});
+    }
+
+    // Appends the row to the file at path, at step 0 after the header (a
+    // fresh file).
+    void append_to(const std::string &path) const
+    {
+      std::ofstream out(path, step == 0 ? std::ios::trunc : std::ios::app);
+      if (step == 0)
+        {
+          // The header: one comment line per column (name, unit, meaning), then
+          // the line of column names. gnuplot and pandas (comment='#') skip the
+          // comments; the names line stays the first line that is not one.
+          out << "# contact-stefan statistics, one row per time step. Units for a scene given in "
+                 "SI units (m, kg, s, K or degC); a dimensionless scene's columns are "
+                 "dimensionless.\n";
+          std::size_t width = 0;
+          for (const auto &c : columns)
+            width = std::max(width, c.name.size() + c.unit.size() + 3);
+          for (const auto &c : columns)
+            {
+              const std::string name_unit = c.name + " [" + c.unit + "]";
+              out << "# " << name_unit << std::string(width - name_unit.size() + 1, ' ')
+                  << c.meaning << '\n';
+            }
+          for (std::size_t i = 0; i < columns.size(); ++i)
+            out << (i == 0 ? "" : " ") << columns[i].name;
+          out << '\n';
+        }
+      for (std::size_t i = 0; i < columns.size(); ++i)
+        out << (i == 0 ? "" : " ") << columns[i].value;
+      out << std::endl;
+      if (!out)
+        throw std::runtime_error("cannot write '" + path + "'");
+    }
+
+  private:
+    struct Column
+    {
+      std::string name, unit, meaning, value;
+    };
+    const unsigned int  step;
+    std::vector<Column> columns;
+    char                field[64];
+  };
+
+
+
+  // The enthalpy step's columns and, with both fields, the coupling's. area:
+  // the melt area (collective, so computed before any column can throw).
+  template <int dim>
+  void Postprocessor<dim>::add_thermal_columns(StatisticsRow            &row,
+                                               const double              area,
+                                               const EnthalpyStepReport &report,
+                                               const CouplingReport     &coupling_report) const
+  {
+    row.count("dofs",
+              "temperature degrees of freedom",
+              static_cast<unsigned int>(thermal->get_dof_handler().n_dofs()));
+    row.count("pdas_iterations",
+              "active-set iterations (linear solves) of the enthalpy step",
+              report.active_set_iterations);
+    row.count("state_changes",
+              "nodal phase-state changes, summed over the iterations",
+              report.state_changes);
+    row.count("damped_steps",
+              "enthalpy iterations whose Newton step was shortened",
+              report.damped_steps);
+    row.count("fallback_iterations",
+              "iterations of the relaxation fallback (0: not needed)",
+              report.relaxation_iterations);
+    row.count("plateau_nodes",
+              "nodes on a transition plateau (mushy) at the end of the step",
+              report.plateau_nodes);
+    row.real("liquid_area",
+             "m^2",
+             "melt area: lumped-mass weighted liquid fraction through the last transition, per "
+             "unit thickness",
+             "%.10e",
+             area);
+    row.real("energy_residual",
+             "1",
+             "enthalpy balance of the step relative to the size of its terms (doc/coupling.md 6)",
+             "%.2e",
+             report.energy_residual);
+    if (mechanical)
+      {
+        row.count("coupling_iterations",
+                  "passes of contact and enthalpy step (1: staggered)",
+                  coupling_report.iterations);
+        row.real("thermoelastic_heat",
+                 "J/m",
+                 "heat released by the step's strain increment, per unit thickness (> 0 under "
+                 "compression)",
+                 "%.10e",
+                 report.thermoelastic_heat);
+        row.count("restiffened_cells",
+                  "cells whose stiffness was re-assembled for a phase change",
+                  coupling_report.reassembled_cells);
+      }
+  }
+
+
+
+  // The contact step's columns, the forces per contact group and the energy
+  // terms.
+  template <int dim>
+  void Postprocessor<dim>::add_mechanical_columns(StatisticsRow           &row,
+                                                  const ContactStepReport &contact_report) const
+  {
+    row.count("displacement_dofs",
+              "displacement degrees of freedom",
+              static_cast<unsigned int>(mechanical->get_dof_handler().n_dofs()));
+    row.count("contact_iterations",
+              "active-set iterations (linear solves) of the contact step",
+              contact_report.iterations);
+    row.count("active_nodes", "contact nodes in the active set", contact_report.active_nodes);
+    for (const auto &group : mechanical->get_contact_groups())
+      {
+        std::string name = "force_" + group;
+        std::replace(name.begin(), name.end(), ' ', '_');
+        row.real(name,
+                 "N/m",
+                 "resultant normal contact force on '" + group +
+                   "' per unit thickness (> 0 compressive)",
+                 "%.10e",
+                 contact_report.forces.count(group) ? contact_report.forces.at(group) : 0.);
+      }
+    row.real("max_pressure",
+             "Pa",
+             "largest nodal contact pressure (singular at corners)",
+             "%.10e",
+             contact_report.max_pressure);
+    row.real("max_von_mises",
+             "Pa",
+             "largest von Mises stress at the cell centres (sigma_zz of plane strain included)",
+             "%.10e",
+             max_von_mises);
+    row.real("elastic_energy",
+             "J/m",
+             "stored elastic energy, thermal part included, per unit thickness",
+             "%.10e",
+             elastic_energy);
+    row.real("contact_work",
+             "J/m",
+             "work of the contact forces since t0, per unit thickness",
+             "%.10e",
+             total_contact_work);
+  }
+
+
+
   // The statistics table: a header (comment lines, then the column names), then
   // one line per step, appended and
   // flushed as soon as the step is done, so that an interrupted run leaves every
@@ -264,171 +445,33 @@ namespace ContactStefan
                                                 const CouplingReport     &coupling_report,
                                                 const double              wall_time) const
   {
-    const double area    = thermal ? thermal->melt_area() : 0.;
-    const bool   coupled = thermal && mechanical;
-    // One list of the columns this scene has: name, unit, meaning (the header's
-    // comment lines, at step 0) and this step's value as written. A real value
-    // is checked before anything is written: every number of the row is the
-    // same on every rank, and no row with a NaN may reach the file.
-    struct Column
-    {
-      std::string name, unit, meaning, value;
-    };
-    std::vector<Column> columns;
-    char                field[64];
-    const auto          count = [&](const std::string &name,
-                           const std::string &meaning,
-                           const unsigned int value) {
-      std::snprintf(field, sizeof(field), "%u", value);
-      columns.push_back({name, "-", meaning, field});
-    };
-    const auto real = [&](const std::string &name,
-                          const std::string &unit,
-                          const std::string &meaning,
-                          const char        *format,
-                          const double       value) {
-      if (!std::isfinite(value))
-        throw std::runtime_error("step " + std::to_string(step) + ": the statistics value '" +
-                                 name + "' is not finite (" + std::to_string(value) + ")");
-      std::snprintf(field, sizeof(field), format, value);
-      columns.push_back({name, unit, meaning, field});
-    };
-    count("step", "time step number (0: the initial state)", step);
-    real("time", "s", "time at the end of the step", "%.10e", time);
+    const double  area = thermal ? thermal->melt_area() : 0.;
+    StatisticsRow row(step);
+    row.count("step", "time step number (0: the initial state)", step);
+    row.real("time", "s", "time at the end of the step", "%.10e", time);
     if (thermal)
-      {
-        count("dofs",
-              "temperature degrees of freedom",
-              static_cast<unsigned int>(thermal->get_dof_handler().n_dofs()));
-        count("pdas_iterations",
-              "active-set iterations (linear solves) of the enthalpy step",
-              report.active_set_iterations);
-        count("state_changes",
-              "nodal phase-state changes, summed over the iterations",
-              report.state_changes);
-        count("damped_steps",
-              "enthalpy iterations whose Newton step was shortened",
-              report.damped_steps);
-        count("fallback_iterations",
-              "iterations of the relaxation fallback (0: not needed)",
-              report.relaxation_iterations);
-        count("plateau_nodes",
-              "nodes on a transition plateau (mushy) at the end of the step",
-              report.plateau_nodes);
-        real("liquid_area",
-             "m^2",
-             "melt area: lumped-mass weighted liquid fraction through the last transition, per "
-             "unit thickness",
-             "%.10e",
-             area);
-        real("energy_residual",
-             "1",
-             "enthalpy balance of the step relative to the size of its terms (doc/coupling.md 6)",
-             "%.2e",
-             report.energy_residual);
-        if (coupled)
-          {
-            count("coupling_iterations",
-                  "passes of contact and enthalpy step (1: staggered)",
-                  coupling_report.iterations);
-            real("thermoelastic_heat",
-                 "J/m",
-                 "heat released by the step's strain increment, per unit thickness (> 0 under "
-                 "compression)",
-                 "%.10e",
-                 report.thermoelastic_heat);
-            count("restiffened_cells",
-                  "cells whose stiffness was re-assembled for a phase change",
-                  coupling_report.reassembled_cells);
-          }
-      }
+      add_thermal_columns(row, area, report, coupling_report);
     if (mechanical)
-      {
-        count("displacement_dofs",
-              "displacement degrees of freedom",
-              static_cast<unsigned int>(mechanical->get_dof_handler().n_dofs()));
-        count("contact_iterations",
-              "active-set iterations (linear solves) of the contact step",
-              contact_report.iterations);
-        count("active_nodes", "contact nodes in the active set", contact_report.active_nodes);
-        for (const auto &group : mechanical->get_contact_groups())
-          {
-            std::string name = "force_" + group;
-            std::replace(name.begin(), name.end(), ' ', '_');
-            real(name,
-                 "N/m",
-                 "resultant normal contact force on '" + group +
-                   "' per unit thickness (> 0 compressive)",
-                 "%.10e",
-                 contact_report.forces.count(group) ? contact_report.forces.at(group) : 0.);
-          }
-        real("max_pressure",
-             "Pa",
-             "largest nodal contact pressure (singular at corners)",
-             "%.10e",
-             contact_report.max_pressure);
-        real("max_von_mises",
-             "Pa",
-             "largest von Mises stress at the cell centres (sigma_zz of plane strain included)",
-             "%.10e",
-             max_von_mises);
-        real("elastic_energy",
-             "J/m",
-             "stored elastic energy, thermal part included, per unit thickness",
-             "%.10e",
-             elastic_energy);
-        real("contact_work",
-             "J/m",
-             "work of the contact forces since t0, per unit thickness",
-             "%.10e",
-             total_contact_work);
-      }
+      add_mechanical_columns(row, contact_report);
     if (adaptive)
       {
-        count("cells",
-              "active cells",
-              static_cast<unsigned int>(triangulation.n_global_active_cells()));
-        real("adapt_enthalpy_change",
-             "1",
-             "relative change of sum m_i h_i by the adaptation before the step",
-             "%.2e",
-             pending_change);
+        row.count("cells",
+                  "active cells",
+                  static_cast<unsigned int>(triangulation.n_global_active_cells()));
+        row.real("adapt_enthalpy_change",
+                 "1",
+                 "relative change of sum m_i h_i by the adaptation before the step",
+                 "%.2e",
+                 pending_change);
       }
-    real("wall_time",
-         "s",
-         "wall-clock time since the run started (resumed: since the first)",
-         "%.3f",
-         wall_time);
+    row.real("wall_time",
+             "s",
+             "wall-clock time since the run started (resumed: since the first)",
+             "%.3f",
+             wall_time);
     if (Utilities::MPI::this_mpi_process(mpi_communicator) != 0)
       return;
-
-    const std::string path = output_prm.directory + "/" + output_prm.statistics_file;
-    std::ofstream     out(path, step == 0 ? std::ios::trunc : std::ios::app);
-    if (step == 0)
-      {
-        // The header: one comment line per column (name, unit, meaning), then
-        // the line of column names. gnuplot and pandas (comment='#') skip the
-        // comments; the names line stays the first line that is not one.
-        out << "# contact-stefan statistics, one row per time step. Units for a scene given in SI "
-               "units (m, kg, s, K or degC); a dimensionless scene's columns are dimensionless.\n";
-        std::size_t width = 0;
-        for (const auto &c : columns)
-          width = std::max(width, c.name.size() + c.unit.size() + 3);
-        for (const auto &c : columns)
-          {
-            const std::string name_unit = c.name + " [" + c.unit + "]";
-            out << "# " << name_unit << std::string(width - name_unit.size() + 1, ' ')
-                << c.meaning << '\n';
-          }
-        for (std::size_t i = 0; i < columns.size(); ++i)
-          out << (i == 0 ? "" : " ") << columns[i].name;
-        out << '\n';
-      }
-    for (std::size_t i = 0; i < columns.size(); ++i)
-      out << (i == 0 ? "" : " ") << columns[i].value;
-    out << std::endl;
-    if (!out)
-      throw std::runtime_error("cannot write '" + path + "'");
+    row.append_to(output_prm.directory + "/" + output_prm.statistics_file);
   }
 
 

@@ -234,79 +234,95 @@ namespace ContactStefan
                        (mean_errors[k - 2] - mean_errors[k - 3]));
       }
     if (prm.exact_solution.type == ExactType::equilibrium)
-      {
-        // T_f from the body laws and the body areas alone (no nodal mixtures):
-        // sum_b |body b| H_b(T_f) = E(0), by bisection on the monotone left side.
-        std::map<unsigned int, double> area;
-        for (const auto &cell : triangulation.active_cell_iterators())
-          if (cell->is_locally_owned())
-            area[cell->material_id()] += cell->measure();
-        std::vector<std::pair<double, const EnthalpyLaw *>> bodies;
-        for (const unsigned int id : prm.body_ids)
-          bodies.emplace_back(Utilities::MPI::sum(area[id], mpi_communicator),
-                              &materials[id].enthalpy_law);
-        const auto total = [&](const double T) {
-          double E = 0;
-          for (const auto &[A, l] : bodies)
-            E += A * l->enthalpy(T);
-          return E;
-        };
-        double lo = -1, hi = 1;
-        while (total(lo) > initial_total_enthalpy)
-          lo *= 2;
-        while (total(hi) < initial_total_enthalpy)
-          hi *= 2;
-        for (unsigned int i = 0; i < 200 && hi - lo > 0; ++i)
-          {
-            const double mid                                = 0.5 * (lo + hi);
-            (total(mid) < initial_total_enthalpy ? lo : hi) = mid;
-          }
-        const double  T_f         = 0.5 * (lo + hi);
-        const Vector &temperature = thermal->get_temperature();
-        double        deviation   = 0;
-        for (const auto dof : thermal->get_dof_handler().locally_owned_dofs())
-          deviation = max_with_nan(deviation, std::abs(temperature[dof] - T_f));
-        const double E_end = thermal->total_enthalpy();
-        add_result("equilibrium temperature", T_f);
-        add_result("max deviation from equilibrium temperature",
-                   global_max_with_nan(deviation, mpi_communicator));
-        if (initial_total_enthalpy != 0)
-          add_result("relative change of total enthalpy",
-                     std::abs(E_end - initial_total_enthalpy) / std::abs(initial_total_enthalpy));
-        else
-          add_result("change of total enthalpy", std::abs(E_end - initial_total_enthalpy));
-      }
+      print_equilibrium_results();
     if (neumann)
+      print_front_results(time, h);
+  }
+
+
+
+  // The equilibrium scene (doc/benchmarks.md): the final temperature T_f and
+  // the largest deviation from it, and the change of the total enthalpy.
+  template <int dim>
+  void Postprocessor<dim>::print_equilibrium_results() const
+  {
+    // T_f from the body laws and the body areas alone (no nodal mixtures):
+    // sum_b |body b| H_b(T_f) = E(0), by bisection on the monotone left side.
+    std::map<unsigned int, double> area;
+    for (const auto &cell : triangulation.active_cell_iterators())
+      if (cell->is_locally_owned())
+        area[cell->material_id()] += cell->measure();
+    std::vector<std::pair<double, const EnthalpyLaw *>> bodies;
+    for (const unsigned int id : prm.body_ids)
+      bodies.emplace_back(Utilities::MPI::sum(area[id], mpi_communicator),
+                          &materials[id].enthalpy_law);
+    const auto total = [&](const double T) {
+      double E = 0;
+      for (const auto &[A, l] : bodies)
+        E += A * l->enthalpy(T);
+      return E;
+    };
+    double lo = -1, hi = 1;
+    while (total(lo) > initial_total_enthalpy)
+      lo *= 2;
+    while (total(hi) < initial_total_enthalpy)
+      hi *= 2;
+    for (unsigned int i = 0; i < 200 && hi - lo > 0; ++i)
       {
-        // Fronts: from the melt area of each transition (strip of height Y).
-        const auto  &g      = prm.geometry;
-        const double height = g.upper_right[1] - g.lower_left[1];
-        const auto  &law    = materials[prm.exact_solution.body].enthalpy_law;
-        for (unsigned int j = 0; j < law.n_transitions(); ++j)
+        const double mid                                = 0.5 * (lo + hi);
+        (total(mid) < initial_total_enthalpy ? lo : hi) = mid;
+      }
+    const double  T_f         = 0.5 * (lo + hi);
+    const Vector &temperature = thermal->get_temperature();
+    double        deviation   = 0;
+    for (const auto dof : thermal->get_dof_handler().locally_owned_dofs())
+      deviation = max_with_nan(deviation, std::abs(temperature[dof] - T_f));
+    const double E_end = thermal->total_enthalpy();
+    add_result("equilibrium temperature", T_f);
+    add_result("max deviation from equilibrium temperature",
+               global_max_with_nan(deviation, mpi_communicator));
+    if (initial_total_enthalpy != 0)
+      add_result("relative change of total enthalpy",
+                 std::abs(E_end - initial_total_enthalpy) / std::abs(initial_total_enthalpy));
+    else
+      add_result("change of total enthalpy", std::abs(E_end - initial_total_enthalpy));
+  }
+
+
+
+  // A Neumann scene: the computed and exact front of each transition, and the
+  // front error in mesh widths (h: the mesh width).
+  template <int dim>
+  void Postprocessor<dim>::print_front_results(const double time, const double h) const
+  {
+    // Fronts: from the melt area of each transition (strip of height Y).
+    const auto  &g      = prm.geometry;
+    const double height = g.upper_right[1] - g.lower_left[1];
+    const auto  &law    = materials[prm.exact_solution.body].enthalpy_law;
+    for (unsigned int j = 0; j < law.n_transitions(); ++j)
+      {
+        const std::string suffix = law.n_transitions() == 1 ? "" : " " + std::to_string(j);
+        const double      s_h =
+          g.lower_left[0] + thermal->liquid_area(law.transition_temperature(j)) / height;
+        const double s = prm.exact_solution.origin + neumann->front_position(j, time);
+        add_result("front position" + suffix, s_h);
+        add_result("exact front position" + suffix, s);
+        add_result("front position error" + suffix, std::abs(s_h - s));
+        add_result("front position error in mesh widths" + suffix, std::abs(s_h - s) / h);
+        if (adaptive)
           {
-            const std::string suffix = law.n_transitions() == 1 ? "" : " " + std::to_string(j);
-            const double      s_h =
-              g.lower_left[0] + thermal->liquid_area(law.transition_temperature(j)) / height;
-            const double s = prm.exact_solution.origin + neumann->front_position(j, time);
-            add_result("front position" + suffix, s_h);
-            add_result("exact front position" + suffix, s);
-            add_result("front position error" + suffix, std::abs(s_h - s));
-            add_result("front position error in mesh widths" + suffix, std::abs(s_h - s) / h);
-            if (adaptive)
-              {
-                // The widest cell the exact front crosses.
-                double local = 0;
-                for (const auto &cell : triangulation.active_cell_iterators())
-                  if (cell->is_locally_owned())
-                    {
-                      const auto box = cell->bounding_box();
-                      if (box.lower_bound(0) <= s && s <= box.upper_bound(0))
-                        local = std::max(local, cell->extent_in_direction(0));
-                    }
-                local = Utilities::MPI::max(local, mpi_communicator);
-                add_result("front position error in local mesh widths" + suffix,
-                           local > 0 ? std::abs(s_h - s) / local : 0.);
-              }
+            // The widest cell the exact front crosses.
+            double local = 0;
+            for (const auto &cell : triangulation.active_cell_iterators())
+              if (cell->is_locally_owned())
+                {
+                  const auto box = cell->bounding_box();
+                  if (box.lower_bound(0) <= s && s <= box.upper_bound(0))
+                    local = std::max(local, cell->extent_in_direction(0));
+                }
+            local = Utilities::MPI::max(local, mpi_communicator);
+            add_result("front position error in local mesh widths" + suffix,
+                       local > 0 ? std::abs(s_h - s) / local : 0.);
           }
       }
   }
@@ -316,6 +332,8 @@ namespace ContactStefan
   template void   Postprocessor<2>::accumulate_errors(const double time, const double tau);
   template void   Postprocessor<2>::update_error_geometry();
   template double Postprocessor<2>::mesh_width() const;
+  template void   Postprocessor<2>::print_equilibrium_results() const;
+  template void   Postprocessor<2>::print_front_results(const double time, const double h) const;
   template void   Postprocessor<2>::print_thermal_results(const unsigned int n_steps,
                                                         const double       time) const;
 } // namespace ContactStefan
