@@ -413,10 +413,141 @@ namespace ContactStefan
 
 
 
-  void LinearSolver::update(const TrilinosWrappers::SparseMatrix &A, const std::uint64_t key)
+  // The CHOLMOD path of update(): keep the current factor (if it has a key) and
+  // factorise into the storage of the least recently used one once 'Kept
+  // factorisations' are kept: all share the one symbolic analysis.
+  void LinearSolver::refactorise_cholmod(const std::uint64_t key)
   {
-    borrowed   = false;
-    values_key = key;
+    auto &kept = cholmod->kept;
+    if (prm.kept_factorisations > 0 && cholmod->key != 0)
+      {
+        cholmod_factor *storage = nullptr;
+        if (kept.size() < prm.kept_factorisations)
+          {
+            storage = cholmod_copy_factor(cholmod->L, &cholmod->common);
+            if (storage == nullptr)
+              throw std::runtime_error("cholmod could not copy a factor of the " + name +
+                                       " matrix (out of memory?)");
+          }
+        else
+          {
+            storage = kept.back().second;
+            kept.pop_back();
+          }
+        kept.insert(kept.begin(), {cholmod->key, cholmod->L});
+        cholmod->L = storage;
+      }
+    cholmod->key = 0;
+    cholmod_factorise(false);
+    cholmod->key = key;
+  }
+
+
+
+  // The Amesos path of update(), as for cholmod: keep the current
+  // factorisation, and refactorise the least recently used solver (or a new
+  // one while fewer are kept).
+  void LinearSolver::refactorise_direct(const TrilinosWrappers::SparseMatrix &A,
+                                        const std::uint64_t                   key)
+  {
+    if (prm.kept_factorisations > 0 && direct_key != 0)
+      {
+        std::unique_ptr<Amesos_BaseSolver> solver;
+        bool                               fresh = false;
+        if (kept_direct.size() < prm.kept_factorisations)
+          {
+            try
+              {
+                solver = new_direct_solver();
+              }
+            catch (const std::exception &e)
+              {
+                throw std::runtime_error("the " + name + " system could not be factorised by " +
+                                         direct_type() + ": " + one_line(e.what()));
+              }
+            fresh = true;
+          }
+        else
+          {
+            solver = std::move(kept_direct.back().solver);
+            kept_direct.pop_back();
+          }
+        kept_direct.insert(kept_direct.begin(),
+                           KeptDirect{direct_key, refactorised, std::move(direct)});
+        direct = std::move(solver);
+        if (fresh)
+          {
+            direct_key   = key;
+            refactorised = false;
+            return;
+          }
+      }
+    // The key names the values only once they are factorised: a failed
+    // factorisation must not be recalled under it.
+    direct_key = 0;
+    if (direct->NumericFactorization() != 0)
+      throw std::runtime_error("the " + name + " system could not be factorised by " +
+                               direct_type() + " (a singular matrix?)");
+    direct_key   = key;
+    refactorised = true;
+    matrix_norm  = A.linfty_norm();
+  }
+
+
+
+  // 'AMG update = recompute' with kept hierarchies: keep the current hierarchy
+  // for recall(); recompute the least recently used one on the new values (or
+  // build a new one while fewer are kept).
+  void LinearSolver::keep_and_recompute_amg(const TrilinosWrappers::SparseMatrix &A,
+                                            const std::uint64_t                   key)
+  {
+    std::unique_ptr<TrilinosWrappers::PreconditionAMG> preconditioner;
+    double                                             after_build = 0;
+    bool                                               recomputed  = false;
+    if (kept_amg.size() >= prm.kept_factorisations)
+      {
+        preconditioner = std::move(kept_amg.back().preconditioner);
+        after_build    = kept_amg.back().iterations_per_decade_after_build;
+        kept_amg.pop_back();
+        recomputed = recompute_amg(*preconditioner);
+      }
+    else
+      preconditioner = std::make_unique<TrilinosWrappers::PreconditionAMG>();
+    kept_amg.insert(kept_amg.begin(),
+                    KeptAMG{amg_key, std::move(amg), iterations_per_decade_after_build});
+    amg = std::move(preconditioner);
+    if (recomputed)
+      {
+        amg_stale                         = true;
+        iterations_per_decade_after_build = after_build;
+      }
+    else
+      {
+        try
+          {
+            build_amg(*amg, A);
+          }
+        catch (const std::exception &e)
+          {
+            throw std::runtime_error(
+              "the " + name + " system could not be preconditioned by AMG: " + one_line(e.what()));
+          }
+        amg_stale                         = false;
+        iterations_per_decade_after_build = 0;
+      }
+    amg_key             = key;
+    amg_for_this_matrix = true;
+  }
+
+
+
+  // The iterative path of update() for the matrix of the last initialize()
+  // with a hierarchy at hand: keep it ('AMG update = reuse'), recompute it on
+  // its aggregates, or keep it for recall() and recompute another one ('AMG
+  // update = recompute'). False if none of these applies or a recomputation
+  // failed: update() then builds afresh.
+  bool LinearSolver::update_amg(const TrilinosWrappers::SparseMatrix &A, const std::uint64_t key)
+  {
     const bool degraded =
       iterations_per_decade_after_build > 0 &&
       last_iterations_per_decade > prm.amg_rebuild_ratio * iterations_per_decade_after_build + 0.5;
@@ -426,96 +557,20 @@ namespace ContactStefan
     // a limit that does not depend on the mesh keeps them bounded under
     // refinement, where a fixed fraction of the contact nodes would not.
     const bool over_reuse_limit = reuse_limit > 0 && rows_changed_since_made > reuse_limit;
-    if (matrix == &A && use_direct && cholmod)
-      {
-        check_finite_matrix(A);
-        // Keep the current factor (if it has a key) and factorise into the
-        // storage of the least recently used one once 'Kept factorisations'
-        // are kept: all share the one symbolic analysis.
-        auto &kept = cholmod->kept;
-        if (prm.kept_factorisations > 0 && cholmod->key != 0)
-          {
-            cholmod_factor *storage = nullptr;
-            if (kept.size() < prm.kept_factorisations)
-              {
-                storage = cholmod_copy_factor(cholmod->L, &cholmod->common);
-                if (storage == nullptr)
-                  throw std::runtime_error("cholmod could not copy a factor of the " + name +
-                                           " matrix (out of memory?)");
-              }
-            else
-              {
-                storage = kept.back().second;
-                kept.pop_back();
-              }
-            kept.insert(kept.begin(), {cholmod->key, cholmod->L});
-            cholmod->L = storage;
-          }
-        cholmod->key = 0;
-        cholmod_factorise(false);
-        cholmod->key = key;
-        return;
-      }
-    if (matrix == &A && use_direct && direct)
-      {
-        check_finite_matrix(A);
-        // As for cholmod: keep the current factorisation, and refactorise the
-        // least recently used solver (or a new one while fewer are kept).
-        if (prm.kept_factorisations > 0 && direct_key != 0)
-          {
-            std::unique_ptr<Amesos_BaseSolver> solver;
-            bool                               fresh = false;
-            if (kept_direct.size() < prm.kept_factorisations)
-              {
-                try
-                  {
-                    solver = new_direct_solver();
-                  }
-                catch (const std::exception &e)
-                  {
-                    throw std::runtime_error("the " + name + " system could not be factorised by " +
-                                             direct_type() + ": " + one_line(e.what()));
-                  }
-                fresh = true;
-              }
-            else
-              {
-                solver = std::move(kept_direct.back().solver);
-                kept_direct.pop_back();
-              }
-            kept_direct.insert(kept_direct.begin(),
-                               KeptDirect{direct_key, refactorised, std::move(direct)});
-            direct = std::move(solver);
-            if (fresh)
-              {
-                direct_key   = key;
-                refactorised = false;
-                return;
-              }
-          }
-        // The key names the values only once they are factorised: a failed
-        // factorisation must not be recalled under it.
-        direct_key = 0;
-        if (direct->NumericFactorization() != 0)
-          throw std::runtime_error("the " + name + " system could not be factorised by " +
-                                   direct_type() + " (a singular matrix?)");
-        direct_key   = key;
-        refactorised = true;
-        matrix_norm  = A.linfty_norm();
-        return;
-      }
+    if (degraded)
+      return false;
     using AMGUpdate = Parameters::LinearSolvers::AMGUpdate;
-    if (matrix == &A && !use_direct && amg_built && !degraded && amg_update == AMGUpdate::reuse &&
-        iterations_per_decade_after_build > 0 && !over_reuse_limit)
+    if (amg_update == AMGUpdate::reuse && iterations_per_decade_after_build > 0 &&
+        !over_reuse_limit)
       {
         // The hierarchy of an earlier active set preconditions the new matrix
         // (CG runs on the new one): a few rows differ.
         check_finite_matrix(A);
         amg_stale           = true;
         amg_for_this_matrix = false;
-        return;
+        return true;
       }
-    if (matrix == &A && !use_direct && amg_built && !degraded && amg_update == AMGUpdate::reuse)
+    if (amg_update == AMGUpdate::reuse)
       {
         // No solve has yet measured how fast CG runs with a hierarchy made for
         // its matrix, so reuse could not be judged, or more rows changed than
@@ -529,56 +584,17 @@ namespace ContactStefan
             rows_changed_since_made = 0;
             if (verbosity >= 2)
               pcout << "      AMG (" << name << "): recomputed on its aggregates" << std::endl;
-            return;
+            return true;
           }
+        return false;
       }
-    if (matrix == &A && !use_direct && amg_built && !degraded &&
-        amg_update == AMGUpdate::recompute && prm.kept_factorisations > 0 && amg_key != 0)
+    if (amg_update == AMGUpdate::recompute && prm.kept_factorisations > 0 && amg_key != 0)
       {
-        // Keep the current hierarchy for recall(); recompute the least
-        // recently used one on the new values (or build a new one while fewer
-        // are kept).
         check_finite_matrix(A);
-        std::unique_ptr<TrilinosWrappers::PreconditionAMG> preconditioner;
-        double                                             after_build = 0;
-        bool                                               recomputed  = false;
-        if (kept_amg.size() >= prm.kept_factorisations)
-          {
-            preconditioner = std::move(kept_amg.back().preconditioner);
-            after_build    = kept_amg.back().iterations_per_decade_after_build;
-            kept_amg.pop_back();
-            recomputed = recompute_amg(*preconditioner);
-          }
-        else
-          preconditioner = std::make_unique<TrilinosWrappers::PreconditionAMG>();
-        kept_amg.insert(kept_amg.begin(),
-                        KeptAMG{amg_key, std::move(amg), iterations_per_decade_after_build});
-        amg = std::move(preconditioner);
-        if (recomputed)
-          {
-            amg_stale                         = true;
-            iterations_per_decade_after_build = after_build;
-          }
-        else
-          {
-            try
-              {
-                build_amg(*amg, A);
-              }
-            catch (const std::exception &e)
-              {
-                throw std::runtime_error(
-                  "the " + name +
-                  " system could not be preconditioned by AMG: " + one_line(e.what()));
-              }
-            amg_stale                         = false;
-            iterations_per_decade_after_build = 0;
-          }
-        amg_key             = key;
-        amg_for_this_matrix = true;
-        return;
+        keep_and_recompute_amg(A, key);
+        return true;
       }
-    if (matrix == &A && !use_direct && amg_built && !degraded && amg_update == AMGUpdate::recompute)
+    if (amg_update == AMGUpdate::recompute)
       {
         check_finite_matrix(A);
         amg_stale           = true;
@@ -587,9 +603,35 @@ namespace ContactStefan
         if (recompute_amg(*amg))
           {
             amg_key = key; // now made for these values
-            return;
+            return true;
           }
       }
+    return false;
+  }
+
+
+
+  // New values in the matrix of the last initialize() (or another matrix):
+  // refactorise on the direct path, keep or recompute the AMG hierarchy on the
+  // iterative one; anything else is initialised afresh.
+  void LinearSolver::update(const TrilinosWrappers::SparseMatrix &A, const std::uint64_t key)
+  {
+    borrowed   = false;
+    values_key = key;
+    if (matrix == &A && use_direct && cholmod)
+      {
+        check_finite_matrix(A);
+        refactorise_cholmod(key);
+        return;
+      }
+    if (matrix == &A && use_direct && direct)
+      {
+        check_finite_matrix(A);
+        refactorise_direct(A, key);
+        return;
+      }
+    if (matrix == &A && !use_direct && amg_built && update_amg(A, key))
+      return;
     initialize(A, key);
   }
 

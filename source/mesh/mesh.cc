@@ -109,6 +109,108 @@ namespace ContactStefan
              std::to_string(text.size()) + " bytes");
     }
 
+    // The used vertices of a mesh sorted into a grid of nx x ny buckets h wide
+    // from low (a counting sort): bucket k holds sorted[start[k]] ...
+    // sorted[start[k + 1] - 1].
+    struct VertexBuckets
+    {
+      VertexBuckets(const std::vector<Point<2>>     &vertices,
+                    const std::vector<unsigned int> &used,
+                    const Point<2>                  &low,
+                    const double                     h,
+                    const unsigned int               nx,
+                    const unsigned int               ny)
+        : vertices(vertices)
+        , low(low)
+        , h(h)
+        , nx(nx)
+        , ny(ny)
+        , start(nx * ny + 1, 0)
+        , sorted(used.size())
+      {
+        for (const unsigned int v : used)
+          ++start[bucket(vertices[v]) + 1];
+        for (unsigned int k = 0; k < nx * ny; ++k)
+          start[k + 1] += start[k];
+        std::vector<unsigned int> next(start.begin(), start.end() - 1);
+        for (const unsigned int v : used)
+          sorted[next[bucket(vertices[v])]++] = v;
+      }
+
+      unsigned int index(const double x, const unsigned int d, const unsigned int n) const
+      {
+        return static_cast<unsigned int>(std::min<double>(n - 1, std::max(0., (x - low[d]) / h)));
+      }
+
+      unsigned int bucket(const Point<2> &p) const
+      {
+        return index(p[0], 0, nx) + nx * index(p[1], 1, ny);
+      }
+
+      // The vertex other than a and b that lies inside the edge from vertex a
+      // to vertex b (within near times its length), the one nearest to a;
+      // numbers::invalid_unsigned_int if there is none. The edge visits the
+      // buckets of its bounding box, or, for a long slanted edge whose box
+      // holds many buckets, the 3 x 3 buckets around points at most a bucket
+      // apart along it.
+      unsigned int vertex_inside_edge(const unsigned int edge_a,
+                                      const unsigned int edge_b,
+                                      const double       near) const
+      {
+        const Point<2>     a = vertices[edge_a], b = vertices[edge_b];
+        const Tensor<1, 2> d       = b - a;
+        const double       length  = d.norm();
+        unsigned int       hanging = numbers::invalid_unsigned_int;
+        double             nearest = 2;
+        const auto         test    = [&](const unsigned int k) {
+          for (unsigned int m = start[k]; m < start[k + 1]; ++m)
+            {
+              const unsigned int v = sorted[m];
+              if (v == edge_a || v == edge_b)
+                continue;
+              const Tensor<1, 2> r        = vertices[v] - a;
+              const double       t        = r * d / length / length;
+              const double       distance = std::abs(d[0] * r[1] - d[1] * r[0]) / length;
+              if (distance <= near * length && t > near && t < 1 - near && t < nearest)
+                hanging = v, nearest = t;
+            }
+        };
+        const unsigned int x0        = index(std::min(a[0], b[0]), 0, nx),
+                           x1        = index(std::max(a[0], b[0]), 0, nx),
+                           y0        = index(std::min(a[1], b[1]), 1, ny),
+                           y1        = index(std::max(a[1], b[1]), 1, ny);
+        const unsigned int n_samples = static_cast<unsigned int>(std::ceil(length / h)) + 1;
+        if (double(x1 - x0 + 1) * (y1 - y0 + 1) <= 9. * n_samples)
+          {
+            // Bucket edges at round-off distance: one more bucket each way.
+            for (unsigned int i = x0 - (x0 > 0); i <= std::min(x1 + 1, nx - 1); ++i)
+              for (unsigned int j = y0 - (y0 > 0); j <= std::min(y1 + 1, ny - 1); ++j)
+                test(i + nx * j);
+          }
+        else
+          {
+            // Samples at most h apart: every point within h of the edge lies
+            // in the 3 x 3 buckets around some sample. A bucket may be tested
+            // more than once; that finds nothing new.
+            for (unsigned int s = 0; s < n_samples; ++s)
+              {
+                const Point<2>     p = a + d * (double(s) / (n_samples - 1));
+                const unsigned int i = index(p[0], 0, nx), j = index(p[1], 1, ny);
+                for (unsigned int ii = i - (i > 0); ii <= std::min(i + 1, nx - 1); ++ii)
+                  for (unsigned int jj = j - (j > 0); jj <= std::min(j + 1, ny - 1); ++jj)
+                    test(ii + nx * jj);
+              }
+          }
+        return hanging;
+      }
+
+      const std::vector<Point<2>> &vertices;
+      const Point<2>               low;
+      const double                 h;
+      const unsigned int           nx, ny;
+      std::vector<unsigned int>    start, sorted;
+    };
+
     // A coarse mesh must be conforming: no vertex may lie inside an edge. deal.II
     // accepts a node that hangs on a neighbour's edge (a T-junction) and makes
     // the long edge and the two short ones boundary faces: the cells are cut
@@ -171,74 +273,14 @@ namespace ContactStefan
       };
       if (n_buckets(0) * n_buckets(1) > max_buckets)
         h *= std::sqrt(n_buckets(0) * n_buckets(1) / max_buckets) * 1.01;
-      const unsigned int nx = n_buckets(0), ny = n_buckets(1);
-      const auto         index = [&](const double x, const unsigned int d, const unsigned int n) {
-        return static_cast<unsigned int>(std::min<double>(n - 1, std::max(0., (x - low[d]) / h)));
-      };
-      // The vertices by bucket (a counting sort): bucket k holds
-      // sorted[start[k]] ... sorted[start[k + 1] - 1].
-      std::vector<unsigned int> start(nx * ny + 1, 0), sorted(used.size());
-      const auto                bucket = [&](const Point<2> &p) {
-        return index(p[0], 0, nx) + nx * index(p[1], 1, ny);
-      };
-      for (const unsigned int v : used)
-        ++start[bucket(vertices[v]) + 1];
-      for (unsigned int k = 0; k < nx * ny; ++k)
-        start[k + 1] += start[k];
-      {
-        std::vector<unsigned int> next(start.begin(), start.end() - 1);
-        for (const unsigned int v : used)
-          sorted[next[bucket(vertices[v])]++] = v;
-      }
+      const VertexBuckets buckets(vertices, used, low, h, n_buckets(0), n_buckets(1));
 
       for (const Edge &edge : edges)
         {
-          const Point<2>     a = vertices[edge.a], b = vertices[edge.b];
-          const Tensor<1, 2> d       = b - a;
-          const double       length  = d.norm();
-          unsigned int       hanging = numbers::invalid_unsigned_int;
-          double             nearest = 2;
-          const auto         test    = [&](const unsigned int k) {
-            for (unsigned int m = start[k]; m < start[k + 1]; ++m)
-              {
-                const unsigned int v = sorted[m];
-                if (v == edge.a || v == edge.b)
-                  continue;
-                const Tensor<1, 2> r        = vertices[v] - a;
-                const double       t        = r * d / length / length;
-                const double       distance = std::abs(d[0] * r[1] - d[1] * r[0]) / length;
-                if (distance <= near * length && t > near && t < 1 - near && t < nearest)
-                  hanging = v, nearest = t;
-              }
-          };
-          const unsigned int x0        = index(std::min(a[0], b[0]), 0, nx),
-                             x1        = index(std::max(a[0], b[0]), 0, nx),
-                             y0        = index(std::min(a[1], b[1]), 1, ny),
-                             y1        = index(std::max(a[1], b[1]), 1, ny);
-          const unsigned int n_samples = static_cast<unsigned int>(std::ceil(length / h)) + 1;
-          if (double(x1 - x0 + 1) * (y1 - y0 + 1) <= 9. * n_samples)
-            {
-              // Bucket edges at round-off distance: one more bucket each way.
-              for (unsigned int i = x0 - (x0 > 0); i <= std::min(x1 + 1, nx - 1); ++i)
-                for (unsigned int j = y0 - (y0 > 0); j <= std::min(y1 + 1, ny - 1); ++j)
-                  test(i + nx * j);
-            }
-          else
-            {
-              // Samples at most h apart: every point within h of the edge lies
-              // in the 3 x 3 buckets around some sample. A bucket may be tested
-              // more than once; that finds nothing new.
-              for (unsigned int s = 0; s < n_samples; ++s)
-                {
-                  const Point<2>     p = a + d * (double(s) / (n_samples - 1));
-                  const unsigned int i = index(p[0], 0, nx), j = index(p[1], 1, ny);
-                  for (unsigned int ii = i - (i > 0); ii <= std::min(i + 1, nx - 1); ++ii)
-                    for (unsigned int jj = j - (j > 0); jj <= std::min(j + 1, ny - 1); ++jj)
-                      test(ii + nx * jj);
-                }
-            }
+          const unsigned int hanging = buckets.vertex_inside_edge(edge.a, edge.b, near);
           if (hanging == numbers::invalid_unsigned_int)
             continue;
+          const Point<2> a = vertices[edge.a], b = vertices[edge.b];
           // The bodies of the cells around the hanging node.
           std::set<types::material_id> bodies;
           for (const auto &cell : mesh.active_cell_iterators())
@@ -496,141 +538,160 @@ namespace ContactStefan
                                                                       3);
             }
     }
-  } // namespace
 
 
 
-  // The mesh: a rectangle (optionally in horizontal layers, one body each), the
-  // disk in a ring, a rectangle cut by a dipping interface, or a Gmsh file. Body and boundary ids
-  // in the mesh are checked against the parameter file here, before any time step runs.
-  template <int dim>
-  void make_mesh(const SceneParameters                     &prm,
-                 const Parameters::Refinement              &refinement,
-                 parallel::distributed::Triangulation<dim> &triangulation,
-                 const bool                                 coarse_only)
-  {
-    assert_two_dimensional<dim>();
-    const MPI_Comm mpi_communicator = triangulation.get_communicator();
-    const auto    &g                = prm.geometry;
     // A mesh that would exceed the cell cap is refused before it is built.
-    const auto check_cell_count = [&](const double cells, const std::string &parameter) {
+    void check_cell_count(const double                  cells,
+                          const Parameters::Refinement &refinement,
+                          const std::string            &parameter)
+    {
       if (cells > refinement.max_cells)
         throw InputError(parameter,
                          "the mesh would have " + std::to_string(cells) +
                            " cells, more than 'Mesh refinement/Max cells' = " +
                            std::to_string(refinement.max_cells));
-    };
-    if (g.mesh_type == Parameters::Geometry::MeshType::rectangle)
-      {
-        GridGenerator::subdivided_hyper_rectangle(
-          triangulation, {g.subdivisions[0], g.subdivisions[1]}, g.lower_left, g.upper_right, true);
-        for (const auto &cell : triangulation.active_cell_iterators())
-          {
-            unsigned int layer = 0;
-            for (const double y : g.layer_interfaces)
-              {
-                const double lo = cell->vertex(0)[1], hi = cell->vertex(3)[1];
-                const double tolerance = 1e-10 * (hi - lo);
-                if (y > lo + tolerance && y < hi - tolerance)
-                  throw InputError(
-                    "Geometry/Layer interfaces",
-                    "y = " + std::to_string(y) +
-                      " does not lie on a line of the coarse mesh (see Subdivisions)");
-                if (cell->center()[1] > y)
-                  ++layer;
-              }
-            cell->set_material_id(layer);
-          }
-      }
-    else if (g.mesh_type == Parameters::Geometry::MeshType::dipping_interface)
-      {
-        const double cells = double(g.subdivisions[0]) * g.subdivisions[1] *
-                             std::pow(4., refinement.initial_global_refinements);
-        check_cell_count(cells, "Geometry/Subdivisions");
-        Triangulation<dim> coarse;
-        make_dipping_interface(coarse,
-                               g.lower_left,
-                               g.upper_right,
-                               g.interface_top_x,
-                               g.interface_dip,
-                               g.subdivisions[0],
-                               g.subdivisions[1]);
-        check_mesh(coarse, "the dipping-interface mesh");
-        triangulation.copy_triangulation(coarse);
-      }
-    else if (g.mesh_type == Parameters::Geometry::MeshType::disk_in_ring)
-      {
-        const double n = g.subdivisions[0], m = g.subdivisions[1];
-        const double cells =
-          (3 * n * n + 2 * n * m) * std::pow(4., refinement.initial_global_refinements);
-        check_cell_count(cells, "Geometry/Subdivisions");
-        Triangulation<dim> coarse;
-        make_disk_in_ring(
-          coarse, g.inner_radius, g.outer_radius, g.subdivisions[0], g.subdivisions[1]);
-        check_mesh(coarse, "the disk-in-ring mesh");
-        triangulation.copy_triangulation(coarse);
-      }
-    else
-      {
-        // Read into a serial coarse mesh first and check it there: p4est and the
-        // hp constraints would crash on an inverted or self-overlapping cell.
-        check_gmsh_file(g.mesh_file);
-        Triangulation<dim> coarse;
-        GridIn<dim>        grid_in;
-        grid_in.attach_triangulation(coarse);
-        std::ifstream in(g.mesh_file);
-        try
-          {
-            grid_in.read_msh(in);
-          }
-        catch (const std::exception &e)
-          {
-            throw InputError("Geometry/Mesh file",
-                             "'" + g.mesh_file + "' is not a readable Gmsh mesh (" +
-                               one_line(e.what()).substr(0, 120) + ")");
-          }
-        check_mesh(coarse, g.mesh_file);
-        const double cells =
-          coarse.n_active_cells() * std::pow(4., refinement.initial_global_refinements);
-        check_cell_count(cells, "Mesh refinement/Initial global refinements");
-        triangulation.copy_triangulation(coarse);
-      }
+    }
+
+
+
+    // The coarse mesh of the scene: a rectangle (optionally in horizontal
+    // layers, one body each), the disk in a ring, a rectangle cut by a dipping
+    // interface, or a Gmsh file.
+    template <int dim>
+    void make_coarse_mesh(const Parameters::Geometry                &g,
+                          const Parameters::Refinement              &refinement,
+                          parallel::distributed::Triangulation<dim> &triangulation)
+    {
+      if (g.mesh_type == Parameters::Geometry::MeshType::rectangle)
+        {
+          GridGenerator::subdivided_hyper_rectangle(triangulation,
+                                                    {g.subdivisions[0], g.subdivisions[1]},
+                                                    g.lower_left,
+                                                    g.upper_right,
+                                                    true);
+          for (const auto &cell : triangulation.active_cell_iterators())
+            {
+              unsigned int layer = 0;
+              for (const double y : g.layer_interfaces)
+                {
+                  const double lo = cell->vertex(0)[1], hi = cell->vertex(3)[1];
+                  const double tolerance = 1e-10 * (hi - lo);
+                  if (y > lo + tolerance && y < hi - tolerance)
+                    throw InputError(
+                      "Geometry/Layer interfaces",
+                      "y = " + std::to_string(y) +
+                        " does not lie on a line of the coarse mesh (see Subdivisions)");
+                  if (cell->center()[1] > y)
+                    ++layer;
+                }
+              cell->set_material_id(layer);
+            }
+        }
+      else if (g.mesh_type == Parameters::Geometry::MeshType::dipping_interface)
+        {
+          const double cells = double(g.subdivisions[0]) * g.subdivisions[1] *
+                               std::pow(4., refinement.initial_global_refinements);
+          check_cell_count(cells, refinement, "Geometry/Subdivisions");
+          Triangulation<dim> coarse;
+          make_dipping_interface(coarse,
+                                 g.lower_left,
+                                 g.upper_right,
+                                 g.interface_top_x,
+                                 g.interface_dip,
+                                 g.subdivisions[0],
+                                 g.subdivisions[1]);
+          check_mesh(coarse, "the dipping-interface mesh");
+          triangulation.copy_triangulation(coarse);
+        }
+      else if (g.mesh_type == Parameters::Geometry::MeshType::disk_in_ring)
+        {
+          const double n = g.subdivisions[0], m = g.subdivisions[1];
+          const double cells =
+            (3 * n * n + 2 * n * m) * std::pow(4., refinement.initial_global_refinements);
+          check_cell_count(cells, refinement, "Geometry/Subdivisions");
+          Triangulation<dim> coarse;
+          make_disk_in_ring(
+            coarse, g.inner_radius, g.outer_radius, g.subdivisions[0], g.subdivisions[1]);
+          check_mesh(coarse, "the disk-in-ring mesh");
+          triangulation.copy_triangulation(coarse);
+        }
+      else
+        {
+          // Read into a serial coarse mesh first and check it there: p4est and the
+          // hp constraints would crash on an inverted or self-overlapping cell.
+          check_gmsh_file(g.mesh_file);
+          Triangulation<dim> coarse;
+          GridIn<dim>        grid_in;
+          grid_in.attach_triangulation(coarse);
+          std::ifstream in(g.mesh_file);
+          try
+            {
+              grid_in.read_msh(in);
+            }
+          catch (const std::exception &e)
+            {
+              throw InputError("Geometry/Mesh file",
+                               "'" + g.mesh_file + "' is not a readable Gmsh mesh (" +
+                                 one_line(e.what()).substr(0, 120) + ")");
+            }
+          check_mesh(coarse, g.mesh_file);
+          const double cells =
+            coarse.n_active_cells() * std::pow(4., refinement.initial_global_refinements);
+          check_cell_count(cells, refinement, "Mesh refinement/Initial global refinements");
+          triangulation.copy_triangulation(coarse);
+        }
+    }
+
+
 
     // Every material id must be a body and every thermal boundary must exist.
-    std::set<unsigned int> materials, boundaries;
-    for (const auto &cell : triangulation.active_cell_iterators())
-      if (!cell->is_artificial())
-        {
-          materials.insert(cell->material_id());
-          for (const auto &face : cell->face_iterators())
-            if (face->at_boundary())
-              boundaries.insert(face->boundary_id());
-        }
-    materials  = Utilities::MPI::compute_set_union(materials, mpi_communicator);
-    boundaries = Utilities::MPI::compute_set_union(boundaries, mpi_communicator);
-    for (const unsigned int m : materials)
-      if (prm.materials.count(m) == 0)
-        throw InputError("Bodies/Body ids",
-                         "the mesh has body (material) id " + std::to_string(m) +
-                           ", which is not listed");
-    for (const unsigned int b : prm.body_ids)
-      if (materials.count(b) == 0)
-        throw InputError("Bodies/Body ids",
-                         "body " + std::to_string(b) + " does not occur in the mesh");
-    for (const auto &[id, bc] : prm.thermal_boundaries)
-      if (boundaries.count(id) == 0)
-        throw InputError("Boundary conditions/Thermal boundaries",
-                         "boundary id " + std::to_string(id) + " does not occur in the mesh");
-    for (const auto &[id, bc] : prm.mechanical_boundaries)
-      if (boundaries.count(id) == 0)
-        throw InputError("Boundary conditions/Mechanical boundaries",
-                         "boundary id " + std::to_string(id) + " does not occur in the mesh");
+    // Collective.
+    template <int dim>
+    void check_ids_in_mesh(const SceneParameters                           &prm,
+                           const parallel::distributed::Triangulation<dim> &triangulation)
+    {
+      const MPI_Comm         mpi_communicator = triangulation.get_communicator();
+      std::set<unsigned int> materials, boundaries;
+      for (const auto &cell : triangulation.active_cell_iterators())
+        if (!cell->is_artificial())
+          {
+            materials.insert(cell->material_id());
+            for (const auto &face : cell->face_iterators())
+              if (face->at_boundary())
+                boundaries.insert(face->boundary_id());
+          }
+      materials  = Utilities::MPI::compute_set_union(materials, mpi_communicator);
+      boundaries = Utilities::MPI::compute_set_union(boundaries, mpi_communicator);
+      for (const unsigned int m : materials)
+        if (prm.materials.count(m) == 0)
+          throw InputError("Bodies/Body ids",
+                           "the mesh has body (material) id " + std::to_string(m) +
+                             ", which is not listed");
+      for (const unsigned int b : prm.body_ids)
+        if (materials.count(b) == 0)
+          throw InputError("Bodies/Body ids",
+                           "body " + std::to_string(b) + " does not occur in the mesh");
+      for (const auto &[id, bc] : prm.thermal_boundaries)
+        if (boundaries.count(id) == 0)
+          throw InputError("Boundary conditions/Thermal boundaries",
+                           "boundary id " + std::to_string(id) + " does not occur in the mesh");
+      for (const auto &[id, bc] : prm.mechanical_boundaries)
+        if (boundaries.count(id) == 0)
+          throw InputError("Boundary conditions/Mechanical boundaries",
+                           "boundary id " + std::to_string(id) + " does not occur in the mesh");
+    }
 
-    if (coarse_only)
-      return;
-    triangulation.refine_global(refinement.initial_global_refinements);
-    const auto &r = refinement;
-    if (r.prerefinement_radius > 0)
+
+
+    // 'Pre-refinement steps' rounds of refining the cells within 'Pre-refinement
+    // radius' of the centre, both sides of a contact interface alike. Collective.
+    template <int dim>
+    void prerefine(const SceneParameters                     &prm,
+                   const Parameters::Refinement              &r,
+                   parallel::distributed::Triangulation<dim> &triangulation)
+    {
+      const MPI_Comm mpi_communicator = triangulation.get_communicator();
       for (unsigned int step = 0; step < r.prerefinement_steps; ++step)
         {
           for (const auto &cell : triangulation.active_cell_iterators())
@@ -666,6 +727,28 @@ namespace ContactStefan
               triangulation.execute_coarsening_and_refinement();
             }
         }
+    }
+  } // namespace
+
+
+
+  // The mesh: a rectangle (optionally in horizontal layers, one body each), the
+  // disk in a ring, a rectangle cut by a dipping interface, or a Gmsh file. Body and boundary ids
+  // in the mesh are checked against the parameter file here, before any time step runs.
+  template <int dim>
+  void make_mesh(const SceneParameters                     &prm,
+                 const Parameters::Refinement              &refinement,
+                 parallel::distributed::Triangulation<dim> &triangulation,
+                 const bool                                 coarse_only)
+  {
+    assert_two_dimensional<dim>();
+    make_coarse_mesh(prm.geometry, refinement, triangulation);
+    check_ids_in_mesh(prm, triangulation);
+    if (coarse_only)
+      return;
+    triangulation.refine_global(refinement.initial_global_refinements);
+    if (refinement.prerefinement_radius > 0)
+      prerefine(prm, refinement, triangulation);
   }
 
 

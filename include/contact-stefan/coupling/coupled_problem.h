@@ -79,6 +79,22 @@ namespace ContactStefan
     void        write_checkpoint();
     void        remove_checkpoints();
     void        resume();
+    // The steps of resume(), all collective: the checkpoint found and checked
+    // whole (its directory, its manifest's id and step); the state file read
+    // (the time state and the postprocessor's results; the point's other
+    // values) and checked; the forest loaded with the fields' primary state.
+    struct RestartPoint
+    {
+      std::string         directory, id;
+      unsigned int        step = 0;
+      std::vector<double> thermal_scalars;
+      double              wall    = 0;
+      unsigned int        n_ranks = 0;
+    };
+    RestartPoint find_checkpoint() const;
+    void         read_state_file(RestartPoint &point);
+    void         check_restored_state(const RestartPoint &point) const;
+    void         load_mesh_and_primary_state(const RestartPoint &point);
     std::string checkpoint_directory(const std::string &suffix = "") const;
     std::string fields_fingerprint() const;
     // The checksum of Geometry/Mesh file's content ("none" without one),

@@ -204,6 +204,15 @@ namespace ContactStefan
     // Build a hierarchy of A afresh into `preconditioner`.
     void build_amg(TrilinosWrappers::PreconditionAMG    &preconditioner,
                    const TrilinosWrappers::SparseMatrix &A);
+    // The paths of update() for the matrix of the last initialize():
+    // refactorise with CHOLMOD or Amesos (keeping the current factorisation
+    // for recall()), or keep or recompute the AMG hierarchy (false: build
+    // afresh); keep_and_recompute_amg() is 'AMG update = recompute' with kept
+    // hierarchies.
+    void refactorise_cholmod(const std::uint64_t key);
+    void refactorise_direct(const TrilinosWrappers::SparseMatrix &A, const std::uint64_t key);
+    bool update_amg(const TrilinosWrappers::SparseMatrix &A, const std::uint64_t key);
+    void keep_and_recompute_amg(const TrilinosWrappers::SparseMatrix &A, const std::uint64_t key);
     // With 'AMG update = recompute', hierarchies of earlier matrix values of
     // the same matrix object for recall(), most recently used first, like the
     // kept factorisations; amg_key names the current one's values.

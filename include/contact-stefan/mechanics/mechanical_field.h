@@ -390,6 +390,23 @@ namespace ContactStefan
     std::vector<Decision>
     contact_decisions(const Vector &residual, double &local_scale, double &max_penetration) const;
     void store_contact_output(const std::vector<Decision> &decisions, ContactStepReport &report);
+    // The steps of solve() (doc/contact.md, "The active-set iteration"), all
+    // collective: the last converged solve's report if its data are unchanged;
+    // the active set moved by the decisions (changes and active nodes counted
+    // into the report); the converged set checked with c at full size; c
+    // divided by ten where a set keeps recurring.
+    struct SetUpdate
+    {
+      unsigned int  changes;          // on all ranks
+      std::uint64_t set_hash;         // of the new set, the same on every rank
+      double        local_min_lambda; // this rank's, over the nodes that were active
+    };
+    bool      reuse_if_stationary(ContactStepReport &report);
+    SetUpdate update_active_set(const std::vector<Decision> &decisions,
+                                const double                 tolerance,
+                                ContactStepReport           &report);
+    void      check_converged_set(const std::vector<Decision> &decisions) const;
+    void      reduce_complementarity_constant(ContactStepReport &report);
 
     const SceneParameters                           &prm;
     const Parameters::ContactStep                   &contact_prm;

@@ -145,14 +145,38 @@ namespace ContactStefan
                                              const ContactStepReport  &contact_report,
                                              const CouplingReport     &coupling_report,
                                              const double              wall_time) const;
+    // The steps of write_statistics_row() (postprocessor.cc): a row of
+    // columns (name, unit, meaning, this step's value), the enthalpy step's
+    // and the coupling's columns (area: the melt area), the contact step's.
+    class StatisticsRow;
+    void add_thermal_columns(StatisticsRow            &row,
+                             const double              area,
+                             const EnthalpyStepReport &report,
+                             const CouplingReport     &coupling_report) const;
+    void add_mechanical_columns(StatisticsRow &row, const ContactStepReport &contact_report) const;
     // Exact stress and contact pressure (any scene with mechanics), the
     // energy terms of the step and the opening of each contact group.
     void accumulate_mechanical_results(const double time, const ContactStepReport &contact_report);
+    // Its steps (mechanical_results.cc): the opening time of each contact
+    // group; the errors against the exact stress, section force and contact
+    // pressure at time (the last three collective).
+    void track_contact_opening(const double time, const ContactStepReport &contact_report);
+    void accumulate_stress_errors(Function<dim> &exact, const double time);
+    void accumulate_section_force_errors(Function<dim> &exact, const double time);
+    void accumulate_pressure_errors(Function<dim> &exact, const double time);
     void print_coupling_results(const unsigned int n_steps) const;
     void print_timer_calls() const;
     void output_vtu(const unsigned int step, const double time);
     void print_thermal_results(const unsigned int n_steps, const double time) const;
     void print_mechanical_results(const unsigned int n_steps) const;
+
+    // Parts of the RESULT lines: the equilibrium scene's and the fronts of a
+    // Neumann scene (h: the mesh width) of print_thermal_results(), the section
+    // forces of print_mechanical_results().
+    void print_equilibrium_results() const;
+    void print_front_results(const double time, const double h) const;
+    void print_section_force_results() const;
+
     void print_hertz_results() const;
     void print_patch_results() const;
     double mesh_width() const;

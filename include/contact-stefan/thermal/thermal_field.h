@@ -269,6 +269,17 @@ namespace ContactStefan
     unsigned int solve_for_pieces(Vector &h_new, const double tolerance = 0);
     // At most max_iterations solves; false if the set did not settle.
     bool active_set_iteration(EnthalpyStepReport &report, const unsigned int max_iterations);
+    // The steps of one active-set iteration: the size of the enthalpy changes
+    // that matter; and, collective, whether every free node of the Newton
+    // target h_new lies on the piece it was computed with, whether the step to
+    // it moves no enthalpy beyond round-off, the Armijo line search's step
+    // length along it, and taking the (damped) step and moving the nodes to
+    // their new pieces (returns the free nodes that moved).
+    double       enthalpy_change_scale() const;
+    bool         newton_target_consistent(const Vector &h_new) const;
+    bool         newton_step_negligible(const Vector &h_new, const double enthalpy_scale) const;
+    double       line_search_step(const Vector &h_new, const Vector &z) const;
+    unsigned int take_step_and_update_states(const Vector &h_new, Vector &z, const double alpha);
     // thermal_field/enthalpy_newton.cc: the truncated nonsmooth Newton method in Theta.
     bool truncated_newton_iteration(EnthalpyStepReport &report);
     // One forward nonlinear Gauss-Seidel sweep over the free owned nodes

@@ -261,11 +261,11 @@ namespace ContactStefan
       return "";
     }
 
-    // Checks that the checkpoint in directory is whole: its manifest exists,
-    // is intact and of this format, and every file is there with its size and
-    // checksum, no other file beside them. Fills manifest; returns what is
-    // wrong, as the end of a sentence that names the file ("" if nothing).
-    std::string check_checkpoint(const std::string &directory, Manifest &manifest)
+    // The manifest of the checkpoint in directory: it exists, is intact (its
+    // closing checksum) and of this format, and lists the id, step, mesh file
+    // and every required file. Fills manifest; returns what is wrong, as the
+    // end of a sentence that names the file ("" if nothing).
+    std::string read_manifest(const std::string &directory, Manifest &manifest)
     {
       const std::string path = directory + "/manifest";
       const auto        file = [&](const std::string &name) {
@@ -335,7 +335,16 @@ namespace ContactStefan
               return e.name == name;
             }))
           return file("manifest") + " does not list '" + name + "'";
+      return "";
+    }
 
+    // Every file the manifest lists is there with its size and checksum, and
+    // no other file beside them. Returns what is wrong, as for read_manifest().
+    std::string check_listed_files(const std::string &directory, const Manifest &manifest)
+    {
+      const auto file = [&](const std::string &name) {
+        return "checkpoint file '" + directory + "/" + name + "'";
+      };
       // Every listed file. A file that differs alone is damaged or swapped; if
       // several differ, they and the manifest come from different checkpoints.
       std::vector<std::string> differing;
@@ -387,6 +396,18 @@ namespace ContactStefan
             return file(name) + " is not listed in the manifest (a file of another checkpoint?)";
         }
       return "";
+    }
+
+    // Checks that the checkpoint in directory is whole: its manifest exists,
+    // is intact and of this format, and every file is there with its size and
+    // checksum, no other file beside them. Fills manifest; returns what is
+    // wrong, as the end of a sentence that names the file ("" if nothing).
+    std::string check_checkpoint(const std::string &directory, Manifest &manifest)
+    {
+      const std::string problem = read_manifest(directory, manifest);
+      if (!problem.empty())
+        return problem;
+      return check_listed_files(directory, manifest);
     }
 
     // Checks the statistics copy against the state: the header (comment lines,
@@ -668,20 +689,20 @@ namespace ContactStefan
 
 
 
+  // Which checkpoint, and is it whole? Decided on rank 0 alone (ranks with
+  // cached views of a shared file system must not judge different files)
+  // and before anything of it is read: the checkpoint, or the previous one
+  // if a crash came between the renames (then there is no 'checkpoint').
+  // A damaged checkpoint is refused even where checkpoint.old exists: the
+  // run would silently continue from an earlier step. The message says
+  // that the previous one is there, and the user decides. Collective: every
+  // rank returns rank 0's directory, id and step.
   template <int dim>
-  void CoupledProblem<dim>::resume()
+  typename CoupledProblem<dim>::RestartPoint CoupledProblem<dim>::find_checkpoint() const
   {
     const MPI_Comm comm = triangulation.get_communicator();
-
-    // Which checkpoint, and is it whole? Decided on rank 0 alone (ranks with
-    // cached views of a shared file system must not judge different files)
-    // and before anything of it is read: the checkpoint, or the previous one
-    // if a crash came between the renames (then there is no 'checkpoint').
-    // A damaged checkpoint is refused even where checkpoint.old exists: the
-    // run would silently continue from an earlier step. The message says
-    // that the previous one is there, and the user decides.
-    std::string directory;
-    Manifest    manifest;
+    std::string    directory;
+    Manifest       manifest;
     check_on_root(comm, [&]() -> std::string {
       const std::string current = checkpoint_directory(), old = checkpoint_directory(".old"),
                         next = checkpoint_directory(".new");
@@ -714,90 +735,102 @@ namespace ContactStefan
                                                        " (it has changed since)");
       return problem;
     });
+    RestartPoint point;
     {
       std::vector<std::string> found{directory, manifest.id, std::to_string(manifest.step)};
-      found         = Utilities::MPI::broadcast(comm, found, 0);
-      directory     = found[0];
-      manifest.id   = found[1];
-      manifest.step = std::stoul(found[2]);
+      found           = Utilities::MPI::broadcast(comm, found, 0);
+      point.directory = found[0];
+      point.id        = found[1];
+      point.step      = std::stoul(found[2]);
     }
+    return point;
+  }
 
-    // The coarse mesh (the checkpoint holds its refinement), then the state
-    // file: a checkpoint of another scene is refused before the mesh is loaded.
-    {
-      TimerOutput::Scope t(timer, "setup: mesh");
-      make_mesh(prm, prm.refinement, triangulation, true);
-    }
-    std::vector<double> thermal_scalars;
-    double              wall    = 0;
-    unsigned int        n_ranks = 0;
-    {
-      // Read by rank 0 alone (whose view of the files the manifest check
-      // judged) and parsed by every rank from that text: ranks with other
-      // cached views of a shared file system must not disagree on it (one
-      // rank refusing while the others load the mesh would hang the run).
-      std::string              text;
-      std::vector<std::string> differences;
-      if (Utilities::MPI::this_mpi_process(comm) == 0)
-        {
-          std::ifstream in(directory + "/state.txt", std::ios::binary);
-          text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-        }
-      text = Utilities::MPI::broadcast(comm, text, 0);
-      std::istringstream in(text);
-      try
-        {
-          boost::archive::text_iarchive archive(in);
-          std::string                   format, id, fields, parameters;
-          archive >> format;
-          if (format != checkpoint_format)
-            throw std::runtime_error("not a contact-stefan checkpoint of the format '" +
-                                     checkpoint_format + "'");
-          archive >> id;
-          if (id != manifest.id)
-            throw std::runtime_error("it belongs to the checkpoint " + id + ", the manifest to " +
-                                     manifest.id);
-          archive >> fields;
-          if (fields != fields_fingerprint())
-            throw std::runtime_error("it was written by a scene with " + fields +
-                                     ", this one has " + fields_fingerprint());
-          archive >> n_ranks >> time >> time_step >> step_number >> thermal_scalars >> wall;
-          archive >> parameters;
-          differences = parameter_differences(parameters, prm.solution_parameters);
-          if (differences.empty())
-            archive >> *postprocessor;
-        }
-      catch (const std::exception &e)
-        {
-          throw InputError("Checkpoint/Resume",
-                           "cannot read '" + directory + "/state.txt' (" + e.what() + ")");
-        }
-      // The same scene with other parameters: what to do first, then which.
-      if (!differences.empty())
-        {
-          std::string        list;
-          const unsigned int shown = 6;
-          for (unsigned int i = 0; i < differences.size() && i < shown; ++i)
-            list += (i ? "; " : "") + differences[i];
-          if (differences.size() > shown)
-            list += "; and " + std::to_string(differences.size() - shown) + " more";
-          throw InputError("Checkpoint/Resume",
-                           "to continue the checkpoint in '" + directory +
-                             "', run with the parameters it was written with, or start afresh "
-                             "(without --resume and Checkpoint/Resume = false). " +
-                             std::to_string(differences.size()) + " differ: " + list);
-        }
-    }
 
-    // Every value read back, against what it must be. A checkpoint is only
-    // written after a full step (the last, possibly shortened step writes
-    // none), so its time is the schedule's time of that step (as the time
-    // loop reads it): to the last bit.
+
+  // The state file: read by rank 0 alone (whose view of the files the manifest
+  // check judged) and parsed by every rank from that text: ranks with other
+  // cached views of a shared file system must not disagree on it (one rank
+  // refusing while the others load the mesh would hang the run). A checkpoint
+  // of another scene (format, id, fingerprint) or of the same scene with other
+  // parameters is refused here, before the mesh is loaded. Sets the time
+  // state and the postprocessor's accumulated results, and the point's
+  // thermal restart values, wall time and number of ranks. Collective.
+  template <int dim>
+  void CoupledProblem<dim>::read_state_file(RestartPoint &point)
+  {
+    const MPI_Comm           comm      = triangulation.get_communicator();
+    const std::string       &directory = point.directory;
+    std::string              text;
+    std::vector<std::string> differences;
+    if (Utilities::MPI::this_mpi_process(comm) == 0)
+      {
+        std::ifstream in(directory + "/state.txt", std::ios::binary);
+        text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+      }
+    text = Utilities::MPI::broadcast(comm, text, 0);
+    std::istringstream in(text);
+    try
+      {
+        boost::archive::text_iarchive archive(in);
+        std::string                   format, id, fields, parameters;
+        archive >> format;
+        if (format != checkpoint_format)
+          throw std::runtime_error("not a contact-stefan checkpoint of the format '" +
+                                   checkpoint_format + "'");
+        archive >> id;
+        if (id != point.id)
+          throw std::runtime_error("it belongs to the checkpoint " + id + ", the manifest to " +
+                                   point.id);
+        archive >> fields;
+        if (fields != fields_fingerprint())
+          throw std::runtime_error("it was written by a scene with " + fields + ", this one has " +
+                                   fields_fingerprint());
+        archive >> point.n_ranks >> time >> time_step >> step_number >> point.thermal_scalars >>
+          point.wall;
+        archive >> parameters;
+        differences = parameter_differences(parameters, prm.solution_parameters);
+        if (differences.empty())
+          archive >> *postprocessor;
+      }
+    catch (const std::exception &e)
+      {
+        throw InputError("Checkpoint/Resume",
+                         "cannot read '" + directory + "/state.txt' (" + e.what() + ")");
+      }
+    // The same scene with other parameters: what to do first, then which.
+    if (!differences.empty())
+      {
+        std::string        list;
+        const unsigned int shown = 6;
+        for (unsigned int i = 0; i < differences.size() && i < shown; ++i)
+          list += (i ? "; " : "") + differences[i];
+        if (differences.size() > shown)
+          list += "; and " + std::to_string(differences.size() - shown) + " more";
+        throw InputError("Checkpoint/Resume",
+                         "to continue the checkpoint in '" + directory +
+                           "', run with the parameters it was written with, or start afresh "
+                           "(without --resume and Checkpoint/Resume = false). " +
+                           std::to_string(differences.size()) + " differ: " + list);
+      }
+  }
+
+
+
+  // Every value read back, against what it must be. A checkpoint is only
+  // written after a full step (the last, possibly shortened step writes
+  // none), so its time is the schedule's time of that step (as the time
+  // loop reads it): to the last bit. Then the statistics copy (on rank 0).
+  template <int dim>
+  void CoupledProblem<dim>::check_restored_state(const RestartPoint &point) const
+  {
+    const MPI_Comm     comm      = triangulation.get_communicator();
+    const std::string &directory = point.directory;
     {
       const auto &sizes = prm.time.step_sizes;
       // A checkpoint at or after the schedule's end: the End time was moved
       // before it (not a damaged file).
-      if (step_number == manifest.step && step_number > 0 && step_number >= sizes.size())
+      if (step_number == point.step && step_number > 0 && step_number >= sizes.size())
         throw InputError("Checkpoint/Resume",
                          "set 'Time stepping/End time' after the checkpoint's time, or "
                          "start afresh: the checkpoint in '" +
@@ -806,14 +839,15 @@ namespace ContactStefan
                            number(prm.time.end_time) + " has only " +
                            std::to_string(sizes.size()) + " steps");
       const bool step_valid =
-        step_number == manifest.step && step_number > 0 && step_number < sizes.size();
+        step_number == point.step && step_number > 0 && step_number < sizes.size();
       const double expected_time =
         step_valid ? prm.time.step_times[step_number - 1] : prm.time.start_time;
       std::string       problem;
       const std::size_t n_thermal_scalars = thermal ? thermal->restart_state().size() : 0;
+      const auto       &thermal_scalars   = point.thermal_scalars;
       if (!step_valid)
         problem = "the step " + std::to_string(step_number) + " is not the manifest's step " +
-                  std::to_string(manifest.step) + " or not one before the schedule's last (" +
+                  std::to_string(point.step) + " or not one before the schedule's last (" +
                   std::to_string(sizes.size()) + ")";
       else if (!(time == expected_time))
         problem = "the time t = " + number(time) + " is not the time of step " +
@@ -821,7 +855,7 @@ namespace ContactStefan
       else if (!(time_step == sizes[step_number - 1]))
         problem = "the step size " + number(time_step) + " is not the schedule's step " +
                   std::to_string(step_number) + ", tau = " + number(sizes[step_number - 1]);
-      else if (n_ranks == 0 || !std::isfinite(wall) || wall < 0)
+      else if (point.n_ranks == 0 || !std::isfinite(point.wall) || point.wall < 0)
         problem = "the number of ranks or the wall time is not valid";
       else if (thermal_scalars.size() != n_thermal_scalars ||
                std::any_of(thermal_scalars.begin(), thermal_scalars.end(), [](const double x) {
@@ -838,10 +872,22 @@ namespace ContactStefan
                          ", not before 'Time stepping/End time' = " + number(prm.time.end_time));
     check_on_root(comm,
                   [&]() { return check_statistics(directory + "/statistics", step_number, time); });
+  }
 
+
+
+  // The forest with the primary state of both fields: the DoFs distributed on
+  // it, each field set to the checkpoint's time (its data: loads, Dirichlet
+  // values, gaps; an initial state that is then overwritten), the primary
+  // state read (in the order it was attached), and everything else re-derived
+  // from it as after a mesh change. Collective.
+  template <int dim>
+  void CoupledProblem<dim>::load_mesh_and_primary_state(const RestartPoint &point)
+  {
+    const MPI_Comm comm = triangulation.get_communicator();
     {
       TimerOutput::Scope t(timer, "setup: mesh");
-      triangulation.load(directory + "/mesh");
+      triangulation.load(point.directory + "/mesh");
     }
     if (thermal)
       thermal->setup_dofs();
@@ -861,10 +907,6 @@ namespace ContactStefan
       for (unsigned int i = 0; i < state.size(); ++i)
         *state[i] = values[i];
     };
-    // Each field is set to the checkpoint's time (its data: loads, Dirichlet
-    // values, gaps; an initial state that is then overwritten), the primary
-    // state is read (in the order it was attached), and everything else is
-    // re-derived from it as after a mesh change.
     if (thermal)
       thermal->initialize(time);
     if (mechanical)
@@ -872,20 +914,42 @@ namespace ContactStefan
     if (thermal)
       {
         restore(thermal->get_dof_handler(), thermal->primary_state());
-        thermal->set_restart_state(thermal_scalars);
+        thermal->set_restart_state(point.thermal_scalars);
       }
     if (mechanical)
       restore(mechanical->get_dof_handler(), mechanical->primary_state());
     after_mesh_change();
+  }
+
+
+
+  // Resume (doc/adaptivity.md, "Checkpoint/restart"): find the checkpoint and
+  // check that it is whole, build the coarse mesh (the checkpoint holds its
+  // refinement), read the state file and check every value read back (a
+  // checkpoint of another scene is refused before the mesh is loaded), load
+  // the forest with the primary state, and restore the statistics file to the
+  // checkpoint's rows.
+  template <int dim>
+  void CoupledProblem<dim>::resume()
+  {
+    const MPI_Comm comm  = triangulation.get_communicator();
+    RestartPoint   point = find_checkpoint();
+    {
+      TimerOutput::Scope t(timer, "setup: mesh");
+      make_mesh(prm, prm.refinement, triangulation, true);
+    }
+    read_state_file(point);
+    check_restored_state(point);
+    load_mesh_and_primary_state(point);
 
     on_root(comm, [&]() {
-      fs::copy_file(directory + "/statistics",
+      fs::copy_file(point.directory + "/statistics",
                     prm.output.directory + "/" + prm.output.statistics_file,
                     fs::copy_options::overwrite_existing);
     });
-    wall_offset          = wall;
-    last_checkpoint_wall = wall;
-    pcout << "Resumed from '" << directory << "' at step " << step_number << ", t = " << time
+    wall_offset          = point.wall;
+    last_checkpoint_wall = point.wall;
+    pcout << "Resumed from '" << point.directory << "' at step " << step_number << ", t = " << time
           << std::endl;
   }
 
@@ -894,6 +958,10 @@ namespace ContactStefan
   template bool        CoupledProblem<2>::checkpoint_due();
   template void        CoupledProblem<2>::write_checkpoint();
   template void        CoupledProblem<2>::remove_checkpoints();
+  template CoupledProblem<2>::RestartPoint CoupledProblem<2>::find_checkpoint() const;
+  template void                            CoupledProblem<2>::read_state_file(RestartPoint &point);
+  template void        CoupledProblem<2>::check_restored_state(const RestartPoint &point) const;
+  template void        CoupledProblem<2>::load_mesh_and_primary_state(const RestartPoint &point);
   template void        CoupledProblem<2>::resume();
   template std::string CoupledProblem<2>::checkpoint_directory(const std::string &) const;
   template std::string CoupledProblem<2>::fields_fingerprint() const;

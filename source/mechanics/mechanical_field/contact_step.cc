@@ -664,8 +664,131 @@ namespace ContactStefan
 
 
 
+  // Reuse if stationary: the same matrix, loads (of free and constrained rows),
+  // inhomogeneities and gaps as the last converged solve, from its converged
+  // active set, give its solution, multipliers and set again; nothing is
+  // solved. Returns whether the last solve's report (with no work counted) is
+  // the answer.
+  template <int dim>
+  bool MechanicalField<dim>::reuse_if_stationary(ContactStepReport &report)
+  {
+    if (contact_data_hash() != solved_signature)
+      return false;
+    report            = last_report;
+    report.reused     = true;
+    report.iterations = report.changes = report.c_reductions = report.factorisations = 0;
+    report.linear = linear_solver.take_statistics();
+    return true;
+  }
+
+
+
+  // Update the active set: every owned condition is active in the next
+  // iteration if lambda + c d > tolerance (Contact::is_active). Counts the
+  // changes and the active nodes into the report and returns the change
+  // together with an order-independent hash of the new set (the same on
+  // every rank) and this rank's smallest multiplier of a node that was active.
+  template <int dim>
+  typename MechanicalField<dim>::SetUpdate
+  MechanicalField<dim>::update_active_set(const std::vector<Decision> &decisions,
+                                          const double                 tolerance,
+                                          ContactStepReport           &report)
+  {
+    unsigned int  local_changes = 0, local_active = 0;
+    std::uint64_t local_hash       = 0;
+    double        local_min_lambda = HUGE_VAL;
+    for (const auto &dec : decisions)
+      {
+        Vector    &active     = active_flags(*dec.c);
+        const bool was_active = active[dec.c->dofs_k[0]] > 0.5;
+        const bool now_active = Contact::is_active(dec.lambda, dec.d, dec.c_eff, tolerance);
+        if (was_active)
+          local_min_lambda = std::min(local_min_lambda, dec.lambda);
+        if (now_active != was_active)
+          {
+            active[dec.c->dofs_k[0]] = now_active ? 1. : 0.;
+            ++local_changes;
+          }
+        if (now_active)
+          {
+            ++local_active;
+            // Order-independent hash of the set: sum of mixed node keys.
+            std::uint64_t key =
+              dec.c->dofs_k[0] * 2 + (dec.c->kind == NormalCondition::Kind::interface);
+            key ^= key >> 33;
+            key *= 0xff51afd7ed558ccdULL;
+            key ^= key >> 33;
+            local_hash += key;
+          }
+      }
+    obstacle_active.compress(VectorOperation::insert);
+    interface_active.compress(VectorOperation::insert);
+    obstacle_active_ghosted    = obstacle_active;
+    interface_active_ghosted   = interface_active;
+    const unsigned int changes = Utilities::MPI::sum(local_changes, mpi_communicator);
+    report.active_nodes        = Utilities::MPI::sum(local_active, mpi_communicator);
+    report.changes += changes;
+    // For the AMG reuse limit: an upper bound of the rows changed (a set
+    // that returns to an earlier one counts twice, and a condition without
+    // a free DoF changes no row; both only recompute earlier).
+    linear_solver.note_changed_rows(changes);
+    const std::uint64_t set_hash = Utilities::MPI::sum(local_hash, mpi_communicator);
+    return {changes, set_hash, local_min_lambda};
+  }
+
+
+
+  // Check the converged set: it is a fixed point, which with a small c might
+  // still violate the contact conditions; check them with c at full size (no
+  // active node pulling, no inactive node penetrating, to the tolerance). A
+  // violation stops the run. Collective.
+  template <int dim>
+  void MechanicalField<dim>::check_converged_set(const std::vector<Decision> &decisions) const
+  {
+    double local_violation = 0, local_size = 0;
+    for (const auto &dec : decisions)
+      {
+        const bool   active = is_active(*dec.c);
+        const double c_full = dec.c_eff / complementarity_scale;
+        local_violation     = std::max(local_violation, active ? -dec.lambda : c_full * dec.d);
+        local_size          = std::max(local_size, std::abs(dec.lambda) + c_full * std::abs(dec.d));
+      }
+    const double violation = Utilities::MPI::max(local_violation, mpi_communicator);
+    if (violation > 10 * contact_prm.tolerance * Utilities::MPI::max(local_size, mpi_communicator))
+      throw std::runtime_error("the contact step converged to a set that violates the contact "
+                               "conditions by " +
+                               number(violation) + " (force units) at t = " + number(time) +
+                               "; see 'Contact/Complementarity constant'");
+  }
+
+
+
+  // A set recurred more than 'Contact/Max set repetitions' times (a cycle of
+  // the plain method): divide c by ten, so that the update follows the
+  // multipliers more than the gaps, at most 'Contact/Max c reductions' times.
+  template <int dim>
+  void MechanicalField<dim>::reduce_complementarity_constant(ContactStepReport &report)
+  {
+    if (report.c_reductions == contact_prm.max_c_reductions)
+      throw std::runtime_error("the contact active set keeps cycling at t = " + number(time) +
+                               " after " + std::to_string(report.c_reductions) +
+                               " reductions of the complementarity constant "
+                               "('Contact/Max c reductions')");
+    complementarity_scale /= 10;
+    ++report.c_reductions;
+    pcout << "   Contact step: active set recurred at t = " << time
+          << "; complementarity constant divided by 10" << std::endl;
+  }
+
+
+
   // The contact step at the time of begin_time_step(), warm-started from the
-  // current active set.
+  // current active set. Each iteration: impose the conditions of the current
+  // set, assemble (and check the rigid modes) where the matrix changed, reuse
+  // the last solution if nothing changed since (reuse_if_stationary), solve,
+  // read the multipliers off the residual (contact_decisions), update the
+  // active set, and stop when it did not change (check_converged_set); a set
+  // that recurs reduces c (doc/contact.md, "The active-set iteration").
   template <int dim>
   ContactStepReport MechanicalField<dim>::solve()
   {
@@ -697,21 +820,10 @@ namespace ContactStefan
         assemble_system(!same_matrix);
         have_matrix      = true;
         matrix_signature = signature;
-        // Stationary data: the same matrix, loads (of free and constrained
-        // rows), inhomogeneities and gaps as the last converged solve, from
-        // its converged active set, give its solution, multipliers and set
-        // again; nothing is solved.
         if (it == 1 && have_solution && same_matrix)
           {
-            if (contact_data_hash() == solved_signature)
-              {
-                report            = last_report;
-                report.reused     = true;
-                report.iterations = report.changes = report.c_reductions = report.factorisations =
-                  0;
-                report.linear = linear_solver.take_statistics();
-                return report;
-              }
+            if (reuse_if_stationary(report))
+              return report;
           }
         const bool factorise = !(have_factorisation && signature == factorisation_signature);
         solve_linear_system(factorise, settled || !has_contact);
@@ -731,58 +843,19 @@ namespace ContactStefan
         const auto   decisions = contact_decisions(residual, local_scale, max_penetration);
         const double tolerance =
           contact_prm.tolerance * Utilities::MPI::max(local_scale, mpi_communicator);
-
-        unsigned int  local_changes = 0, local_active = 0;
-        std::uint64_t local_hash       = 0;
-        double        local_min_lambda = HUGE_VAL;
-        for (const auto &dec : decisions)
-          {
-            Vector    &active     = active_flags(*dec.c);
-            const bool was_active = active[dec.c->dofs_k[0]] > 0.5;
-            const bool now_active = Contact::is_active(dec.lambda, dec.d, dec.c_eff, tolerance);
-            if (was_active)
-              local_min_lambda = std::min(local_min_lambda, dec.lambda);
-            if (now_active != was_active)
-              {
-                active[dec.c->dofs_k[0]] = now_active ? 1. : 0.;
-                ++local_changes;
-              }
-            if (now_active)
-              {
-                ++local_active;
-                // Order-independent hash of the set: sum of mixed node keys.
-                std::uint64_t key =
-                  dec.c->dofs_k[0] * 2 + (dec.c->kind == NormalCondition::Kind::interface);
-                key ^= key >> 33;
-                key *= 0xff51afd7ed558ccdULL;
-                key ^= key >> 33;
-                local_hash += key;
-              }
-          }
-        obstacle_active.compress(VectorOperation::insert);
-        interface_active.compress(VectorOperation::insert);
-        obstacle_active_ghosted    = obstacle_active;
-        interface_active_ghosted   = interface_active;
-        const unsigned int changes = Utilities::MPI::sum(local_changes, mpi_communicator);
-        report.active_nodes        = Utilities::MPI::sum(local_active, mpi_communicator);
-        report.changes += changes;
-        // For the AMG reuse limit: an upper bound of the rows changed (a set
-        // that returns to an earlier one counts twice, and a condition without
-        // a free DoF changes no row; both only recompute earlier).
-        linear_solver.note_changed_rows(changes);
-        const std::uint64_t set_hash = Utilities::MPI::sum(local_hash, mpi_communicator);
+        const SetUpdate update = update_active_set(decisions, tolerance, report);
 
         if (verbosity >= 1)
-          pcout << "      contact " << it << ": " << report.active_nodes << " active, " << changes
-                << " changes, max penetration "
+          pcout << "      contact " << it << ": " << report.active_nodes << " active, "
+                << update.changes << " changes, max penetration "
                 << Utilities::MPI::max(max_penetration, mpi_communicator) << ", min active lambda "
-                << Utilities::MPI::min(local_min_lambda, mpi_communicator)
+                << Utilities::MPI::min(update.local_min_lambda, mpi_communicator)
                 << (skipped > 0 ?
                       ", " + std::to_string(skipped) + " conditions without a free DoF" :
                       "")
                 << std::endl;
 
-        if (changes == 0 && !settled && !linear_solver.is_direct())
+        if (update.changes == 0 && !settled && !linear_solver.is_direct())
           {
             // The set settled on an inexact solve (CG to 'CG tolerance while
             // the contact set changes'): solve on it to the full tolerance,
@@ -791,30 +864,13 @@ namespace ContactStefan
             ++tightening_solves;
             continue;
           }
-        if (changes == 0)
+        if (update.changes == 0)
           {
-            // Converged: the set is a fixed point, which with a small c might still
-            // violate the contact conditions; check them with c at full size.
-            double local_violation = 0, local_size = 0;
-            for (const auto &dec : decisions)
-              {
-                const bool   active = is_active(*dec.c);
-                const double c_full = dec.c_eff / complementarity_scale;
-                local_violation = std::max(local_violation, active ? -dec.lambda : c_full * dec.d);
-                local_size = std::max(local_size, std::abs(dec.lambda) + c_full * std::abs(dec.d));
-              }
-            const double violation = Utilities::MPI::max(local_violation, mpi_communicator);
-            if (violation >
-                10 * contact_prm.tolerance * Utilities::MPI::max(local_size, mpi_communicator))
-              throw std::runtime_error(
-                "the contact step converged to a set that violates the contact "
-                "conditions by " +
-                number(violation) + " (force units) at t = " + number(time) +
-                "; see 'Contact/Complementarity constant'");
+            check_converged_set(decisions);
             store_contact_output(decisions, report);
             break;
           }
-        if (!settled && !linear_solver.is_direct() && seen_sets.count(set_hash) > 0)
+        if (!settled && !linear_solver.is_direct() && seen_sets.count(update.set_hash) > 0)
           {
             // A set recurs while CG solves inexactly: solve exactly from now
             // on before judging it a cycle (noise of the loose solve can flip
@@ -822,19 +878,10 @@ namespace ContactStefan
             settled = true;
             seen_sets.clear();
           }
-        else if (++seen_sets[set_hash] > contact_prm.max_set_repetitions)
+        else if (++seen_sets[update.set_hash] > contact_prm.max_set_repetitions)
           {
-            if (report.c_reductions == contact_prm.max_c_reductions)
-              throw std::runtime_error(
-                "the contact active set keeps cycling at t = " + number(time) + " after " +
-                std::to_string(report.c_reductions) +
-                " reductions of the complementarity constant "
-                "('Contact/Max c reductions')");
-            complementarity_scale /= 10;
-            ++report.c_reductions;
+            reduce_complementarity_constant(report);
             seen_sets.clear();
-            pcout << "   Contact step: active set recurred at t = " << time
-                  << "; complementarity constant divided by 10" << std::endl;
           }
       }
     solved_signature = contact_data_hash();
@@ -897,6 +944,14 @@ namespace ContactStefan
   template void   MechanicalField<2>::build_contact_constraints(unsigned int &n_skipped);
   template void   MechanicalField<2>::check_rigid_body_modes() const;
   template void   MechanicalField<2>::assemble_system(const bool with_matrix);
+  template bool   MechanicalField<2>::reuse_if_stationary(ContactStepReport &report);
+  template MechanicalField<2>::SetUpdate
+  MechanicalField<2>::update_active_set(const std::vector<Decision> &decisions,
+                                        const double                 tolerance,
+                                        ContactStepReport           &report);
+  template void
+  MechanicalField<2>::check_converged_set(const std::vector<Decision> &decisions) const;
+  template void   MechanicalField<2>::reduce_complementarity_constant(ContactStepReport &report);
   template void   MechanicalField<2>::assemble_bulk_matrix(const std::uint64_t signature);
   template void   MechanicalField<2>::solve_linear_system(const bool factorise, const bool settled);
   template std::uint64_t

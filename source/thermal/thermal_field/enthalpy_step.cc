@@ -518,6 +518,155 @@ namespace ContactStefan
 
 
 
+  // The size of enthalpy changes that matter: the largest latent heat or, without
+  // transitions, the sensible heat of a unit temperature change.
+  template <int dim>
+  double ThermalField<dim>::enthalpy_change_scale() const
+  {
+    double enthalpy_scale = 0;
+    for (const auto &l : laws)
+      {
+        enthalpy_scale = std::max(enthalpy_scale, l.max_heat_capacity());
+        for (unsigned int j = 0; j < l.n_transitions(); ++j)
+          enthalpy_scale = std::max(enthalpy_scale, l.latent_heat(j));
+      }
+    return enthalpy_scale;
+  }
+
+
+
+  // A target whose every free node lies on the piece it was computed with
+  // solves the step exactly: take it. (Near convergence the decrease of E can
+  // be below its round-off, so the line search must not judge it.) Collective.
+  template <int dim>
+  bool ThermalField<dim>::newton_target_consistent(const Vector &h_new) const
+  {
+    // The per-node loops below run over the owned entries directly (see
+    // index_local_entries()).
+    const double *hn = entries(h_new), *state = entries(phase_state);
+    const char   *free               = owned_free.data();
+    unsigned int  local_inconsistent = 0;
+    for (unsigned int i = 0; i < n_owned; ++i)
+      if (free[i])
+        local_inconsistent +=
+          (owned_node_law(i).state_of_enthalpy(hn[i]) != static_cast<unsigned int>(state[i]));
+    return Utilities::MPI::sum(local_inconsistent, mpi_communicator) == 0;
+  }
+
+
+
+  // A Newton step that moves no enthalpy beyond round-off ends the iteration
+  // even if states flip: that happens where the solution sits exactly on a
+  // kink of H (e.g. an equilibrium at a transition temperature), where
+  // neighbouring pieces give the same (Theta, h). Collective.
+  template <int dim>
+  bool ThermalField<dim>::newton_step_negligible(const Vector &h_new,
+                                                 const double  enthalpy_scale) const
+  {
+    const double *h = entries(enthalpy), *hn = entries(h_new);
+    const char   *free       = owned_free.data();
+    double        local_step = 0, local_size = 0;
+    for (unsigned int i = 0; i < n_owned; ++i)
+      if (free[i])
+        {
+          local_step = std::max(local_step, std::abs(hn[i] - h[i]));
+          local_size = std::max(local_size, std::abs(hn[i]));
+        }
+    return Utilities::MPI::max(local_step, mpi_communicator) <=
+           step_prm.active_set_step_tolerance *
+             (Utilities::MPI::max(local_size, mpi_communicator) + enthalpy_scale);
+  }
+
+
+
+  // The Armijo line search on E along the Newton step h_new - h: the step
+  // length alpha, halved from 1 until E decreases sufficiently (or down to
+  // 'Line search min step'). E is quadratic in g apart from the Psi terms, so
+  // one pass gives its slope and quadratic coefficients; each trial length
+  // only sums the Psi terms. Collective.
+  template <int dim>
+  double ThermalField<dim>::line_search_step(const Vector &h_new, const Vector &z) const
+  {
+    const double *h = entries(enthalpy), *zz = entries(z);
+    const double *hn = entries(h_new), *theta = entries(temperature), *m = entries(lumped_mass);
+    const char   *free = owned_free.data();
+    // Slope and the two quadratic coefficients of E along h_new - h.
+    double local[3] = {0, 0, 0}; // grad E . d,  d . z,  d . K^{-1} d
+    for (unsigned int i = 0; i < n_owned; ++i)
+      if (free[i])
+        {
+          const double d = m[i] * (hn[i] - h[i]);
+          local[0] += d * (zz[i] + owned_node_law(i).temperature(h[i]));
+          local[1] += d * zz[i];
+          local[2] += d * (-zz[i] - theta[i]);
+        }
+    double global[3];
+    Utilities::MPI::sum(ArrayView<const double>(local, 3),
+                        mpi_communicator,
+                        ArrayView<double>(global, 3));
+    // Armijo: E(alpha) - E(0) <= sigma alpha slope, up to the round-off of
+    // the terms that make up the difference.
+    const double round_off    = round_off_factor * std::numeric_limits<double>::epsilon();
+    const auto   armijo_holds = [&](const double a) {
+      double psi[2] = {0, 0}; // sum m (Psi(h + a d) - Psi(h)), sum m (|..| + |..|)
+      for (unsigned int i = 0; i < n_owned; ++i)
+        if (free[i])
+          {
+            const EnthalpyLaw &l      = owned_node_law(i);
+            const double       before = l.beta_primitive(h[i]);
+            const double       after  = l.beta_primitive(h[i] + a * (hn[i] - h[i]));
+            psi[0] += m[i] * (after - before);
+            psi[1] += m[i] * (std::abs(after) + std::abs(before));
+          }
+      double sums[2];
+      Utilities::MPI::sum(ArrayView<const double>(psi, 2),
+                          mpi_communicator,
+                          ArrayView<double>(sums, 2));
+      const double linear = a * global[1], quadratic = 0.5 * a * a * global[2];
+      return linear + quadratic + sums[0] <=
+             step_prm.line_search_sufficient_decrease * a * global[0] +
+               round_off * (sums[1] + std::abs(linear) + std::abs(quadratic));
+    };
+    double alpha = 1;
+    while (alpha > step_prm.line_search_min_step && !armijo_holds(alpha))
+      alpha *= 0.5;
+    return alpha;
+  }
+
+
+
+  // Take the (damped) step, h <- h + alpha (h_new - h), z <- (1 - alpha) z -
+  // alpha Theta_new, and move every node to the piece of its graph that holds
+  // its new enthalpy (a prescribed node: its temperature). Returns how many
+  // free nodes changed state. Collective.
+  template <int dim>
+  unsigned int
+  ThermalField<dim>::take_step_and_update_states(const Vector &h_new, Vector &z, const double alpha)
+  {
+    double       *h = entries(enthalpy), *zz = entries(z), *state = entries(phase_state);
+    const double *hn = entries(h_new), *theta = entries(temperature);
+    const char   *free          = owned_free.data();
+    unsigned int  local_changes = 0;
+    for (unsigned int i = 0; i < n_owned; ++i)
+      {
+        zz[i]                    = (1 - alpha) * zz[i] - alpha * theta[i];
+        h[i]                     = h[i] + alpha * (hn[i] - h[i]);
+        const unsigned int s_new = free[i] ? owned_node_law(i).state_of_enthalpy(h[i]) :
+                                             owned_node_law(i).state_of_temperature(theta[i]);
+        if (s_new != static_cast<unsigned int>(state[i]))
+          {
+            state[i] = s_new;
+            // Prescribed nodes follow their data; they are not unknowns.
+            local_changes += free[i];
+          }
+      }
+    enthalpy_ghosted    = enthalpy;
+    phase_state_ghosted = phase_state;
+    return Utilities::MPI::sum(local_changes, mpi_communicator);
+  }
+
+
+
   // The active-set iteration with its globalisation.
   //
   // With g = M h on the free nodes, K = tau A restricted to them and c collecting
@@ -532,26 +681,18 @@ namespace ContactStefan
   // damped one, and K^{-1} (g_new - g) = -z - Theta_new. Where the full step is
   // accepted this is the plain active-set method; the line search only acts
   // when it would overshoot.
+  //
+  // Each iteration: solve with every node on its piece (solve_for_pieces), judge
+  // the Newton target (newton_target_consistent, newton_step_negligible), damp
+  // it where needed (line_search_step), take it and move the nodes to their new
+  // pieces (take_step_and_update_states), and stop when none moved.
   template <int dim>
   bool ThermalField<dim>::active_set_iteration(EnthalpyStepReport &report,
                                                const unsigned int  max_iterations)
   {
-    Vector h_new(owned, mpi_communicator);
-    Vector z(owned, mpi_communicator);
-    // The size of enthalpy changes that matter: the largest latent heat or, without
-    // transitions, the sensible heat of a unit temperature change.
-    double enthalpy_scale = 0;
-    for (const auto &l : laws)
-      {
-        enthalpy_scale = std::max(enthalpy_scale, l.max_heat_capacity());
-        for (unsigned int j = 0; j < l.n_transitions(); ++j)
-          enthalpy_scale = std::max(enthalpy_scale, l.latent_heat(j));
-      }
-    // The per-node loops below run over the owned entries directly (see
-    // index_local_entries()).
-    double       *h = entries(enthalpy), *zz = entries(z), *state = entries(phase_state);
-    const double *hn = entries(h_new), *theta = entries(temperature), *m = entries(lumped_mass);
-    const char   *free = owned_free.data();
+    Vector       h_new(owned, mpi_communicator);
+    Vector       z(owned, mpi_communicator);
+    const double enthalpy_scale = enthalpy_change_scale();
 
     // While the set changes, the solves need only a loose tolerance (they
     // decide the next set, not the result): after the first iteration, CG
@@ -576,93 +717,11 @@ namespace ContactStefan
         report.plateau_nodes         = solve_for_pieces(h_new, loose ? loose_tolerance : 0.);
         report.active_set_iterations = it;
 
-        // A target whose every free node lies on the piece it was computed with
-        // solves the step exactly: take it. (Near convergence the decrease of E
-        // can be below its round-off, so the line search must not judge it.)
-        unsigned int local_inconsistent = 0;
-        for (unsigned int i = 0; i < n_owned; ++i)
-          if (free[i])
-            local_inconsistent +=
-              (owned_node_law(i).state_of_enthalpy(hn[i]) != static_cast<unsigned int>(state[i]));
-        const bool target_consistent =
-          Utilities::MPI::sum(local_inconsistent, mpi_communicator) == 0;
-        // A Newton step that moves no enthalpy beyond round-off ends the
-        // iteration even if states flip: that happens where the solution sits
-        // exactly on a kink of H (e.g. an equilibrium at a transition
-        // temperature), where neighbouring pieces give the same (Theta, h).
-        double local_step = 0, local_size = 0;
-        for (unsigned int i = 0; i < n_owned; ++i)
-          if (free[i])
-            {
-              local_step = std::max(local_step, std::abs(hn[i] - h[i]));
-              local_size = std::max(local_size, std::abs(hn[i]));
-            }
-        const bool step_negligible =
-          it > 1 && Utilities::MPI::max(local_step, mpi_communicator) <=
-                      step_prm.active_set_step_tolerance *
-                        (Utilities::MPI::max(local_size, mpi_communicator) + enthalpy_scale);
-
-        double alpha = 1;
-        if (it > 1 && !target_consistent && !step_negligible)
-          {
-            // Slope and the two quadratic coefficients of E along h_new - h.
-            double local[3] = {0, 0, 0}; // grad E . d,  d . z,  d . K^{-1} d
-            for (unsigned int i = 0; i < n_owned; ++i)
-              if (free[i])
-                {
-                  const double d = m[i] * (hn[i] - h[i]);
-                  local[0] += d * (zz[i] + owned_node_law(i).temperature(h[i]));
-                  local[1] += d * zz[i];
-                  local[2] += d * (-zz[i] - theta[i]);
-                }
-            double global[3];
-            Utilities::MPI::sum(ArrayView<const double>(local, 3),
-                                mpi_communicator,
-                                ArrayView<double>(global, 3));
-            // Armijo: E(alpha) - E(0) <= sigma alpha slope, up to the round-off of
-            // the terms that make up the difference.
-            const double round_off    = round_off_factor * std::numeric_limits<double>::epsilon();
-            const auto   armijo_holds = [&](const double a) {
-              double psi[2] = {0, 0}; // sum m (Psi(h + a d) - Psi(h)), sum m (|..| + |..|)
-              for (unsigned int i = 0; i < n_owned; ++i)
-                if (free[i])
-                  {
-                    const EnthalpyLaw &l      = owned_node_law(i);
-                    const double       before = l.beta_primitive(h[i]);
-                    const double       after  = l.beta_primitive(h[i] + a * (hn[i] - h[i]));
-                    psi[0] += m[i] * (after - before);
-                    psi[1] += m[i] * (std::abs(after) + std::abs(before));
-                  }
-              double sums[2];
-              Utilities::MPI::sum(ArrayView<const double>(psi, 2),
-                                  mpi_communicator,
-                                  ArrayView<double>(sums, 2));
-              const double linear = a * global[1], quadratic = 0.5 * a * a * global[2];
-              return linear + quadratic + sums[0] <=
-                     step_prm.line_search_sufficient_decrease * a * global[0] +
-                       round_off * (sums[1] + std::abs(linear) + std::abs(quadratic));
-            };
-            while (alpha > step_prm.line_search_min_step && !armijo_holds(alpha))
-              alpha *= 0.5;
-          }
-        // h <- h + alpha (h_new - h), z <- (1 - alpha) z - alpha Theta_new.
-        unsigned int local_changes = 0;
-        for (unsigned int i = 0; i < n_owned; ++i)
-          {
-            zz[i]                    = (1 - alpha) * zz[i] - alpha * theta[i];
-            h[i]                     = h[i] + alpha * (hn[i] - h[i]);
-            const unsigned int s_new = free[i] ? owned_node_law(i).state_of_enthalpy(h[i]) :
-                                                 owned_node_law(i).state_of_temperature(theta[i]);
-            if (s_new != static_cast<unsigned int>(state[i]))
-              {
-                state[i] = s_new;
-                // Prescribed nodes follow their data; they are not unknowns.
-                local_changes += free[i];
-              }
-          }
-        enthalpy_ghosted             = enthalpy;
-        phase_state_ghosted          = phase_state;
-        const unsigned int n_changes = Utilities::MPI::sum(local_changes, mpi_communicator);
+        const bool   target_consistent = newton_target_consistent(h_new);
+        const bool   step_negligible   = it > 1 && newton_step_negligible(h_new, enthalpy_scale);
+        const double alpha =
+          (it > 1 && !target_consistent && !step_negligible) ? line_search_step(h_new, z) : 1.;
+        const unsigned int n_changes = take_step_and_update_states(h_new, z, alpha);
         report.state_changes += n_changes;
         report.damped_steps += (alpha < 1);
         if (verbosity >= 1)
@@ -820,6 +879,13 @@ namespace ContactStefan
   template unsigned int ThermalField<2>::solve_for_pieces(Vector &h_new, const double tolerance);
   template unsigned int ThermalField<2>::relaxation_fallback();
   template double       ThermalField<2>::compute_energy_balance(unsigned int &inconsistent) const;
+  template double       ThermalField<2>::enthalpy_change_scale() const;
+  template bool         ThermalField<2>::newton_target_consistent(const Vector &h_new) const;
+  template bool         ThermalField<2>::newton_step_negligible(const Vector &h_new,
+                                                        const double  enthalpy_scale) const;
+  template double ThermalField<2>::line_search_step(const Vector &h_new, const Vector &z) const;
+  template unsigned int
+  ThermalField<2>::take_step_and_update_states(const Vector &h_new, Vector &z, const double alpha);
   template bool         ThermalField<2>::active_set_iteration(EnthalpyStepReport &report,
                                                       const unsigned int  max_iterations);
   template EnthalpyStepReport ThermalField<2>::solve();
