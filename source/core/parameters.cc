@@ -648,6 +648,41 @@ namespace ContactStefan
 
 
 
+  namespace
+  {
+    // The canonical text of the solution-determining parameters (see
+    // SceneParameters::solution_parameters): the printed file without the
+    // subsections that a resumed run may change.
+    std::string solution_text(const ParameterHandler &prm)
+    {
+      std::string        text;
+      std::ostringstream all;
+      prm.print_parameters(all, ParameterHandler::ShortPRM);
+      std::istringstream lines(all.str());
+      std::string        line;
+      int                depth = 0, skip_depth = -1;
+      while (std::getline(lines, line))
+        {
+          const auto        first = line.find_first_not_of(' ');
+          const std::string word  = first == std::string::npos ? "" : line.substr(first);
+          const bool        opens = word.rfind("subsection ", 0) == 0, closes = word == "end";
+          if (opens && skip_depth < 0 && depth == 0 &&
+              (word == "subsection Checkpoint" || word == "subsection Output"))
+            skip_depth = depth;
+          const bool skipped = skip_depth >= 0 || word.rfind("set End time", 0) == 0;
+          if (opens)
+            ++depth;
+          if (closes && --depth == skip_depth)
+            skip_depth = -1;
+          else if (!skipped)
+            text += word + '\n';
+        }
+      return text;
+    }
+  } // namespace
+
+
+
   void SceneParameters::read(const std::string &filename, const std::vector<OwnerSection> &owners)
   {
     // .xml and .json files are read in those formats, everything else as .prm;
@@ -779,33 +814,7 @@ namespace ContactStefan
     for (const OwnerSection &owner : owners)
       owner.parse(prm);
 
-    // The canonical text of the solution-determining parameters (see
-    // solution_parameters): the printed file without the subsections that a
-    // resumed run may change.
-    {
-      std::ostringstream all;
-      prm.print_parameters(all, ParameterHandler::ShortPRM);
-      std::istringstream lines(all.str());
-      std::string        line;
-      int                depth = 0, skip_depth = -1;
-      solution_parameters.clear();
-      while (std::getline(lines, line))
-        {
-          const auto        first = line.find_first_not_of(' ');
-          const std::string word  = first == std::string::npos ? "" : line.substr(first);
-          const bool        opens = word.rfind("subsection ", 0) == 0, closes = word == "end";
-          if (opens && skip_depth < 0 && depth == 0 &&
-              (word == "subsection Checkpoint" || word == "subsection Output"))
-            skip_depth = depth;
-          const bool skipped = skip_depth >= 0 || word.rfind("set End time", 0) == 0;
-          if (opens)
-            ++depth;
-          if (closes && --depth == skip_depth)
-            skip_depth = -1;
-          else if (!skipped)
-            solution_parameters += word + '\n';
-        }
-    }
+    solution_parameters = solution_text(prm);
 
     check_consistency();
   }

@@ -355,6 +355,7 @@ namespace ContactStefan
     void update_stiffness_diagonal();
     void update_condition_stiffness();
     void find_normal_conditions();
+    void gather_contact_groups(const std::set<std::string> &groups);
     void make_body_frames();
     void make_sparsity_pattern();
     void add_closed_cell_couplings(
