@@ -300,7 +300,8 @@ namespace ContactStefan
                             k == "tied"    ? Contact::Interfaces::tied :
                                              Contact::Interfaces::contact;
       gap                 = prm.get("Gap");
-      if (gap.empty())
+      own_gap             = !gap.empty();
+      if (!own_gap)
         gap = defaults.interface_gap;
       else
         check_function(gap, path + "/Gap", false);

@@ -156,7 +156,7 @@ namespace ContactStefan
     for (const auto &[pair, law] : prm.interface_pairs)
       interface_gaps[pair] =
         checked(parse<dim>({law.gap}),
-                law.gap == prm.contact.interface_gap ?
+                !law.own_gap ?
                   std::string("Contact/Interface gap") :
                   "Contact/" + Parameters::InterfacePair::section(pair.first, pair.second) +
                     "/Gap");

@@ -161,8 +161,9 @@ namespace ContactStefan
      */
     struct InterfacePair
     {
-      Contact::Interfaces kind; // contact (Signorini) or tied
-      std::string         gap;  // g(x, y, t)
+      Contact::Interfaces kind;    // contact (Signorini) or tied
+      std::string         gap;     // g(x, y, t)
+      bool                own_gap; // set here (else 'Contact/Interface gap')
       // The thermal law across it: perfect contact (a continuous temperature)
       // is the only one today.
       enum class ThermalContact

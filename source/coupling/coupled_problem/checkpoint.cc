@@ -63,9 +63,10 @@ namespace ContactStefan
   // whenever what they hold changes (2: the linear solver statistics of the
   // contact reports; 3: the manifest and the checkpoint's id; 4: the section-force and
   // stress-output errors of the postprocessor; 5: the parameters the run was
-  // started with; 6: the largest von Mises stress over the steps), so that an
-  // older checkpoint is refused by name, not misread.
-  const std::string checkpoint_format = "contact-stefan checkpoint 6";
+  // started with; 6: the largest von Mises stress over the steps; 7: the
+  // parameters include the laws per interface, Contact/Interface k-l), so
+  // that an older checkpoint is refused by name, not misread.
+  const std::string checkpoint_format = "contact-stefan checkpoint 7";
 
   namespace
   {

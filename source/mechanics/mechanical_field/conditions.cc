@@ -45,6 +45,42 @@ namespace ContactStefan
       const Function<dim> &f;
     };
 
+
+
+    // Where two interfaces meet at a vertex, their conditions share the
+    // vertex's DoFs and its active flag: that works only for contacts of one
+    // gap (a tie beside another condition can close a cycle of constraints,
+    // which AffineConstraints::close() would not leave). The first such vertex
+    // of this rank, as a message naming the interface's Kind; empty if none.
+    template <int dim>
+    std::string junction_problem(const SceneParameters                 &prm,
+                                 const std::vector<BodyInterface<dim>> &interfaces)
+    {
+      std::map<unsigned int, std::vector<const BodyInterface<dim> *>> at;
+      for (const auto &interface : interfaces)
+        {
+          const auto &law = prm.interface_pair(interface.body_k, interface.body_l);
+          for (const auto &vertex : interface.vertices)
+            {
+              for (const BodyInterface<dim> *other : at[vertex.index])
+                {
+                  const auto &other_law = prm.interface_pair(other->body_k, other->body_l);
+                  if (law.kind == Parameters::Contact::Interfaces::tied ||
+                      other_law.kind != law.kind || other_law.gap != law.gap)
+                    return "parameter 'Contact/" +
+                           Parameters::InterfacePair::section(interface.body_k, interface.body_l) +
+                           "/Kind': the vertex at (" + std::to_string(vertex.position[0]) + ", " +
+                           std::to_string(vertex.position[1]) + ") is on " + other->name() +
+                           " and " + interface.name() +
+                           "; interfaces may meet at a vertex only if both are contacts with "
+                           "the same gap (a tie beside another interface would close a cycle "
+                           "of constraints)";
+                }
+              at[vertex.index].push_back(&interface);
+            }
+        }
+      return "";
+    }
   } // namespace
 
 
@@ -196,8 +232,10 @@ namespace ContactStefan
     // the two sides through the cells that have them, with the interface's
     // law (tied or contact, Contact/Interface k-l).
     std::string problem; // found on this rank
-    for (const auto &interface :
-         find_body_interfaces(triangulation, contact_prm.corner_angle, problem))
+    const auto  interfaces = find_body_interfaces(triangulation, contact_prm.corner_angle, problem);
+    if (problem.empty())
+      problem = junction_problem(prm, interfaces);
+    for (const auto &interface : interfaces)
       {
         const bool tied = prm.interface_pair(interface.body_k, interface.body_l).kind ==
                           Parameters::Contact::Interfaces::tied;
@@ -231,7 +269,7 @@ namespace ContactStefan
             e.given            = true;
           }
       }
-    if (!problem.empty())
+    if (!problem.empty() && problem.rfind("parameter", 0) != 0)
       problem = "the mesh: " + problem;
 
     normal_conditions.clear();

@@ -455,10 +455,13 @@ namespace ContactStefan
     // The data at t0 (checked for finite values below, before any output).
     assemble_load();
     make_fixed_constraints();
+    // Tied groups from the parameters, not from this rank's conditions: every
+    // rank must take the same branch below (it holds collective sums).
     std::set<std::string> obstacle_groups, tied_groups;
-    for (const auto &c : normal_conditions)
-      if (c.kind == NormalCondition::Kind::interface && c.tied)
-        tied_groups.insert(c.group);
+    for (const auto &[pair, law] : prm.interface_pairs)
+      if (law.kind == Parameters::Contact::Interfaces::tied)
+        tied_groups.insert("interface " + std::to_string(pair.first) + "-" +
+                           std::to_string(pair.second));
     for (const auto &[id, bc] : prm.mechanical_boundaries)
       if (bc.type == Parameters::MechanicalBoundary::Type::obstacle)
         obstacle_groups.insert(boundary_group(id));
