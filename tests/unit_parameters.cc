@@ -10,6 +10,8 @@
 
 #include <contact-stefan/coupling/all_parameters.h>
 
+#include <cstdio>
+#include <fstream>
 #include <set>
 #include <sstream>
 
@@ -105,6 +107,35 @@ namespace
         declared.count("Solver/CG tolerance") == 1,
       "the owners' entries (enthalpy step, contact step, refinement, linear solvers) are declared");
   }
+  // The fingerprint of `file` with one more entry set (appended as its own
+  // subsection block; the files used here do not set it).
+  std::string
+  fingerprint_with(const std::string &file, const std::string &section, const std::string &entry)
+  {
+    std::ifstream     in(file);
+    std::string       text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string copy = "unit_parameters_copy.prm";
+    std::ofstream(copy) << text << "\nsubsection " << section << "\n  set " << entry << "\nend\n";
+    AllParameters prm;
+    prm.read(copy);
+    std::remove(copy.c_str());
+    return prm.solution_parameters;
+  }
+
+  // Behaviour, not only bookkeeping: an owner's entry outside the exclusions
+  // changes the fingerprint (a checkpoint of the other value is refused), an
+  // excluded one does not (a resumed run may change it).
+  void check_fingerprint_changes(const std::string &file)
+  {
+    AllParameters prm;
+    prm.read(file);
+    check(fingerprint_with(file, "Solver", "Gauss-Seidel sweeps = 3") != prm.solution_parameters,
+          "the enthalpy step's 'Solver/Gauss-Seidel sweeps' changes the fingerprint");
+    check(fingerprint_with(file, "Mesh refinement", "Front buffer = 7") != prm.solution_parameters,
+          "'Mesh refinement/Front buffer' changes the fingerprint");
+    check(fingerprint_with(file, "Output", "Small-strain limit = 0.5") == prm.solution_parameters,
+          "'Output/Small-strain limit' (excluded) leaves it unchanged");
+  }
 } // namespace
 
 int main(int argc, char **argv)
@@ -112,5 +143,6 @@ int main(int argc, char **argv)
   Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   for (int i = 1; i < argc; ++i)
     check_scene(argv[i]);
+  check_fingerprint_changes(argv[argc - 1]);
   return UnitTest::finish();
 }
