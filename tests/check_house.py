@@ -15,7 +15,7 @@ import sys
 from pathlib import Path
 
 LAYERS = ["core", "mesh", "interfaces", "linear_algebra", ("thermal", "mechanics"),
-          "verification", "output", "coupling", "app"]
+          "output", "verification", "coupling", "app"]
 RANK = {}
 for rank, layer in enumerate(LAYERS):
     for name in (layer if isinstance(layer, tuple) else (layer,)):

@@ -11,6 +11,8 @@
 
 #include <contact-stefan/mechanics/mechanical_field.h>
 
+#include <algorithm>
+
 #include "field_test_tools.h"
 #include "unit_test_tools.h"
 
@@ -43,7 +45,9 @@ int main(int argc, char *argv[])
   if (Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) != 0)
     std::fclose(stdout);
   FieldTest::Scene scene(argv[1], [](AllParameters &) {});
-  const bool       patch = scene.prm.exact_solution.type == Parameters::ExactSolution::Type::patch;
+  const bool       patch = std::any_of(scene.prm.parts.begin(),
+                                 scene.prm.parts.end(),
+                                 [](const auto &part) { return part.first->name == "patch"; });
 
   MechanicalField<2> field(scene.prm,
                            scene.prm.contact_step,

@@ -36,7 +36,7 @@ namespace FieldTest
       prm.read(filename);
       adjust(prm);
       materials = std::make_unique<Materials>(prm);
-      functions = std::make_unique<SceneFunctions<2>>(prm);
+      functions = std::make_unique<SceneFunctions<2>>(prm, prm.exact_temperature());
       make_mesh(prm, prm.refinement, triangulation);
     }
 

@@ -464,114 +464,6 @@ namespace ContactStefan
 
 
 
-    void ExactSolution::declare(ParameterHandler &prm)
-    {
-      prm.enter_subsection("Exact solution");
-      prm.declare_entry(
-        "Type",
-        "none",
-        Patterns::Selection("none|neumann|function|equilibrium|hertz|patch"),
-        "'neumann': the similarity solution of the (multi-)phase Stefan "
-        "problem of one body's material on x > Origin with Theta = Hot "
-        "temperature at x = Origin and Cold temperature initially (a "
-        "rectangle; front positions are reported too). 'function': the "
-        "temperature given by Function. 'equilibrium': an insulated system "
-        "without sources tends to the uniform temperature T_f with "
-        "sum_b |body b| H_b(T_f) = its initial enthalpy; the run reports how far "
-        "it is from T_f at the end. 'hertz': a rigid cylinder of Cylinder "
-        "radius pressed into body Body through its obstacle boundary (the "
-        "Hertz half-plane solution for the computed force). 'patch': the C2 "
-        "patch test of stacked blocks (top pushed down by Patch displacement; "
-        "the blocks' heights come from the mesh). Errors against it are reported as RESULT lines.");
-      prm.declare_entry("Cylinder radius", "1", Patterns::Double(0), "Hertz: R (m).");
-      prm.declare_entry("Patch displacement",
-                        "0",
-                        Patterns::Double(),
-                        "Patch test: downward displacement delta of the top (m).");
-      prm.declare_entry("Function",
-                        "0",
-                        Patterns::Anything(),
-                        "Type = function: the exact temperature, a function of x, y, t.");
-      prm.declare_entry("Body",
-                        "0",
-                        Patterns::Integer(0, 255),
-                        "The body whose material defines the exact solution.");
-      prm.declare_entry("Hot temperature",
-                        "1",
-                        Patterns::Double(),
-                        "T_L, above the highest transition temperature.");
-      prm.declare_entry("Cold temperature",
-                        "-1",
-                        Patterns::Double(),
-                        "T_S, at or below the lowest transition temperature.");
-      prm.declare_entry("Origin", "0", Patterns::Double(), "x coordinate of the hot wall.");
-      prm.declare_entry("Stress",
-                        "",
-                        Patterns::Anything(),
-                        "Empty, or the exact stress sigma_xx; sigma_yy; sigma_xy; sigma_zz "
-                        "(Pa, functions of x, y, t; thermal part included): the run reports "
-                        "the stress error at every step (any Type).");
-      prm.declare_entry("Liquid fraction",
-                        "",
-                        Patterns::Anything(),
-                        "Empty, or the exact liquid fraction (fraction through the last "
-                        "transition) at every node, a function of x, y, t: the run reports "
-                        "its largest nodal error over the steps (any Type).");
-      prm.declare_entry("Section normal force",
-                        "",
-                        Patterns::Anything(),
-                        "Empty, or the exact normal force (N/m) across the lines of "
-                        "'Output/Section lines', a function of x, y, t evaluated at (c, 0) "
-                        "for the line x = c and at (0, c) for y = c: the run reports the "
-                        "largest error of the section forces of the cell-centre stresses "
-                        "and of the recovered nodal stresses over the lines, their sides and "
-                        "the steps, relative to the largest exact force (any Type).");
-      prm.declare_entry("Contact pressure",
-                        "",
-                        Patterns::Anything(),
-                        "Empty, or the exact contact pressure on every obstacle and "
-                        "interface node (Pa, function of x, y, t; 0 where open): the run "
-                        "reports the pressure error at every step (any Type).");
-      prm.leave_subsection();
-    }
-
-    void ExactSolution::parse(ParameterHandler &prm)
-    {
-      prm.enter_subsection("Exact solution");
-      type_name               = prm.get("Type");
-      type                    = type_name == "neumann"     ? Type::neumann :
-                                type_name == "function"    ? Type::function :
-                                type_name == "equilibrium" ? Type::equilibrium :
-                                type_name == "hertz"       ? Type::hertz :
-                                type_name == "patch"       ? Type::patch :
-                                                             Type::none;
-      function                = prm.get("Function");
-      body                    = prm.get_integer("Body");
-      hot_temperature         = get_finite(prm, "Exact solution/", "Hot temperature");
-      cold_temperature        = get_finite(prm, "Exact solution/", "Cold temperature");
-      origin                  = get_finite(prm, "Exact solution/", "Origin");
-      cylinder_radius         = get_finite(prm, "Exact solution/", "Cylinder radius");
-      patch_displacement      = get_finite(prm, "Exact solution/", "Patch displacement");
-      const std::string sigma = prm.get("Stress");
-      stress =
-        sigma.empty() ? std::vector<std::string>() : Utilities::split_string_list(sigma, ';');
-      contact_pressure     = prm.get("Contact pressure");
-      liquid_fraction      = prm.get("Liquid fraction");
-      section_normal_force = prm.get("Section normal force");
-      prm.leave_subsection();
-      if (!section_normal_force.empty())
-        check_function(section_normal_force, "Exact solution/Section normal force", false);
-      require(
-        stress.empty() || stress.size() == 4,
-        "Exact solution/Stress",
-        "needs four functions (sigma_xx, sigma_yy, sigma_xy, sigma_zz) separated by semicolons");
-      for (const auto &f : stress)
-        check_function(f, "Exact solution/Stress", false);
-      if (!contact_pressure.empty())
-        check_function(contact_pressure, "Exact solution/Contact pressure", false);
-      if (!liquid_fraction.empty())
-        check_function(liquid_fraction, "Exact solution/Liquid fraction", false);
-    }
   } // namespace Parameters
 
 
@@ -641,7 +533,6 @@ namespace ContactStefan
     prm.leave_subsection();
 
     Parameters::InitialCondition::declare(prm);
-    Parameters::ExactSolution::declare(prm);
     Parameters::TimeStepping::declare(prm);
     for (const OwnerSection &owner : owners)
       owner.declare(prm);
@@ -755,10 +646,6 @@ namespace ContactStefan
       }
 
     geometry.parse(prm, prm_directory);
-    exact_solution.parse(prm);
-    using Exact = Parameters::ExactSolution::Type;
-    const bool exact =
-      exact_solution.type == Exact::neumann || exact_solution.type == Exact::function;
 
     prm.enter_subsection("Materials");
     for (const unsigned int id : body_ids)
@@ -775,10 +662,11 @@ namespace ContactStefan
         const std::string path = "Boundary conditions/" + boundary_section(id);
         prm.enter_subsection(boundary_section(id));
         thermal_boundaries[id].parse(prm, path);
+        // ('exact': checked with the parts, check_exact_keywords().)
         check_function(thermal_boundaries[id].value,
                        path + "/Value",
-                       exact && thermal_boundaries[id].type ==
-                                  Parameters::ThermalBoundary::Type::temperature);
+                       thermal_boundaries[id].type ==
+                         Parameters::ThermalBoundary::Type::temperature);
         prm.leave_subsection();
       }
     for (const unsigned int id : mechanical_ids)
@@ -805,11 +693,7 @@ namespace ContactStefan
     coupling.parse(prm);
 
     initial_condition.parse(prm);
-    check_function(initial_condition.function, "Initial conditions/Function", exact);
-    require(!(exact && is_exact_keyword(initial_condition.function) &&
-              initial_condition.variable != Parameters::InitialCondition::Variable::temperature),
-            "Initial conditions/Variable",
-            "must be 'temperature' when Function = exact");
+    check_function(initial_condition.function, "Initial conditions/Function", true);
 
     time.parse(prm);
     for (const OwnerSection &owner : owners)
@@ -822,64 +706,18 @@ namespace ContactStefan
 
 
 
-  // Checks across subsections, once everything is parsed: what the exact
-  // solutions, the geometry and the physics switches require of each other.
+  // Checks across subsections, once everything is parsed: what the geometry,
+  // the physics switches and the coupling require of each other (each exact
+  // solution checks itself: output/part.h).
+
   void SceneParameters::check_consistency() const
   {
-    using Exact = Parameters::ExactSolution::Type;
-    if (exact_solution.type == Exact::hertz)
-      require(exact_solution.cylinder_radius > 0,
-              "Exact solution/Cylinder radius",
-              "must be > 0 for the Hertz solution, got " + str(exact_solution.cylinder_radius));
     if (geometry.mesh_type == Parameters::Geometry::MeshType::rectangle)
       require(geometry.layer_interfaces.size() + 1 == body_ids.size(),
               "Bodies/Body ids",
               "a rectangle with " + std::to_string(geometry.layer_interfaces.size()) +
                 " layer interfaces has bodies 0.." +
                 std::to_string(geometry.layer_interfaces.size()));
-
-    if (exact_solution.type == Exact::hertz || exact_solution.type == Exact::patch)
-      require(physics.mechanics,
-              "Exact solution/Type",
-              "'" + exact_solution.type_name + "' needs Physics/Mechanics = true");
-    if (exact_solution.type == Exact::equilibrium)
-      {
-        for (const auto &[id, bc] : thermal_boundaries)
-          require(bc.type == Parameters::ThermalBoundary::Type::flux &&
-                    is_zero_expression(bc.value),
-                  "Exact solution/Type",
-                  "'equilibrium' needs insulated boundaries (boundary " + std::to_string(id) +
-                    " is not)");
-        for (const auto &[id, m] : materials)
-          require(is_zero_expression(m.heat_source),
-                  "Exact solution/Type",
-                  "'equilibrium' needs no heat source (body " + std::to_string(id) + " has one)");
-      }
-    if (exact_solution.type == Exact::neumann || exact_solution.type == Exact::function ||
-        exact_solution.type == Exact::equilibrium)
-      require(physics.thermal,
-              "Exact solution/Type",
-              "'" + exact_solution.type_name + "' needs Physics/Thermal = true");
-    if (exact_solution.type == Exact::hertz || exact_solution.type == Exact::patch)
-      {
-        require(materials.count(exact_solution.body) == 1,
-                "Exact solution/Body",
-                "body " + std::to_string(exact_solution.body) + " is not in Bodies/Body ids");
-        // Both closed-form solutions need materials without shear-extension
-        // coupling (C16 = C26 = 0): otherwise no uniform state fits the rollers.
-        for (const auto &[id, m] : materials)
-          require(m.elasticity != Parameters::BodyMaterial::Elasticity::anisotropic ||
-                    (m.voigt[2] == 0 && m.voigt[4] == 0),
-                  "Materials/Body " + std::to_string(id) + "/Elasticity tensor",
-                  "the '" + exact_solution.type_name + "' solution needs C16 = C26 = 0");
-      }
-    require((exact_solution.stress.empty() && exact_solution.contact_pressure.empty()) ||
-              physics.mechanics,
-            "Exact solution/Stress",
-            "an exact stress or contact pressure needs Physics/Mechanics = true");
-    require(exact_solution.liquid_fraction.empty() || physics.thermal,
-            "Exact solution/Liquid fraction",
-            "an exact liquid fraction needs Physics/Thermal = true");
     // The coupling: what it needs of the temperature unit and of the phases.
     if (thermoelastic_heating_active())
       require(coupling.temperature_scale != Parameters::Coupling::TemperatureScale::unspecified,
@@ -904,8 +742,22 @@ namespace ContactStefan
                     " (a near-liquid phase must keep some stiffness: the elastic problem "
                     "would be singular to round-off)");
       }
-    if (exact_solution.type == Exact::function)
-      check_function(exact_solution.function, "Exact solution/Function", false);
+  }
+
+
+
+  void SceneParameters::check_exact_keywords(const bool exact_temperature) const
+  {
+    for (const auto &[id, bc] : thermal_boundaries)
+      if (bc.type == Parameters::ThermalBoundary::Type::temperature)
+        check_function(bc.value,
+                       "Boundary conditions/" + boundary_section(id) + "/Value",
+                       exact_temperature);
+    check_function(initial_condition.function, "Initial conditions/Function", exact_temperature);
+    require(!(is_exact_keyword(initial_condition.function) &&
+              initial_condition.variable != Parameters::InitialCondition::Variable::temperature),
+            "Initial conditions/Variable",
+            "must be 'temperature' when Function = exact");
   }
 
 

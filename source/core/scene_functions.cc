@@ -111,10 +111,7 @@ namespace ContactStefan
     , provided_exact(std::move(provided))
   {
     assert_two_dimensional<dim>();
-    using Exact = Parameters::ExactSolution::Type;
-    AssertThrow(prm.exact_solution.type != Exact::neumann || provided_exact,
-                ExcMessage("Exact solution/Type = neumann: no exact temperature was provided"));
-    if (prm.exact_solution.type == Exact::neumann || prm.exact_solution.type == Exact::function)
+    if (provided_exact)
       exact = checked(make_exact(), "Exact solution/Function");
 
     for (const auto &[id, m] : prm.materials)
@@ -163,17 +160,6 @@ namespace ContactStefan
     reference =
       checked(parse<dim>({prm.coupling.reference_temperature}), "Coupling/Reference temperature");
     reference->set_time(prm.time.start_time);
-    if (!prm.exact_solution.stress.empty())
-      stress = checked(parse<dim>(prm.exact_solution.stress), "Exact solution/Stress");
-    if (!prm.exact_solution.liquid_fraction.empty())
-      liquid =
-        checked(parse<dim>({prm.exact_solution.liquid_fraction}), "Exact solution/Liquid fraction");
-    if (!prm.exact_solution.contact_pressure.empty())
-      pressure = checked(parse<dim>({prm.exact_solution.contact_pressure}),
-                         "Exact solution/Contact pressure");
-    if (!prm.exact_solution.section_normal_force.empty())
-      section_force = checked(parse<dim>({prm.exact_solution.section_normal_force}),
-                              "Exact solution/Section normal force");
   }
 
 
@@ -181,9 +167,27 @@ namespace ContactStefan
   template <int dim>
   std::unique_ptr<Function<dim>> SceneFunctions<dim>::make_exact() const
   {
-    if (provided_exact)
-      return provided_exact();
-    return parse<dim>({prm.exact_solution.function});
+    AssertThrow(provided_exact, ExcMessage("'exact' is used without an exact temperature"));
+    return provided_exact();
+  }
+
+
+
+  template <int dim>
+  std::unique_ptr<Function<dim>>
+  SceneFunctions<dim>::checked_expression(const std::vector<std::string> &expressions,
+                                          const std::string              &parameter) const
+  {
+    return checked(parse<dim>(expressions), parameter);
+  }
+
+
+
+  template <int dim>
+  std::unique_ptr<Function<dim>>
+  SceneFunctions<dim>::expression(const std::vector<std::string> &expressions)
+  {
+    return parse<dim>(expressions);
   }
 
 

@@ -1,7 +1,6 @@
 // Reading a run's parameters: the scene and its owners' subsections
 // (coupling/all_parameters.h).
 #include <contact-stefan/coupling/all_parameters.h>
-#include <contact-stefan/verification/neumann_check.h>
 
 #include <cmath>
 
@@ -29,7 +28,9 @@ namespace ContactStefan
             section_of(&contact_step),
             section_of(&refinement),
             section_of(&checkpoint),
-            section_of(&output)};
+            section_of(&output),
+            {[](ParameterHandler &prm) { declare_part_parameters(prm); },
+             [this](ParameterHandler &prm) { parts = select_parts(prm, *this); }}};
   }
 
 
@@ -37,9 +38,18 @@ namespace ContactStefan
   void AllParameters::read(const std::string &filename)
   {
     SceneParameters::read(filename, owner_sections());
-    if (exact_solution.type == Parameters::ExactSolution::Type::neumann)
-      check_neumann_scene(*this);
+    check_exact_keywords(static_cast<bool>(exact_temperature()));
     check_owner_consistency();
+  }
+
+
+
+  std::function<std::unique_ptr<Function<2>>()> AllParameters::exact_temperature() const
+  {
+    for (const auto &[part, parameters] : parts)
+      if (auto temperature = parameters->exact_temperature())
+        return temperature;
+    return {};
   }
 
 
@@ -85,9 +95,6 @@ namespace ContactStefan
     require(output.section_lines.empty() || physics.mechanics,
             "Output/Section lines",
             "section forces need Physics/Mechanics = true");
-    require(exact_solution.section_normal_force.empty() || !output.section_lines.empty(),
-            "Exact solution/Section normal force",
-            "needs at least one line in 'Output/Section lines'");
     // The disk-in-ring nodes lie on the circles only as generated: refined cells
     // would put theirs on the chords (no manifold is attached).
     if (geometry.mesh_type == Parameters::Geometry::MeshType::disk_in_ring)

@@ -242,42 +242,6 @@ namespace ContactStefan
     };
 
     // A closed-form solution the run is compared against.
-    struct ExactSolution
-    {
-      // "none"; "neumann": the Neumann similarity solution of the body's
-      // (multi-)phase Stefan problem on x > x0, melting from x = x0; "function":
-      // a given Theta(x, y, t), e.g. a manufactured or steady solution.
-      enum class Type
-      {
-        none,
-        neumann,
-        function,
-        equilibrium,
-        hertz,
-        patch
-      } type;
-      std::string  type_name; // as written in the file, for messages
-      std::string  function;
-      unsigned int body;
-      double       hot_temperature, cold_temperature, origin;
-      // "hertz": a rigid cylinder of this radius; "patch": stacked blocks pushed
-      // down by delta (the C2 patch test).
-      double cylinder_radius, patch_displacement;
-      // Independent of Type: an exact stress (sigma_xx, sigma_yy, sigma_xy,
-      // sigma_zz, functions of x, y, t) and an exact contact pressure on the
-      // obstacles and interfaces (a function of x, y, t); empty if none.
-      std::vector<std::string> stress;
-      std::string              contact_pressure;
-      // Also independent of Type: the exact liquid fraction (x, y, t); empty if none.
-      std::string liquid_fraction;
-      // And the exact normal force across every 'Output/Section lines' line, a
-      // function of t (N/m); empty if none.
-      std::string section_normal_force;
-
-      static void declare(ParameterHandler &prm);
-      void        parse(ParameterHandler &prm);
-    };
-
     struct TimeStepping
     {
       double       start_time, end_time, time_step;
@@ -343,8 +307,7 @@ namespace ContactStefan
     std::map<std::pair<unsigned int, unsigned int>, Parameters::InterfacePair> interface_pairs;
     Parameters::Coupling                                   coupling;
     Parameters::Physics                                    physics;
-    Parameters::InitialCondition                           initial_condition;
-    Parameters::ExactSolution                              exact_solution;
+    Parameters::InitialCondition                                               initial_condition;
     Parameters::TimeStepping                               time;
     // Every parameter that determines the solution, as text (all entries in
     // canonical order, without the subsections Checkpoint and Output and
@@ -370,6 +333,13 @@ namespace ContactStefan
     void read(const std::string &filename, const std::vector<OwnerSection> &owners = {});
     /** The checks across the scene's subsections (part of read()). */
     void check_consistency() const;
+    /**
+     * The keyword 'exact' in a temperature boundary's Value or in the initial
+     * condition stands for an exact temperature, which a verification part
+     * gives (exact_temperature: there is one); throws InputError naming the
+     * entry where there is none. Called by whoever reads the parts.
+     */
+    void check_exact_keywords(const bool exact_temperature) const;
 
     // Both physics on, some body with a thermal stress tensor beta != 0, and the
     // direction switched on: the coupling terms that a run assembles.

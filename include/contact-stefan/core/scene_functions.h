@@ -34,9 +34,10 @@ namespace ContactStefan
   public:
     /**
      * An exact temperature that a verification part provides (Exact
-     * solution/Type = neumann: verification/neumann_check.h), as a factory of
-     * fresh copies, each user setting its own time. The scene's own 'Exact
-     * solution/Function' (Type = function) needs none.
+     * solution/Type = neumann or function: verification/neumann.cc,
+     * verification/function.cc), as a factory of fresh copies, each user
+     * setting its own time. The keyword 'exact' in a function entry stands for
+     * it.
      */
     using ExactTemperature = std::function<std::unique_ptr<Function<dim>>()>;
 
@@ -61,7 +62,7 @@ namespace ContactStefan
     {
       return *initial;
     }
-    // The exact temperature (Exact solution/Type = neumann or function), or null.
+    // The exact temperature a verification part provided, or null.
     Function<dim> *exact_temperature()
     {
       return exact.get();
@@ -86,38 +87,27 @@ namespace ContactStefan
     {
       return *interface_gaps.at({std::min(a, b), std::max(a, b)});
     }
-    // --- coupling and mechanical exact solutions ----------------------------------
+    // --- coupling -----------------------------------------------------------------
     // Theta_0(x, y) in the scene's temperature unit (evaluated at the start time).
     Function<dim> &reference_temperature()
     {
       return *reference;
     }
-    // Exact sigma_xx, sigma_yy, sigma_xy, sigma_zz, or null.
-    Function<dim> *exact_stress()
-    {
-      return stress.get();
-    }
-    // Exact liquid fraction, or null.
-    Function<dim> *exact_liquid_fraction()
-    {
-      return liquid.get();
-    }
-    // Exact contact pressure, or null.
-    Function<dim> *exact_contact_pressure()
-    {
-      return pressure.get();
-    }
-    // Exact normal force across the section lines (a function of t), or null.
-    Function<dim> *exact_section_normal_force()
-    {
-      return section_force.get();
-    }
-
     // Some body force or some traction is not identically zero.
     bool mechanical_load_present() const
     {
       return mechanical_load;
     }
+
+    /**
+     * A function of the expressions (one per component, of x, y, t, with pi)
+     * whose every value is checked like the scene's own (check_finite_values()
+     * names parameter): for a part's exact data, e.g. 'Exact solution/Stress'.
+     */
+    std::unique_ptr<Function<dim>> checked_expression(const std::vector<std::string> &expressions,
+                                                      const std::string &parameter) const;
+    /** The same without the check (parsed once; the caller checks its values). */
+    static std::unique_ptr<Function<dim>> expression(const std::vector<std::string> &expressions);
 
     // Collective: if any function on any rank returned a non-finite value since
     // the start, throw InputError on every rank naming the parameter, the point
@@ -151,7 +141,7 @@ namespace ContactStefan
     ExactTemperature                 provided_exact;
     std::unique_ptr<Function<dim>>                                                  exact, initial;
     std::map<std::pair<unsigned int, unsigned int>, std::unique_ptr<Function<dim>>> interface_gaps;
-    std::unique_ptr<Function<dim>>   reference, stress, pressure, liquid, section_force;
+    std::unique_ptr<Function<dim>>                                                  reference;
     std::map<unsigned int, std::unique_ptr<Function<dim>>> heat_sources, thermal_boundaries;
     std::map<unsigned int, std::unique_ptr<Function<dim>>> body_forces, mechanical_values,
       obstacle_gaps;

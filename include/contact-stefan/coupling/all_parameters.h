@@ -6,12 +6,14 @@
 //   Mesh refinement             mesh/refinement_parameters.h
 //   Output                      output/output_parameters.h
 //   Checkpoint                  coupling/checkpoint_parameters.h
+//   Exact solution              each part's own file (coupling/part_registry.h)
 // The checks that tie an owner's entries to the scene's are made here.
 #ifndef contact_stefan_all_parameters_h
 #define contact_stefan_all_parameters_h
 
 #include <contact-stefan/core/parameters.h>
 #include <contact-stefan/coupling/checkpoint_parameters.h>
+#include <contact-stefan/coupling/part_registry.h>
 #include <contact-stefan/linear_algebra/linear_solver_parameters.h>
 #include <contact-stefan/mechanics/contact_step_parameters.h>
 #include <contact-stefan/mesh/refinement_parameters.h>
@@ -29,6 +31,14 @@ namespace ContactStefan
     Parameters::Refinement    refinement;
     Parameters::Checkpoint    checkpoint;
     Parameters::Output        output;
+    /** The parts of the report this scene uses, with their parameters. */
+    PartSelection parts;
+
+    /**
+     * The exact temperature a part gives the scene (Exact solution/Type =
+     * neumann or function), or empty.
+     */
+    std::function<std::unique_ptr<Function<2>>()> exact_temperature() const;
 
     /** Read and check a parameter file; throws InputError. */
     void read(const std::string &filename);

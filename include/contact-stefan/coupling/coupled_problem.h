@@ -27,7 +27,6 @@
 #include <contact-stefan/output/postprocessor.h>
 #include <contact-stefan/output/run_guard.h>
 #include <contact-stefan/thermal/thermal_field.h>
-#include <contact-stefan/verification/neumann_check.h>
 
 #include <memory>
 #include <string>
@@ -122,7 +121,6 @@ namespace ContactStefan
     const Materials                       materials;
     // The exact solution of a Neumann scene (else null), provided to the scene
     // functions and the postprocessor.
-    const std::unique_ptr<const NeumannSolution> neumann;
     SceneFunctions<dim>                          functions;
     std::unique_ptr<Postprocessor<dim>>   postprocessor;
     std::unique_ptr<ThermalField<dim>>    thermal;    // null: Physics/Thermal = false

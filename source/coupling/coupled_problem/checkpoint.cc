@@ -66,7 +66,7 @@ namespace ContactStefan
   // started with; 6: the largest von Mises stress over the steps; 7: the
   // parameters include the laws per interface, Contact/Interface k-l), so
   // that an older checkpoint is refused by name, not misread.
-  const std::string checkpoint_format = "contact-stefan checkpoint 7";
+  const std::string checkpoint_format = "contact-stefan checkpoint 8";
 
   namespace
   {

@@ -30,16 +30,10 @@ namespace ContactStefan
     , timer(pcout, TimerOutput::never, TimerOutput::wall_times)
     , triangulation(mpi_communicator)
     , materials(parameters)
-    , neumann(parameters.exact_solution.type == Parameters::ExactSolution::Type::neumann ?
-                std::make_unique<const NeumannSolution>(neumann_solution(parameters)) :
-                nullptr)
-    , functions(parameters,
-                neumann ? neumann_temperature<dim>(*neumann, parameters.exact_solution.origin) :
-                          typename SceneFunctions<dim>::ExactTemperature())
+    , functions(parameters, parameters.exact_temperature())
     , postprocessor(std::make_unique<Postprocessor<dim>>(prm,
                                                          prm.output,
                                                          prm.refinement.adaptive(),
-                                                         neumann.get(),
                                                          materials,
                                                          functions,
                                                          triangulation,
@@ -69,7 +63,7 @@ namespace ContactStefan
                                                           triangulation,
                                                           timer,
                                                           pcout);
-    postprocessor->attach(thermal.get(), mechanical.get());
+    postprocessor->attach(thermal.get(), mechanical.get(), prm.parts);
   }
 
 

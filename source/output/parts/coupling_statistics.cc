@@ -1,0 +1,85 @@
+// Part 'coupling statistics' (scenes with both fields): the coupling's columns
+// of the statistics table (passes per step, thermoelastic heat, cells
+// re-stiffened for a phase change) and its RESULT lines over the run.
+#include <contact-stefan/output/part.h>
+
+namespace ContactStefan
+{
+  namespace
+  {
+    struct CouplingState
+    {
+      unsigned int total_iterations = 0, max_iterations = 0, reassembled_cells = 0;
+      double       total_thermoelastic_heat = 0;
+
+      template <class Archive>
+      void serialize(Archive &ar, const unsigned int)
+      {
+        ar &total_iterations &max_iterations &reassembled_cells &total_thermoelastic_heat;
+      }
+    };
+
+    template <int dim>
+    class CouplingStatistics : public PartWithState<dim, CouplingState>
+    {
+    public:
+      using PartWithState<dim, CouplingState>::PartWithState;
+      using Slot = ResultLines::Slot;
+
+      void update(const StepData &data) override
+      {
+        CouplingState &s = this->state;
+        s.total_iterations += data.coupling.iterations;
+        s.max_iterations = std::max(s.max_iterations, data.coupling.iterations);
+        s.reassembled_cells += data.coupling.reassembled_cells;
+        s.total_thermoelastic_heat += data.thermal.thermoelastic_heat;
+      }
+
+      void add_columns(StatisticsRow &row, const StepData &data) const override
+      {
+        row.count("coupling_iterations",
+                  "passes of contact and enthalpy step (1: staggered)",
+                  data.coupling.iterations);
+        row.real("thermoelastic_heat",
+                 "J/m",
+                 "heat released by the step's strain increment, per unit thickness (> 0 under "
+                 "compression)",
+                 "%.10e",
+                 data.thermal.thermoelastic_heat);
+        row.count("restiffened_cells",
+                  "cells whose stiffness was re-assembled for a phase change",
+                  data.coupling.reassembled_cells);
+      }
+
+      void
+      add_results(ResultLines &results, const unsigned int n_steps, const double) const override
+      {
+        const CouplingState &s = this->state;
+        results.add(Slot::coupling, "max coupling iterations", s.max_iterations);
+        results.add(Slot::coupling,
+                    "mean coupling iterations",
+                    n_steps > 0 ? double(s.total_iterations) / n_steps : 0.);
+        results.add(Slot::coupling, "total thermoelastic heat", s.total_thermoelastic_heat);
+        results.add(Slot::coupling, "cells re-stiffened for a phase change", s.reassembled_cells);
+      }
+    };
+  } // namespace
+
+
+
+  PartInfo coupling_statistics_part()
+  {
+    PartInfo info;
+    info.name        = "coupling statistics";
+    info.description = "The coupling's columns and RESULT lines (Physics/Thermal and Mechanics).";
+    info.parse       = [](ParameterHandler &, const SceneParameters &scene, const bool) {
+      return scene.physics.thermal && scene.physics.mechanics ?
+                     std::make_shared<const PartParameters>() :
+                     nullptr;
+    };
+    info.create = [](const RunContext<2> &run, const PartParameters &) {
+      return std::unique_ptr<Part<2>>(std::make_unique<CouplingStatistics<2>>(run));
+    };
+    return info;
+  }
+} // namespace ContactStefan
