@@ -13,7 +13,7 @@ for argument in "$@"; do
   if [[ "$argument" == SET:* ]]; then
     entry=${argument#SET:} path=${entry%%=*} value=${entry#*=}
     # '<semicolon>' stands for ';' (a ';' would split the argument in CMake's lists on
-    # its way from tests/CMakeLists.txt to the test).
+    # its way from tests/cmake/*.cmake to the test).
     value=${value//'<semicolon>'/;}
     section=${path%/*} key=${path##*/}
     # The subsection path of each line as deal.II reads it (a comment from

@@ -30,7 +30,7 @@ is limited to --memory-limit MiB of address space, 1 GiB files and no core file.
 It prints one FAIL line per failure, then
   mutations: N  refused: R  ran: A  ran with warnings (exit 0 or 3): W  clean: C  failed: F
   C passed, F failed
-and exits 1 if F > 0. In ctest (tests/CMakeLists.txt):
+and exits 1 if F > 0. In ctest (tests/cmake/guards.cmake):
   add_test(NAME mutation COMMAND /usr/bin/python3 ${T}/mutation_test.py
            --binary ${BIN} --source-dir ${CMAKE_SOURCE_DIR} --cmake ${CMAKE_COMMAND})
   set_tests_properties(mutation PROPERTIES PROCESSORS 2 TIMEOUT 900)

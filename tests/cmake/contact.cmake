@@ -1,0 +1,204 @@
+# Tests: the contact step.
+# Included by tests/CMakeLists.txt (BIN, T, P and the helper functions are set there
+# or in the files included before this one).
+
+# --- contact ------------------------------------------------------------------------
+# C2 patch test: Q1 reproduces the uniform stress to round-off, every interface
+# node in contact; two ranks give the same statistics.
+set(PATCH_BOUNDS
+  "RESULT patch stress relative error<1e-10"
+  "RESULT patch pressure relative error<1e-10"
+  "RESULT patch interface nodes active>8"
+  "RESULT max contact iterations<3")
+scene(contact/patch-C2 1 ${P}/patch_C2.prm patch_C2 ${PATCH_BOUNDS})
+scene(contact/patch-C2-mpi2 2 ${P}/patch_C2.prm patch_C2 ${PATCH_BOUNDS})
+# CG with ML AMG built for the rigid-body modes of both bodies: the same exact
+# patch solution as the direct solver, serial and on 2 ranks.
+scene(contact/patch-C2-cg-amg 1 ${P}/patch_C2.prm patch_C2_cg_amg
+  "SET:Solver/Linear solver=cg-amg" "SET:Solver/CG tolerance=1e-12" ${PATCH_BOUNDS})
+scene(contact/patch-C2-cg-amg-mpi2 2 ${P}/patch_C2.prm patch_C2_cg_amg
+  "SET:Solver/Linear solver=cg-amg" "SET:Solver/CG tolerance=1e-12" ${PATCH_BOUNDS})
+# The contact block of benchmarks/ (N = 32) with CG + AMG: inexact solves while
+# the active set changes (5 sets from the cold start), the hierarchy recomputed
+# on its aggregates, one tight solve on the settled set. The force must be the
+# direct solver's 1.379839892e-2 to 1e-9 relative, on 1 and 2 ranks.
+set(BLOCK_BOUNDS
+  "RESULT contact force boundary 2>0.013798398906"
+  "RESULT contact force boundary 2<0.013798398934"
+  "RESULT calls contact step: linear solve<7"
+  "RESULT elasticity solver: max CG iterations per solve<20")
+scene(contact/block-cg-amg 1 ${CMAKE_SOURCE_DIR}/benchmarks/scenes/contact_block.prm
+  contact_block_cg_amg "SET:Solver/Linear solver=cg-amg" ${BLOCK_BOUNDS})
+scene(contact/block-cg-amg-mpi2 2 ${CMAKE_SOURCE_DIR}/benchmarks/scenes/contact_block.prm
+  contact_block_cg_amg "SET:Solver/Linear solver=cg-amg" ${BLOCK_BOUNDS})
+# The reuse limit (16 contact-set changes): at N = 128 the first set change
+# after the cold start activates 65 nodes, and the kept hierarchy of the cold
+# start is recomputed for the new set instead of preconditioning it: no CG
+# solve above 16 iterations (19 without the limit, and the largest solve grew
+# by about 30 % per doubling of N; doc/performance.md).
+scene(contact/block-cg-amg-reuse-limit 1 ${CMAKE_SOURCE_DIR}/benchmarks/scenes/contact_block.prm
+  contact_block_128_cg_amg "SET:Solver/Linear solver=cg-amg" "SET:Geometry/Subdivisions=128, 128"
+  "RESULT contact force boundary 2>0.013788972735"
+  "RESULT contact force boundary 2<0.013788972745"
+  "RESULT elasticity solver: max CG iterations per solve<17"
+  "RESULT elasticity solver: AMG recomputations>0")
+# Without the limit: the same force, a hierarchy kept across the cold start's
+# set change (and rebuilt when CG slowed down).
+scene(contact/block-cg-amg-no-reuse-limit 1 ${CMAKE_SOURCE_DIR}/benchmarks/scenes/contact_block.prm
+  contact_block_128_cg_amg "SET:Solver/Linear solver=cg-amg"
+  "SET:Geometry/Subdivisions=128, 128" "SET:Solver/Elasticity AMG reuse limit=0"
+  "RESULT contact force boundary 2>0.013788972735"
+  "RESULT contact force boundary 2<0.013788972745"
+  "RESULT elasticity solver: AMG recomputations<1")
+# The hierarchy recomputed for every contact set (the automatic choice keeps
+# the first one for all), or built afresh every time: the same force.
+scene(contact/block-cg-amg-recompute 1 ${CMAKE_SOURCE_DIR}/benchmarks/scenes/contact_block.prm
+  contact_block_cg_amg "SET:Solver/Linear solver=cg-amg" "SET:Solver/AMG update=recompute"
+  ${BLOCK_BOUNDS})
+# deal.II's aggregation threshold (the default before the fifth session): the
+# same force and reference, so the threshold changes the preconditioner only.
+scene(contact/block-cg-amg-threshold 1 ${CMAKE_SOURCE_DIR}/benchmarks/scenes/contact_block.prm
+  contact_block_cg_amg "SET:Solver/Linear solver=cg-amg"
+  "SET:Solver/Elasticity AMG aggregation threshold=1e-4" ${BLOCK_BOUNDS})
+scene(contact/block-cg-amg-rebuild-mpi2 2 ${CMAKE_SOURCE_DIR}/benchmarks/scenes/contact_block.prm
+  contact_block_cg_amg "SET:Solver/Linear solver=cg-amg" "SET:Solver/AMG update=rebuild"
+  ${BLOCK_BOUNDS})
+# The same isotropic tensor given by Lame parameters and as an anisotropic Voigt
+# tensor (E = 1, nu = 0.3: lambda = 0.5769230769, mu = 0.3846153846).
+set(LAME "SET:Materials/Body 0/Elasticity=lame" "SET:Materials/Body 1/Elasticity=lame"
+  "SET:Materials/Body 0/Lame lambda=0.576923076923077"
+  "SET:Materials/Body 1/Lame lambda=0.576923076923077"
+  "SET:Materials/Body 0/Lame mu=0.384615384615385" "SET:Materials/Body 1/Lame mu=0.384615384615385")
+scene(contact/patch-C2-lame 1 ${P}/patch_C2.prm patch_C2_lame ${LAME} ${PATCH_BOUNDS})
+set(ISOTROPIC_VOIGT
+  "1.346153846153846, 0.576923076923077, 0, 1.346153846153846, 0, 0.384615384615385")
+set(VOIGT "SET:Materials/Body 0/Elasticity=anisotropic"
+  "SET:Materials/Body 1/Elasticity=anisotropic"
+  "SET:Materials/Body 0/Elasticity tensor=${ISOTROPIC_VOIGT}"
+  "SET:Materials/Body 1/Elasticity tensor=${ISOTROPIC_VOIGT}")
+scene(contact/patch-C2-voigt 1 ${P}/patch_C2.prm patch_C2_voigt ${VOIGT} ${PATCH_BOUNDS})
+# Blocks of different stiffness (E = 1 below, 2 above: springs in series) and an
+# orthotropic tensor (C11 != C22, so a swapped index would show).
+scene(contact/patch-C2-stiff-upper 1 ${P}/patch_C2.prm patch_C2_stiff_upper
+  "SET:Materials/Body 1/Youngs modulus=2" ${PATCH_BOUNDS})
+set(ORTHO "2, 0.5, 0, 1, 0, 0.4")
+scene(contact/patch-C2-orthotropic 1 ${P}/patch_C2.prm patch_C2_orthotropic
+  "SET:Materials/Body 0/Elasticity=anisotropic" "SET:Materials/Body 1/Elasticity=anisotropic"
+  "SET:Materials/Body 0/Elasticity tensor=${ORTHO}"
+  "SET:Materials/Body 1/Elasticity tensor=${ORTHO}"
+  ${PATCH_BOUNDS})
+# Tied interface: the glued blocks carry the same uniform stress.
+scene(contact/patch-C2-tied 1 ${P}/patch_C2.prm patch_C2_tied
+  "SET:Contact/Interfaces=tied" "RESULT patch stress relative error<1e-10")
+# A partly open interface (gap 0.02 for x < 0.6, closed beyond): a mixture of
+# active and inactive interface nodes; 2 ranks must agree with 1.
+set(PARTLY_OPEN "SET:Contact/Interface gap=if(x < 0.6, 0.02, 0)")
+scene(contact/partly-open-interface 1 ${P}/patch_C2.prm patch_C2_partly_open ${PARTLY_OPEN}
+  "RESULT max contact iterations<5" "RESULT patch min interface gap>-1e-14")
+scene(contact/partly-open-interface-mpi2 2 ${P}/patch_C2.prm patch_C2_partly_open ${PARTLY_OPEN}
+  "RESULT max contact iterations<5")
+# Hertz with a small refined zone on 8 ranks: hanging nodes next to contact nodes
+# on ranks that do not own them (constraints must agree between ranks).
+set(SMALL_ZONE "SET:Mesh refinement/Pre-refinement radius=0.02")
+scene(contact/hertz-C1-small-zone 1 ${P}/hertz_C1.prm hertz_C1_small_zone ${SMALL_ZONE}
+  "RESULT max contact iterations<6")
+scene(contact/hertz-C1-small-zone-mpi8 8 ${P}/hertz_C1.prm hertz_C1_small_zone ${SMALL_ZONE}
+  "RESULT max contact iterations<6")
+# Body force and traction: the total contact force is fixed by equilibrium.
+scene(contact/block-on-obstacle 1 ${T}/scenes/block_on_obstacle.prm block_on_obstacle
+  "RESULT contact force boundary 2>3.4999999999" "RESULT contact force boundary 2<3.5000000001")
+# A roller boundary with a corner under one id (left and bottom of an 8 x 4 block):
+# the corner gets both components fixed, and the top pushed down by 0.001 gives
+# uniaxial strain, force = 8 (lambda + 2 mu) 0.001 / 4 = 0.002692307692 exactly.
+scene(contact/kinked-roller 1 ${T}/scenes/kinked_roller.prm kinked_roller
+  "SET:Geometry/Mesh file=${CMAKE_CURRENT_BINARY_DIR}/kink.msh"
+  "RESULT contact force boundary 12>0.0026923076" "RESULT contact force boundary 12<0.0026923078")
+# An inclined interface (17, 45, -45 degrees from the vertical) between two
+# blocks under equal biaxial compression p = 0.01, rollers on the left and the
+# bottom: sigma = -p I, so every interface node -- including the one on the
+# bottom roller, where the roller's reaction must not enter the contact force --
+# has pressure p, and the interface force is p / cos(angle) (length 1/cos).
+# Force bounds: the exact p / cos(angle) to 1e-9 relative.
+set(INCLINED_CASES "17\;0.010456917554\;0.010456917575"
+  "45\;0.014142135609\;0.014142135638" "-45\;0.014142135609\;0.014142135638")
+foreach(case ${INCLINED_CASES})
+  list(GET case 0 angle)
+  list(GET case 1 force_low)
+  list(GET case 2 force_high)
+  set(mesh ${CMAKE_CURRENT_BINARY_DIR}/inclined_${angle}.msh)
+  add_custom_command(OUTPUT ${mesh}
+    COMMAND ${CMAKE_COMMAND} -DOUTPUT=${mesh} -DANGLE=${angle} -DN=4
+            -P ${T}/make_inclined_blocks_msh.cmake
+    DEPENDS ${T}/make_inclined_blocks_msh.cmake)
+  list(APPEND inclined_meshes ${mesh})
+  scene(contact/inclined-interface-${angle} 1 ${T}/scenes/inclined_interface.prm
+    inclined_interface_${angle} "SET:Geometry/Mesh file=${mesh}"
+    "RESULT active contact nodes>4"
+    "RESULT max contact pressure<0.010000000001"
+    "RESULT min contact pressure at active nodes>0.009999999999"
+    "RESULT contact force interface 1-2>${force_low}"
+    "RESULT contact force interface 1-2<${force_high}")
+endforeach()
+add_custom_target(inclined_meshes ALL DEPENDS ${inclined_meshes})
+# The interface geometry without a solve: pairing, normals, weights and corners
+# on the 17-degree mesh and on an L-shaped interface (tests/unit_body_interface.cc).
+add_executable(unit_body_interface unit_body_interface.cc)
+target_link_libraries(unit_body_interface contact_stefan)
+deal_ii_setup_target(unit_body_interface)
+add_test(NAME unit/body_interface
+  COMMAND ${T}/run_unit.sh $<TARGET_FILE:unit_body_interface> ${T}/unit_body_interface.output
+          1 ${CMAKE_CURRENT_BINARY_DIR}/inclined_17.msh)
+scene(contact/inclined-interface-17-mpi2 2 ${T}/scenes/inclined_interface.prm
+  inclined_interface_17 "SET:Geometry/Mesh file=${CMAKE_CURRENT_BINARY_DIR}/inclined_17.msh"
+  "RESULT min contact pressure at active nodes>0.009999999999")
+
+# An obstacle meeting a tied interface: the obstacle force is fixed by equilibrium.
+scene(contact/tied-on-obstacle 1 ${T}/scenes/tied_on_obstacle.prm tied_on_obstacle
+  "RESULT contact force boundary 0>0.0199999999" "RESULT contact force boundary 0<0.0200000001"
+  "RESULT max contact pressure<0.0100000001"
+  "RESULT min contact pressure at active nodes>0.0099999999")
+
+# Laws per interface (tests/scenes/mixed_interfaces.prm): three stacked blocks,
+# 0-1 tied and 1-2 a contact with its own gap 0.002 (the global default: a
+# contact without gap). The uniaxial stress E*(delta - g)/H to round-off and
+# the force on 1-2; the same with 0-1 a contact at the default gap, and with
+# 1-2's gap taken from the global default while 0-1 sets its own (0).
+set(MIXED_INTERFACE_BOUNDS
+  "RESULT max relative stress L2 error<1e-12"
+  "RESULT contact force interface 1-2>0.0058608058598" "RESULT contact force interface 1-2<0.0058608058618")
+scene(contact/mixed-interfaces 1 ${T}/scenes/mixed_interfaces.prm mixed_interfaces
+  ${MIXED_INTERFACE_BOUNDS})
+scene(contact/mixed-interfaces-mpi2 2 ${T}/scenes/mixed_interfaces.prm mixed_interfaces
+  ${MIXED_INTERFACE_BOUNDS})
+# On 3 ranks some rank owns no vertex of the tied interface 0-1: every rank must
+# still decide alike which groups are tied (a rank-local decision hung here).
+scene(contact/mixed-interfaces-mpi3 3 ${T}/scenes/mixed_interfaces.prm mixed_interfaces
+  ${MIXED_INTERFACE_BOUNDS})
+scene(contact/mixed-interfaces-both-contact 1 ${T}/scenes/mixed_interfaces.prm
+  mixed_interfaces_both_contact "SET:Contact/Interface 0-1/Kind=default" ${MIXED_INTERFACE_BOUNDS}
+  "RESULT contact force interface 0-1>0.0058608058598" "RESULT contact force interface 0-1<0.0058608058618")
+scene(contact/mixed-interfaces-default-gap 1 ${T}/scenes/mixed_interfaces.prm
+  mixed_interfaces_both_contact "SET:Contact/Interface 0-1/Kind=contact"
+  "SET:Contact/Interface 0-1/Gap=0" "SET:Contact/Interface 1-2/Gap=" "SET:Contact/Interface gap=0.002"
+  ${MIXED_INTERFACE_BOUNDS}
+  "RESULT contact force interface 0-1>0.0058608058598" "RESULT contact force interface 0-1<0.0058608058618")
+
+# Open-gap variant: gap 0.02 > delta = 0.01: no stress, no pressure, gap kept.
+scene(contact/patch-C2-open-gap 1 ${P}/patch_C2.prm patch_C2_open_gap
+  "SET:Contact/Interface gap=0.02"
+  "RESULT active contact nodes<1"
+  "RESULT max contact pressure<1e-14"
+  "RESULT patch stress relative error<1e-10"
+  "RESULT patch min interface gap>0.00999999")
+# C1 Hertz on the coarsest ladder level, cold start.
+scene(contact/hertz-C1 1 ${P}/hertz_C1.prm hertz_C1
+  "RESULT Hertz half-width relative error<0.028"
+  "RESULT Hertz peak pressure relative error<0.0005"
+  "RESULT Hertz pressure profile relative L2 error<0.022"
+  "RESULT contact iterations first step<10")
+# The same indentation as a load ramp of 10 steps: warm-started steps need at
+# most 3 iterations.
+scene(contact/hertz-C1-ramp 1 ${P}/hertz_C1.prm hertz_C1_ramp
+  "SET:Time stepping/Time step=0.1"
+  "RESULT max contact iterations after the first step<4"
+  "RESULT Hertz pressure profile relative L2 error<0.022")
