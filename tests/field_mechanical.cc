@@ -49,16 +49,10 @@ int main(int argc, char *argv[])
                                  scene.prm.parts.end(),
                                  [](const auto &part) { return part.first->name == "patch"; });
 
-  MechanicalField<2> field(scene.prm,
+  MechanicalField<2> field(scene.context(),
                            scene.prm.contact_step,
                            scene.prm.linear_solvers,
-                           scene.prm.output.verbosity,
-                           scene.prm.output.section_lines,
-                           *scene.materials,
-                           *scene.functions,
-                           scene.triangulation,
-                           scene.timer,
-                           scene.pcout);
+                           scene.prm.output.section_lines);
   field.setup_dofs();
   field.initialize(0.);
   field.begin_time_step(1., 1.);

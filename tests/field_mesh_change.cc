@@ -52,25 +52,11 @@ namespace
   struct Fields
   {
     Fields(FieldTest::Scene &s)
-      : thermal(s.prm,
-                s.prm.enthalpy_step,
-                s.prm.linear_solvers,
-                s.prm.output.verbosity,
-                *s.materials,
-                *s.functions,
-                s.triangulation,
-                s.timer,
-                s.pcout)
-      , mechanical(s.prm,
+      : thermal(s.context(), s.prm.enthalpy_step, s.prm.linear_solvers)
+      , mechanical(s.context(),
                    s.prm.contact_step,
                    s.prm.linear_solvers,
-                   s.prm.output.verbosity,
-                   s.prm.output.section_lines,
-                   *s.materials,
-                   *s.functions,
-                   s.triangulation,
-                   s.timer,
-                   s.pcout)
+                   s.prm.output.section_lines)
     {}
     void setup_and_initialize()
     {

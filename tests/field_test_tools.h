@@ -40,6 +40,12 @@ namespace FieldTest
       make_mesh(prm, prm.refinement, triangulation);
     }
 
+    // The context the fields and parts take (core/scene_context.h).
+    SceneContext<2> context()
+    {
+      return {prm, *materials, *functions, triangulation, timer, pcout, prm.output.verbosity};
+    }
+
     AllParameters                           prm;
     ConditionalOStream                      pcout;
     TimerOutput                             timer;

@@ -28,15 +28,7 @@ int main(int argc, char *argv[])
     prm.physics.thermal                       = true;
   });
 
-  ThermalField<2> field(scene.prm,
-                        scene.prm.enthalpy_step,
-                        scene.prm.linear_solvers,
-                        scene.prm.output.verbosity,
-                        *scene.materials,
-                        *scene.functions,
-                        scene.triangulation,
-                        scene.timer,
-                        scene.pcout);
+  ThermalField<2> field(scene.context(), scene.prm.enthalpy_step, scene.prm.linear_solvers);
   field.setup_dofs();
   check(field.get_dof_handler().n_dofs() == 25, "4 x 4 cells have 25 temperature DoFs");
   field.initialize(0.);

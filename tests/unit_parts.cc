@@ -27,8 +27,14 @@ namespace
     std::set<std::string> names;
     unsigned int          exact    = 0;
     bool                  complete = true;
+    // The registry as a listing (the reference output holds it).
     for (const PartInfo &part : registered_parts())
       {
+        std::printf("part '%s'%s%s: %s\n",
+                    part.name.c_str(),
+                    part.exact_solution ? " (Exact solution/Type)" : "",
+                    part.gives_temperature ? " (gives the exact temperature)" : "",
+                    part.description.c_str());
         names.insert(part.name);
         exact += part.exact_solution;
         complete &= !part.description.empty() && part.parse && part.create;
@@ -121,14 +127,7 @@ namespace
   // A part's state round-trips through save() and load() to the last bit.
   void check_state_round_trip(FieldTest::Scene &scene)
   {
-    RunContext<2> run(scene.prm,
-                      scene.prm.output,
-                      *scene.materials,
-                      *scene.functions,
-                      scene.triangulation,
-                      scene.timer,
-                      scene.pcout,
-                      false);
+    const RunContext<2>      run(scene.context(), scene.prm.output, false);
     TestPart                 saved(run), loaded(run);
     saved.get().values = {0.1 + 0.2,
                           1. / 3,

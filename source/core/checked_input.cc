@@ -80,13 +80,17 @@ namespace ContactStefan
     }
 
     // A muparser expression in x, y, t must parse and evaluate; "exact" is allowed
-    // where an exact solution can stand in.
+    // where an exact temperature can stand in (whether the scene has one is
+    // checked once the parts are read: SceneParameters::check_exact_keywords).
     void
     check_function(const std::string &expression, const std::string &path, const bool exact_allowed)
     {
       if (is_exact_keyword(expression))
         {
-          require(exact_allowed, path, "'exact' needs 'Exact solution/Type' = neumann or function");
+          require(exact_allowed,
+                  path,
+                  "'exact' stands for the exact temperature only in a temperature boundary's "
+                  "Value and in Initial conditions/Function");
           return;
         }
       // muparser reports syntax errors on std::cerr before deal.II throws; the

@@ -746,14 +746,18 @@ namespace ContactStefan
 
 
 
-  void SceneParameters::check_exact_keywords(const bool exact_temperature) const
+  void SceneParameters::check_exact_keywords(const bool         exact_temperature,
+                                             const std::string &givers) const
   {
+    const auto check = [&](const std::string &expression, const std::string &path) {
+      require(exact_temperature || !is_exact_keyword(expression),
+              path,
+              "'exact' needs 'Exact solution/Type' = " + givers);
+    };
     for (const auto &[id, bc] : thermal_boundaries)
       if (bc.type == Parameters::ThermalBoundary::Type::temperature)
-        check_function(bc.value,
-                       "Boundary conditions/" + boundary_section(id) + "/Value",
-                       exact_temperature);
-    check_function(initial_condition.function, "Initial conditions/Function", exact_temperature);
+        check(bc.value, "Boundary conditions/" + boundary_section(id) + "/Value");
+    check(initial_condition.function, "Initial conditions/Function");
     require(!(is_exact_keyword(initial_condition.function) &&
               initial_condition.variable != Parameters::InitialCondition::Variable::temperature),
             "Initial conditions/Variable",

@@ -38,7 +38,11 @@ namespace ContactStefan
   void AllParameters::read(const std::string &filename)
   {
     SceneParameters::read(filename, owner_sections());
-    check_exact_keywords(static_cast<bool>(exact_temperature()));
+    std::string givers;
+    for (const PartInfo &part : registered_parts())
+      if (part.gives_temperature)
+        givers += (givers.empty() ? "" : " or ") + part.name;
+    check_exact_keywords(static_cast<bool>(exact_temperature()), givers);
     check_owner_consistency();
   }
 

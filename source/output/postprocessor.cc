@@ -12,15 +12,10 @@
 namespace ContactStefan
 {
   template <int dim>
-  Postprocessor<dim>::Postprocessor(const SceneParameters                           &scene,
-                                    const Parameters::Output                        &output,
-                                    const bool                                       adaptive,
-                                    const Materials                                 &materials,
-                                    SceneFunctions<dim>                             &functions,
-                                    const parallel::distributed::Triangulation<dim> &triangulation,
-                                    TimerOutput                                     &timer,
-                                    const ConditionalOStream                        &pcout)
-    : context(scene, output, materials, functions, triangulation, timer, pcout, adaptive)
+  Postprocessor<dim>::Postprocessor(const SceneContext<dim>  &scene_context,
+                                    const Parameters::Output &output,
+                                    const bool                adaptive)
+    : context(scene_context, output, adaptive)
   {
     // The output directory must be usable before any work is done. Rank 0 checks
     // and every rank learns the verdict, so that all of them stop together.
@@ -67,12 +62,14 @@ namespace ContactStefan
     context.mechanical = mechanical;
     parts.clear();
     context.parts.clear();
+    part_parameters.clear();
     // (A part may decline, e.g. the mesh statistics of a fixed mesh.)
     for (const auto &[info, parameters] : selection)
       if (std::unique_ptr<Part<dim>> part = info->create(context, *parameters))
         {
           context.parts.push_back(info->name);
           parts.emplace_back(info->name, std::move(part));
+          part_parameters.push_back(parameters);
         }
   }
 
@@ -103,6 +100,11 @@ namespace ContactStefan
       context.pcout << " (removed " << removed << " VTU/PVD files of an earlier run"
                     << (last_kept_step >= 0 ? " after the checkpoint's step" : "") << ")";
     context.pcout << std::endl;
+    // What made the report: its parts (doc/architecture.md).
+    std::string names;
+    for (const auto &name : context.parts)
+      names += (names.empty() ? "" : ", ") + name;
+    context.pcout << "Report: " << names << std::endl;
   }
 
 

@@ -30,8 +30,9 @@ namespace ContactStefan
   {
     PartInfo info;
     info.name           = "function";
-    info.exact_solution = true;
-    info.description    = "the temperature given by Function.";
+    info.exact_solution    = true;
+    info.gives_temperature = true;
+    info.description       = "the temperature given by Function.";
     info.declare        = [](ParameterHandler &prm) {
       prm.enter_subsection("Exact solution");
       prm.declare_entry("Function",

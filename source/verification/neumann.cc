@@ -22,17 +22,17 @@ namespace ContactStefan
     class NeumannFunction : public Function<dim>
     {
     public:
-      NeumannFunction(const NeumannSolution &solution, const double origin)
+      NeumannFunction(const std::shared_ptr<const NeumannSolution> &solution, const double origin)
         : solution(solution)
         , origin(origin)
       {}
       double value(const Point<dim> &p, const unsigned int = 0) const override
       {
-        return solution.temperature(p[0] - origin, this->get_time());
+        return solution->temperature(p[0] - origin, this->get_time());
       }
 
     private:
-      const NeumannSolution &solution;
+      const std::shared_ptr<const NeumannSolution> solution;
       const double           origin;
     };
 
@@ -41,14 +41,15 @@ namespace ContactStefan
       unsigned int body;
       double       hot_temperature, cold_temperature, origin;
       // Built once from the body's material, when the file is read.
-      std::unique_ptr<const NeumannSolution> solution;
+      std::shared_ptr<const NeumannSolution> solution;
 
+      // (Each function shares the solution: it outlives these parameters.)
       std::function<std::unique_ptr<Function<2>>()> exact_temperature() const override
       {
-        const NeumannSolution *s = solution.get();
-        const double           x = origin;
+        const std::shared_ptr<const NeumannSolution> s = solution;
+        const double                                 x = origin;
         return [s, x]() -> std::unique_ptr<Function<2>> {
-          return std::make_unique<NeumannFunction<2>>(*s, x);
+          return std::make_unique<NeumannFunction<2>>(s, x);
         };
       }
     };
@@ -112,7 +113,7 @@ namespace ContactStefan
       // before any work.
       try
         {
-          p.solution = std::make_unique<const NeumannSolution>(
+          p.solution = std::make_shared<const NeumannSolution>(
             make_solution(Material(m), p.hot_temperature, p.cold_temperature));
         }
       catch (const std::exception &e)
@@ -188,7 +189,8 @@ namespace ContactStefan
   {
     PartInfo info;
     info.name           = "neumann";
-    info.exact_solution = true;
+    info.exact_solution    = true;
+    info.gives_temperature = true;
     info.description =
       "the similarity solution of the (multi-)phase Stefan problem of one body's material on "
       "x > Origin with Theta = Hot temperature at x = Origin and Cold temperature initially (a "

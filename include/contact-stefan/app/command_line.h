@@ -46,17 +46,21 @@ namespace ContactStefan
       "up to there (under mpirun send SIGUSR1: mpirun kills on SIGTERM).\n";
 
 
-    // "contact-stefan <commit> (<compiler>, <build type>, deal.II <version>)";
-    // the macros are compile definitions of both programs (CMakeLists.txt).
+    /**
+     * "contact-stefan <commit> (<compiler>, <build type>, deal.II <version>)";
+     * the macros are compile definitions of both programs (CMakeLists.txt).
+     */
     inline std::string version_line()
     {
       return std::string("contact-stefan ") + build_commit + " (" + CONTACT_STEFAN_COMPILER + ", " +
              CONTACT_STEFAN_BUILD_TYPE + " build, deal.II " + CONTACT_STEFAN_DEAL_II_VERSION + ")";
     }
 
-    // --help, --version and --print-parameters need neither MPI nor the solver
-    // libraries (whose loading alone takes 0.4 s): the first of them on the
-    // command line is answered at once.
+    /**
+     * --help, --version and --print-parameters need neither MPI nor the solver
+     * libraries (whose loading alone takes 0.4 s): the first of them on the
+     * command line is answered at once.
+     */
     inline std::string information_option(const int argc, char *argv[])
     {
       for (int i = 1; i < argc; ++i)
@@ -69,7 +73,7 @@ namespace ContactStefan
       return "";
     }
 
-    // Under mpirun only the first rank answers (the launchers' rank variables).
+    /** Under mpirun only the first rank answers (the launchers' rank variables). */
     inline bool first_rank()
     {
       for (const char *variable : {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK"})
@@ -79,8 +83,10 @@ namespace ContactStefan
       return true;
     }
 
-    // Answers an information option (on the first rank only); the parameter
-    // text comes from print_parameters(). The exit code.
+    /**
+     * Answers an information option (on the first rank only); the parameter
+     * text comes from print_parameters(). The exit code.
+     */
     template <typename PrintParameters>
     int answer(const std::string &option, const PrintParameters &print_parameters)
     {

@@ -22,20 +22,26 @@ namespace ContactStefan
 {
   using namespace dealii;
 
-  // The distributed vector of both fields (owned, or owned plus ghosts).
+  /** The distributed vector of both fields (owned, or owned plus ghosts). */
   using Vector = TrilinosWrappers::MPI::Vector;
 
-  // Four numbers per locally owned active cell, one per vertex, indexed by the
-  // active cell index: how the two fields exchange the coupling data
-  // (doc/coupling.md §3). Vertex v is the cell's v-th vertex and FE_Q(1) DoF.
+  /**
+   * Four numbers per locally owned active cell, one per vertex, indexed by the
+   * active cell index: how the two fields exchange the coupling data
+   * (doc/coupling.md §3). Vertex v is the cell's v-th vertex and FE_Q(1) DoF.
+   */
   using CellVertexValues = std::vector<std::array<double, 4>>;
 
-  // Tolerances at the level of floating-point round-off (not parameters): a
-  // quantity computed from terms of size s is exact to round_off_factor * eps * s.
+  /**
+   * Tolerances at the level of floating-point round-off (not parameters): a
+   * quantity computed from terms of size s is exact to round_off_factor * eps * s.
+   */
   constexpr double round_off_factor = 64;
 
-  // A number for a message: 6 significant digits in any magnitude
-  // (std::to_string prints 1e-9 as 0.000000).
+  /**
+   * A number for a message: 6 significant digits in any magnitude
+   * (std::to_string prints 1e-9 as 0.000000).
+   */
   inline std::string number(const double x)
   {
     std::ostringstream s;
@@ -43,16 +49,20 @@ namespace ContactStefan
     return s.str();
   }
 
-  // The larger of a and b, NaN if either is NaN. (std::max(0., NaN) is 0: a NaN
-  // error would read as no error.)
+  /**
+   * The larger of a and b, NaN if either is NaN. (std::max(0., NaN) is 0: a NaN
+   * error would read as no error.)
+   */
   inline double max_with_nan(const double a, const double b)
   {
     return std::isnan(a) || std::isnan(b) ? std::numeric_limits<double>::quiet_NaN() :
                                             std::max(a, b);
   }
 
-  // The maximum over all ranks, NaN if any rank has a NaN (MPI_MAX on a NaN is
-  // implementation-defined).
+  /**
+   * The maximum over all ranks, NaN if any rank has a NaN (MPI_MAX on a NaN is
+   * implementation-defined).
+   */
   inline double global_max_with_nan(const double local, const MPI_Comm mpi_communicator)
   {
     const bool any_nan = Utilities::MPI::max(std::isnan(local) ? 1 : 0, mpi_communicator) == 1;
@@ -60,8 +70,10 @@ namespace ContactStefan
                      Utilities::MPI::max(local, mpi_communicator);
   }
 
-  // Collective: throws std::runtime_error on every rank, naming `what`, if any
-  // owned entry of v on any rank is not finite.
+  /**
+   * Collective: throws std::runtime_error on every rank, naming `what`, if any
+   * owned entry of v on any rank is not finite.
+   */
   inline void check_finite(const Vector &v, const std::string &what)
   {
     unsigned int bad = 0;
@@ -73,9 +85,11 @@ namespace ContactStefan
                                " entries are NaN or infinite)");
   }
 
-  // Collective: if `message` is not empty on some rank, every rank throws
-  // Exception(the message of the lowest such rank). A check that only some
-  // ranks can make (it needs their cells) thus stops all of them alike.
+  /**
+   * Collective: if `message` is not empty on some rank, every rank throws
+   * Exception(the message of the lowest such rank). A check that only some
+   * ranks can make (it needs their cells) thus stops all of them alike.
+   */
   template <typename Exception>
   void throw_collectively(const std::string &message, const MPI_Comm mpi_communicator)
   {
@@ -107,15 +121,19 @@ namespace ContactStefan
       std::memcpy(&b, &value, sizeof b);
       return b;
     }
-    // Two fingerprints (or a fingerprint and a number) into one. Each part is
-    // mixed on its own first, so that changes of two parts cannot cancel (a
-    // time step one ulp shorter and a version one higher would in a plain sum).
+    /**
+     * Two fingerprints (or a fingerprint and a number) into one. Each part is
+     * mixed on its own first, so that changes of two parts cannot cancel (a
+     * time step one ulp shorter and a version one higher would in a plain sum).
+     */
     inline std::uint64_t combine(const std::uint64_t a, const std::uint64_t b)
     {
       return mix(mix(a) ^ (mix(b) + 0x9e3779b97f4a7c15ULL + (a << 6) + (a >> 2)));
     }
-    // The owned constraint lines: pattern and coefficients, with the
-    // inhomogeneities if asked. Collective; the same on every rank.
+    /**
+     * The owned constraint lines: pattern and coefficients, with the
+     * inhomogeneities if asked. Collective; the same on every rank.
+     */
     inline std::uint64_t constraints(const AffineConstraints<double> &constraints,
                                      const IndexSet                  &owned,
                                      const bool                       with_inhomogeneities,
@@ -134,7 +152,7 @@ namespace ContactStefan
           }
       return Utilities::MPI::sum(local, mpi_communicator);
     }
-    // The owned entries of a vector, bit for bit. Collective.
+    /** The owned entries of a vector, bit for bit. Collective. */
     inline std::uint64_t vector(const Vector &v)
     {
       // The k-th owned element is the k-th local entry (deal.II builds the
@@ -149,11 +167,13 @@ namespace ContactStefan
     }
   } // namespace Fingerprint
 
-  // The code is two-dimensional (plane strain): the contact normals, the
-  // rigid-body modes (2 translations, 1 rotation), the Voigt form of C, the
-  // muparser variables "x,y,t" and the Gmsh reader's line/surface tags are
-  // written for 2D. The classes keep deal.II's dim template parameter for its
-  // API, and say so where they are instantiated.
+  /**
+   * The code is two-dimensional (plane strain): the contact normals, the
+   * rigid-body modes (2 translations, 1 rotation), the Voigt form of C, the
+   * muparser variables "x,y,t" and the Gmsh reader's line/surface tags are
+   * written for 2D. The classes keep deal.II's dim template parameter for its
+   * API, and say so where they are instantiated.
+   */
   template <int dim>
   constexpr void assert_two_dimensional()
   {

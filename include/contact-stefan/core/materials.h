@@ -18,50 +18,60 @@
 namespace ContactStefan
 {
 
-  // The plane-strain elasticity tensor C_ijkl of a body: from (E, nu), from the
-  // Lame constants, or from the Voigt matrix (order xx, yy, xy).
+  /**
+   * The plane-strain elasticity tensor C_ijkl of a body: from (E, nu), from the
+   * Lame constants, or from the Voigt matrix (order xx, yy, xy).
+   */
   SymmetricTensor<4, 2> elasticity_tensor(const Parameters::BodyMaterial &m);
 
-  // E* = E / (1 - nu^2) for isotropic data; for an anisotropic tensor the uniaxial
-  // plane-strain stiffness in y with x free, C22 - C12^2 / C11.
+  /**
+   * E* = E / (1 - nu^2) for isotropic data; for an anisotropic tensor the uniaxial
+   * plane-strain stiffness in y with x free, C22 - C12^2 / C11.
+   */
   double plane_strain_modulus(const Parameters::BodyMaterial &m);
 
-  // The volumetric enthalpy law H(Theta) (density times the per-mass data).
+  /** The volumetric enthalpy law H(Theta) (density times the per-mass data). */
   EnthalpyLaw enthalpy_law(const Parameters::BodyMaterial &m);
 
-  // The elastic and thermal-stress moduli of one phase, or of a cell's mixture of
-  // phases: sigma = C : e - beta (Theta - Theta_0) in the plane, and
-  // sigma_zz = lambda_zz tr(e) - beta_zz (Theta - Theta_0) (plane strain).
+  /**
+   * The elastic and thermal-stress moduli of one phase, or of a cell's mixture of
+   * phases: sigma = C : e - beta (Theta - Theta_0) in the plane, and
+   * sigma_zz = lambda_zz tr(e) - beta_zz (Theta - Theta_0) (plane strain).
+   */
   struct ElasticModuli
   {
     SymmetricTensor<4, 2> C;
     SymmetricTensor<2, 2> beta;
     double                lambda_zz = 0, beta_zz = 0;
 
-    // Theta_0 beta : C^{-1} : beta per unit Theta_0: the heat capacity that the
-    // heating term adds to a body free to expand (doc/benchmarks.md T3's gamma).
+    /**
+     * Theta_0 beta : C^{-1} : beta per unit Theta_0: the heat capacity that the
+     * heating term adds to a body free to expand (doc/benchmarks.md T3's gamma).
+     */
     double free_expansion_capacity() const;
     bool   operator==(const ElasticModuli &other) const;
   };
 
-  // The moduli of phase p of a body (p < number of phases).
+  /** The moduli of phase p of a body (p < number of phases). */
   ElasticModuli elastic_moduli(const Parameters::BodyMaterial &m, const unsigned int phase);
 
-  // One body's material, derived once.
+  /** One body's material, derived once. */
   struct Material
   {
     explicit Material(const Parameters::BodyMaterial &parameters);
 
     SymmetricTensor<4, 2> elasticity;
     double                plane_strain_modulus;
-    // sigma_zz = out_of_plane_lambda * tr(e) in plane strain (lambda for
-    // isotropic data; a 2D anisotropic tensor does not know C_zzkl: 0).
+    /**
+     * sigma_zz = out_of_plane_lambda * tr(e) in plane strain (lambda for
+     * isotropic data; a 2D anisotropic tensor does not know C_zzkl: 0).
+     */
     double              out_of_plane_lambda;
     EnthalpyLaw         enthalpy_law;
     Tensor<2, 2>        conductivity_shape; // K: kappa of phase p is k_p K
     std::vector<double> conductivities;     // k_p, one per phase
 
-    // One entry per phase (cold to hot), all equal when nothing depends on the phase.
+    /** One entry per phase (cold to hot), all equal when nothing depends on the phase. */
     std::vector<ElasticModuli> phase_moduli;
 
     double conductivity(const unsigned int phase) const
@@ -70,11 +80,11 @@ namespace ContactStefan
     }
     bool conductivity_depends_on_phase() const;
     bool elasticity_depends_on_phase() const;
-    // sum_p w_p (C_p, beta_p, ...): the moduli of a mixture with phase weights w.
+    /** sum_p w_p (C_p, beta_p, ...): the moduli of a mixture with phase weights w. */
     ElasticModuli moduli(const std::vector<double> &weights) const;
   };
 
-  // Every body's material by body (material) id.
+  /** Every body's material by body (material) id. */
   class Materials
   {
   public:
@@ -86,10 +96,12 @@ namespace ContactStefan
     bool conductivity_depends_on_phase() const;
     bool elasticity_depends_on_phase() const;
     bool phase_change_present() const;
-    // The largest thermal strain per unit temperature, |C^{-1} : beta| over
-    // all bodies and phases (the expansion coefficient of an isotropic body,
-    // times sqrt 2 in the plane): how much a temperature error moves the
-    // displacement, per unit length.
+    /**
+     * The largest thermal strain per unit temperature, |C^{-1} : beta| over
+     * all bodies and phases (the expansion coefficient of an isotropic body,
+     * times sqrt 2 in the plane): how much a temperature error moves the
+     * displacement, per unit length.
+     */
     double max_thermal_strain_per_degree() const;
 
   private:

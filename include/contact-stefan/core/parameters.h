@@ -64,7 +64,7 @@ namespace ContactStefan
       void        parse(ParameterHandler &prm, const std::string &prm_directory);
     };
 
-    // Thermal data of one body. Phases are numbered from cold (0) to hot (n).
+    /** Thermal data of one body. Phases are numbered from cold (0) to hot (n). */
     struct BodyMaterial
     {
       std::string         name;
@@ -176,7 +176,7 @@ namespace ContactStefan
       void parse(ParameterHandler &prm, const std::string &path, const Contact &defaults);
     };
 
-    // The two-way thermo-mechanical coupling (doc/coupling.md).
+    /** The two-way thermo-mechanical coupling (doc/coupling.md). */
     struct Coupling
     {
       bool thermal_stress;        // beta (Theta - Theta_0) loads the contact step
@@ -241,7 +241,6 @@ namespace ContactStefan
       void        parse(ParameterHandler &prm);
     };
 
-    // A closed-form solution the run is compared against.
     struct TimeStepping
     {
       double       start_time, end_time, time_step;
@@ -263,8 +262,10 @@ namespace ContactStefan
       void        parse(ParameterHandler &prm);
     };
 
-    // A straight mesh line x = value (axis 0) or y = value (axis 1) across
-    // which the run integrates sigma n (doc/output.md, section forces).
+    /**
+     * A straight mesh line x = value (axis 0) or y = value (axis 1) across
+     * which the run integrates sigma n (doc/output.md, section forces).
+     */
     struct SectionLine
     {
       unsigned int axis  = 1;
@@ -303,19 +304,23 @@ namespace ContactStefan
     std::map<unsigned int, Parameters::ThermalBoundary>    thermal_boundaries;
     std::map<unsigned int, Parameters::MechanicalBoundary> mechanical_boundaries;
     Parameters::Contact                                    contact;
-    // Every pair (k, l), k < l, of listed bodies.
+    /** Every pair (k, l), k < l, of listed bodies. */
     std::map<std::pair<unsigned int, unsigned int>, Parameters::InterfacePair> interface_pairs;
     Parameters::Coupling                                   coupling;
     Parameters::Physics                                    physics;
     Parameters::InitialCondition                                               initial_condition;
     Parameters::TimeStepping                               time;
-    // Every parameter that determines the solution, as text (all entries in
-    // canonical order, without the subsections Checkpoint and Output and
-    // without Time stepping/End time): a checkpoint is resumed only by a scene
-    // with the same text.
+    /**
+     * Every parameter that determines the solution, as text (all entries in
+     * canonical order, without the subsections Checkpoint and Output and
+     * without Time stepping/End time): a checkpoint is resumed only by a scene
+     * with the same text.
+     */
     std::string solution_parameters;
-    // The parameter text as read (includes expanded) and the files it came
-    // from: the run's provenance record.
+    /**
+     * The parameter text as read (includes expanded) and the files it came
+     * from: the run's provenance record.
+     */
     std::string              source_text;
     std::vector<std::string> source_files;
 
@@ -336,22 +341,25 @@ namespace ContactStefan
     /**
      * The keyword 'exact' in a temperature boundary's Value or in the initial
      * condition stands for an exact temperature, which a verification part
-     * gives (exact_temperature: there is one); throws InputError naming the
-     * entry where there is none. Called by whoever reads the parts.
+     * gives (exact_temperature: there is one; givers: the types that give
+     * one, for the message); throws InputError naming the entry where there is
+     * none. Called by whoever reads the parts.
      */
-    void check_exact_keywords(const bool exact_temperature) const;
+    void check_exact_keywords(const bool exact_temperature, const std::string &givers) const;
 
-    // Both physics on, some body with a thermal stress tensor beta != 0, and the
-    // direction switched on: the coupling terms that a run assembles.
+    /**
+     * Both physics on, some body with a thermal stress tensor beta != 0, and the
+     * direction switched on: the coupling terms that a run assembles.
+     */
     bool thermal_stress_active() const;
     bool thermoelastic_heating_active() const;
     bool coupling_active() const
     {
       return thermal_stress_active() || thermoelastic_heating_active();
     }
-    // Some body's elasticity changes with its phase (both physics on).
+    /** Some body's elasticity changes with its phase (both physics on). */
     bool elasticity_depends_on_phase() const;
-    // The laws of the interface between bodies a and b (either order).
+    /** The laws of the interface between bodies a and b (either order). */
     const Parameters::InterfacePair &interface_pair(const unsigned int a,
                                                     const unsigned int b) const
     {

@@ -40,9 +40,11 @@ namespace ContactStefan
 {
   using namespace dealii;
 
-  // Nodal values of a Q1 field on every active cell that is locally owned or a
-  // ghost: values[(c * n_components + component) * 4 + v] for the cell with
-  // active_cell_index() c and its vertex v (deal.II's vertex numbering).
+  /**
+   * Nodal values of a Q1 field on every active cell that is locally owned or a
+   * ghost: values[(c * n_components + component) * 4 + v] for the cell with
+   * active_cell_index() c and its vertex v (deal.II's vertex numbering).
+   */
   struct CellVertexField
   {
     unsigned int        n_components = 1;
@@ -54,19 +56,25 @@ namespace ContactStefan
     }
   };
 
-  // The gradient of the bilinear interpolant of u (vertex values) on the
-  // quadrilateral with vertices v, at the reference point (xi, eta).
+  /**
+   * The gradient of the bilinear interpolant of u (vertex values) on the
+   * quadrilateral with vertices v, at the reference point (xi, eta).
+   */
   Tensor<1, 2> q1_gradient(const Point<2> (&v)[4], const double *u, double xi, double eta);
 
-  // m_i = |det J(vertex i)| / 4: the lumped (vertex-rule) mass of each vertex of
-  // the cell, the weight of the trapezoidal rule.
+  /**
+   * m_i = |det J(vertex i)| / 4: the lumped (vertex-rule) mass of each vertex of
+   * the cell, the weight of the trapezoidal rule.
+   */
   std::array<double, 4> q1_lumped_mass(const Point<2> (&v)[4]);
 
-  // S_ij = int_K (K grad phi_j) . grad phi_i, by the 2 x 2 Gauss rule (exact for
-  // parallelograms), for the constant tensor K.
+  /**
+   * S_ij = int_K (K grad phi_j) . grad phi_i, by the 2 x 2 Gauss rule (exact for
+   * parallelograms), for the constant tensor K.
+   */
   FullMatrix<double> q1_shape_matrix(const Point<2> (&v)[4], const Tensor<2, 2> &K);
 
-  // The vertices of a cell, in deal.II's numbering.
+  /** The vertices of a cell, in deal.II's numbering. */
   template <class Iterator>
   void cell_vertices(const Iterator &cell, Point<2> (&v)[4])
   {
@@ -74,9 +82,11 @@ namespace ContactStefan
       v[i] = cell->vertex(i);
   }
 
-  // eta_K of every locally owned cell (other entries 0). With within_body, faces
-  // between cells of different material ids (contact interfaces, across which
-  // the bodies' displacements are independent) are left out.
+  /**
+   * eta_K of every locally owned cell (other entries 0). With within_body, faces
+   * between cells of different material ids (contact interfaces, across which
+   * the bodies' displacements are independent) are left out.
+   */
   template <int dim>
   void q1_jump_indicator(const Triangulation<dim> &triangulation,
                          const CellVertexField    &field,

@@ -41,19 +41,20 @@ namespace ContactStefan
      */
     using ExactTemperature = std::function<std::unique_ptr<Function<dim>>()>;
 
-    explicit SceneFunctions(const SceneParameters &prm, ExactTemperature provided = {});
+    /** provided: the exact temperature a part gives (empty: none). */
+    SceneFunctions(const SceneParameters &prm, ExactTemperature provided);
 
     // --- thermal -------------------------------------------------------------
     Function<dim> &heat_source(const unsigned int body)
     {
       return *heat_sources.at(body);
     }
-    // Value of a thermal boundary (temperature or inward flux).
+    /** Value of a thermal boundary (temperature or inward flux). */
     Function<dim> &thermal_boundary(const unsigned int id)
     {
       return *thermal_boundaries.at(id);
     }
-    // Some body has a heat source or some flux boundary a nonzero flux.
+    /** Some body has a heat source or some flux boundary a nonzero flux. */
     bool heat_load_present() const
     {
       return heat_load;
@@ -62,7 +63,7 @@ namespace ContactStefan
     {
       return *initial;
     }
-    // The exact temperature a verification part provided, or null.
+    /** The exact temperature a verification part provided, or null. */
     Function<dim> *exact_temperature()
     {
       return exact.get();
@@ -73,7 +74,7 @@ namespace ContactStefan
     {
       return *body_forces.at(body);
     }
-    // Displacement or traction of a mechanical boundary.
+    /** Displacement or traction of a mechanical boundary. */
     Function<dim> &mechanical_boundary(const unsigned int id)
     {
       return *mechanical_values.at(id);
@@ -82,7 +83,7 @@ namespace ContactStefan
     {
       return *obstacle_gaps.at(id);
     }
-    // The gap of the interface between bodies a and b (either order).
+    /** The gap of the interface between bodies a and b (either order). */
     Function<dim> &interface_gap(const unsigned int a, const unsigned int b)
     {
       return *interface_gaps.at({std::min(a, b), std::max(a, b)});
@@ -93,7 +94,7 @@ namespace ContactStefan
     {
       return *reference;
     }
-    // Some body force or some traction is not identically zero.
+    /** Some body force or some traction is not identically zero. */
     bool mechanical_load_present() const
     {
       return mechanical_load;
@@ -109,12 +110,14 @@ namespace ContactStefan
     /** The same without the check (parsed once; the caller checks its values). */
     static std::unique_ptr<Function<dim>> expression(const std::vector<std::string> &expressions);
 
-    // Collective: if any function on any rank returned a non-finite value since
-    // the start, throw InputError on every rank naming the parameter, the point
-    // and the time of the first such value (on the lowest rank that saw one).
+    /**
+     * Collective: if any function on any rank returned a non-finite value since
+     * the start, throw InputError on every rank naming the parameter, the point
+     * and the time of the first such value (on the lowest rank that saw one).
+     */
     void check_finite_values(const MPI_Comm mpi_communicator) const;
 
-    // The first non-finite value returned by any of the functions.
+    /** The first non-finite value returned by any of the functions. */
     struct NonFiniteRecord
     {
       void        note(const std::string &parameter,
@@ -127,11 +130,11 @@ namespace ContactStefan
     };
 
   private:
-    // A fresh copy of the exact temperature (each user sets its own time).
+    /** A fresh copy of the exact temperature (each user sets its own time). */
     std::unique_ptr<Function<dim>> make_exact() const;
     std::unique_ptr<Function<dim>> function_or_exact(const std::string &expression) const;
 
-    // The parsed expression(s), wrapped so that every value is checked.
+    /** The parsed expression(s), wrapped so that every value is checked. */
     std::unique_ptr<Function<dim>> checked(std::unique_ptr<Function<dim>> function,
                                            const std::string             &parameter,
                                            const std::vector<bool>       &used = {}) const;

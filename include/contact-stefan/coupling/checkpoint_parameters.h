@@ -11,7 +11,7 @@ namespace ContactStefan
 
   namespace Parameters
   {
-    // Checkpoint/restart (doc/adaptivity.md).
+    /** Checkpoint/restart (doc/adaptivity.md). */
     struct Checkpoint
     {
       unsigned int interval_steps;   // 0: none by step count

@@ -48,17 +48,21 @@ namespace ContactStefan
                  const ThermalField<dim>    &thermal,
                  TimerOutput                &timer);
 
-    // Whether a scene's steps keep both matrices fixed, so that the block
-    // correction applies (CoupledProblem allocates this class only then).
-    // Returns an empty string if it does, else the reason it does not.
+    /**
+     * Whether a scene's steps keep both matrices fixed, so that the block
+     * correction applies (CoupledProblem allocates this class only then).
+     * Returns an empty string if it does, else the reason it does not.
+     */
     static std::string not_applicable(const AllParameters        &prm,
                                       const MechanicalField<dim> &mechanical,
                                       const ThermalField<dim>    &thermal,
                                       const unsigned int          n_ranks);
 
-    // The pass from theta_in gave u (ghosted) and theta (ghosted, with its
-    // cell values theta_out). Returns the corrected pair in u_star and
-    // theta_star (owned vectors, constraints distributed).
+    /**
+     * The pass from theta_in gave u (ghosted) and theta (ghosted, with its
+     * cell values theta_out). Returns the corrected pair in u_star and
+     * theta_star (owned vectors, constraints distributed).
+     */
     void correct(const CellVertexValues &theta_in,
                  const CellVertexValues &theta_out,
                  const Vector           &u,
@@ -73,7 +77,7 @@ namespace ContactStefan
     CoupledBlock(const CoupledBlock &)            = delete;
     CoupledBlock &operator=(const CoupledBlock &) = delete;
 
-    // In this run (not carried over a restart).
+    /** In this run (not carried over a restart). */
     unsigned int n_factorisations() const
     {
       return factorisations;
@@ -84,7 +88,7 @@ namespace ContactStefan
     }
 
   private:
-    // The fingerprint of what the block matrix is built from.
+    /** The fingerprint of what the block matrix is built from. */
     std::uint64_t signature() const;
     void          build();
 
@@ -92,9 +96,11 @@ namespace ContactStefan
     const ThermalField<dim>    &thermal;
     TimerOutput                &timer;
 
-    // The block matrix in compressed rows (one index space: u, then Theta),
-    // and PETSc's LU factorisation of it (nested-dissection ordering; a
-    // sequential AIJ matrix on these arrays, a KSP of type preonly).
+    /**
+     * The block matrix in compressed rows (one index space: u, then Theta),
+     * and PETSc's LU factorisation of it (nested-dissection ordering; a
+     * sequential AIJ matrix on these arrays, a KSP of type preonly).
+     */
     std::vector<PetscInt>    row_start, column_index;
     std::vector<PetscScalar> values;
     Mat                      petsc_matrix = nullptr;

@@ -40,48 +40,62 @@ namespace ContactStefan
   {
   public:
     CoupledProblem(const AllParameters &parameters, const MPI_Comm mpi_communicator);
-    // Runs the scene; returns the self-checks that failed (a run that fails
-    // one ends with exit code 3, see main.cc).
+    /**
+     * Runs the scene; returns the self-checks that failed (a run that fails
+     * one ends with exit code 3, see main.cc).
+     */
     std::vector<std::string> run();
 
   private:
-    // One time step of both fields: staggered (contact step with Theta^k, then
-    // the enthalpy step with u^(k+1)) or with fixed-point iterations.
+    /**
+     * One time step of both fields: staggered (contact step with Theta^k, then
+     * the enthalpy step with u^(k+1)) or with fixed-point iterations.
+     */
     void coupled_step(EnthalpyStepReport &thermal_report,
                       ContactStepReport  &contact_report,
                       CouplingReport     &coupling_report);
-    // Set-up and initial state on the current mesh: DoFs, initial enthalpy and
-    // displacement, the initial exchange between the fields and the initial
-    // equilibrium (a contact step at t0).
+    /**
+     * Set-up and initial state on the current mesh: DoFs, initial enthalpy and
+     * displacement, the initial exchange between the fields and the initial
+     * equilibrium (a contact step at t0).
+     */
     ContactStepReport set_initial_state();
-    // Mesh adaptation (doc/adaptivity.md). mark_for_adaptation() sets the
-    // flags from the indicators and features of the current state and makes
-    // them conforming at the interfaces; execute_with_transfer() refines and
-    // carries the primary state of both fields over (transfer = false: the
-    // initial adaptation, whose state is set afresh); repairs follow while
-    // p4est's balance refined one side of an interface only.
+    /**
+     * Mesh adaptation (doc/adaptivity.md). mark_for_adaptation() sets the
+     * flags from the indicators and features of the current state and makes
+     * them conforming at the interfaces; execute_with_transfer() refines and
+     * carries the primary state of both fields over (transfer = false: the
+     * initial adaptation, whose state is set afresh); repairs follow while
+     * p4est's balance refined one side of an interface only.
+     */
     AdaptationReport mark_for_adaptation();
     void             execute_with_transfer(const bool transfer);
     void             execute_and_repair(const bool transfer);
     void             adapt_initial_mesh(ContactStepReport &initial_contact);
     void             adapt_mesh();
-    // After the primary state arrived on a new mesh: the derived state of
-    // both fields and the data they exchange.
+    /**
+     * After the primary state arrived on a new mesh: the derived state of
+     * both fields and the data they exchange.
+     */
     void after_mesh_change();
-    // Checkpoint/restart (checkpoint.cc, doc/adaptivity.md): the mesh, the
-    // primary state of both fields, the time state, the postprocessor's
-    // accumulated results and the statistics file, written atomically into
-    // Output/Directory/checkpoint with a manifest of their sizes and
-    // checksums; resume() checks the manifest before anything is read, then
-    // builds the coarse mesh and loads all of it (on any number of ranks).
+    /**
+     * Checkpoint/restart (checkpoint.cc, doc/adaptivity.md): the mesh, the
+     * primary state of both fields, the time state, the postprocessor's
+     * accumulated results and the statistics file, written atomically into
+     * Output/Directory/checkpoint with a manifest of their sizes and
+     * checksums; resume() checks the manifest before anything is read, then
+     * builds the coarse mesh and loads all of it (on any number of ranks).
+     */
     bool        checkpoint_due();
     void        write_checkpoint();
     void        remove_checkpoints();
     void        resume();
-    // The steps of resume(), all collective: the checkpoint found and checked
-    // whole (its directory, its manifest's id and step); the state file read
-    // (the time state and the postprocessor's results; the point's other
-    // values) and checked; the forest loaded with the fields' primary state.
+    /**
+     * The steps of resume(), all collective: the checkpoint found and checked
+     * whole (its directory, its manifest's id and step); the state file read
+     * (the time state and the postprocessor's results; the point's other
+     * values) and checked; the forest loaded with the fields' primary state.
+     */
     struct RestartPoint
     {
       std::string         directory, id;
@@ -96,14 +110,16 @@ namespace ContactStefan
     void         load_mesh_and_primary_state(const RestartPoint &point);
     std::string checkpoint_directory(const std::string &suffix = "") const;
     std::string fields_fingerprint() const;
-    // The checksum of Geometry/Mesh file's content ("none" without one),
-    // taken once at the start of the run into mesh_file_content.
+    /**
+     * The checksum of Geometry/Mesh file's content ("none" without one),
+     * taken once at the start of the run into mesh_file_content.
+     */
     std::string mesh_file_checksum() const;
     std::string mesh_file_content;
-    // The data each field hands the other (doc/coupling.md).
+    /** The data each field hands the other (doc/coupling.md). */
     void exchange_temperature();
     void exchange_thermoelastic_work();
-    // A one-line summary of what the scene couples and what it skips.
+    /** A one-line summary of what the scene couples and what it skips. */
     std::string describe_coupling() const;
     void        print_step_line(const EnthalpyStepReport &thermal_report,
                                 const ContactStepReport  &contact_report,
@@ -115,24 +131,30 @@ namespace ContactStefan
     Timer                wall_clock;
 
     parallel::distributed::Triangulation<dim> triangulation;
-    // The diagonal of the domain's bounding box (-1: not computed yet).
+    /** The diagonal of the domain's bounding box (-1: not computed yet). */
     double                                diameter = -1;
     double                                domain_diameter();
     const Materials                       materials;
-    // The exact solution of a Neumann scene (else null), provided to the scene
-    // functions and the postprocessor.
-    SceneFunctions<dim>                          functions;
+    /**
+     * Every function of the scene, with the exact temperature a verification
+     * part gives (coupling/part_registry.h).
+     */
+    SceneFunctions<dim> functions;
+    /** What the fields and the parts of the report share (core/scene_context.h). */
+    const SceneContext<dim>               context;
     std::unique_ptr<Postprocessor<dim>>   postprocessor;
     std::unique_ptr<ThermalField<dim>>    thermal;    // null: Physics/Thermal = false
     std::unique_ptr<MechanicalField<dim>> mechanical; // null: Physics/Mechanics = false
-    // The block correction of the fixed point (null where it does not apply:
-    // block_not_applicable says why).
+    /**
+     * The block correction of the fixed point (null where it does not apply:
+     * block_not_applicable says why).
+     */
     std::unique_ptr<CoupledBlock<dim>> block;
     std::string                        block_not_applicable;
 
     double       time, time_step = 0;
     unsigned int step_number = 0;
-    // Wall time of the run before a resume, and at the last checkpoint.
+    /** Wall time of the run before a resume, and at the last checkpoint. */
     double wall_offset = 0, last_checkpoint_wall = 0;
   };
 } // namespace ContactStefan

@@ -49,6 +49,7 @@
 #include <contact-stefan/core/common.h>
 #include <contact-stefan/core/materials.h>
 #include <contact-stefan/core/parameters.h>
+#include <contact-stefan/core/scene_context.h>
 #include <contact-stefan/core/scene_functions.h>
 #include <contact-stefan/linear_algebra/linear_solver.h>
 #include <contact-stefan/mechanics/contact_step_parameters.h>
@@ -66,7 +67,7 @@
 
 namespace ContactStefan
 {
-  // What one contact step did.
+  /** What one contact step did. */
   struct ContactStepReport
   {
     unsigned int iterations          = 0;
@@ -77,12 +78,12 @@ namespace ContactStefan
     bool         reused              = false; // stationary data: the last solution stands
     double       max_pressure        = 0;
     double       min_active_pressure = 0; // over the nodes in contact (0 if none)
-    // Total compressive normal force per obstacle boundary / interface.
+    /** Total compressive normal force per obstacle boundary / interface. */
     std::map<std::string, double> forces;
-    // What the elasticity system's CG + AMG did (nothing on the direct path).
+    /** What the elasticity system's CG + AMG did (nothing on the direct path). */
     LinearSolverStatistics linear;
 
-    // For checkpoints (boost serialization).
+    /** For checkpoints (boost serialization). */
     template <class Archive>
     void serialize(Archive &ar, const unsigned int)
     {
@@ -91,9 +92,11 @@ namespace ContactStefan
     }
   };
 
-  // A node with a normal condition: a roller (u.n = 0), a rigid obstacle
-  // (u.n <= g) or a contact interface between bodies k and l
-  // ((u_k - u_l).n <= g, n pointing out of body k, k the smaller body id).
+  /**
+   * A node with a normal condition: a roller (u.n = 0), a rigid obstacle
+   * (u.n <= g) or a contact interface between bodies k and l
+   * ((u_k - u_l).n <= g, n pointing out of body k, k the smaller body id).
+   */
   struct NormalCondition
   {
     enum class Kind
@@ -120,20 +123,16 @@ namespace ContactStefan
   class MechanicalField
   {
   public:
-    // prm: the scene; contact_prm: the contact step's own entries;
-    // linear_prm: the shared linear-solver entries; verbosity:
-    // Output/Verbosity; section_lines: the lines (Output/Section lines) that
-    // must be mesh lines.
-    MechanicalField(const SceneParameters                           &prm,
-                    const Parameters::ContactStep                   &contact_prm,
-                    const Parameters::LinearSolvers                 &linear_prm,
-                    const unsigned int                               verbosity,
-                    const std::vector<Parameters::SectionLine>      &section_lines,
-                    const Materials                                 &materials,
-                    SceneFunctions<dim>                             &functions,
-                    const parallel::distributed::Triangulation<dim> &triangulation,
-                    TimerOutput                                     &timer,
-                    const ConditionalOStream                        &pcout);
+    /**
+     * prm: the scene; contact_prm: the contact step's own entries;
+     * linear_prm: the shared linear-solver entries; verbosity:
+     * Output/Verbosity; section_lines: the lines (Output/Section lines) that
+     * must be mesh lines.
+     */
+    MechanicalField(const SceneContext<dim>                    &context,
+                    const Parameters::ContactStep              &contact_prm,
+                    const Parameters::LinearSolvers            &linear_prm,
+                    const std::vector<Parameters::SectionLine> &section_lines);
 
     // --- the step contract ----------------------------------------------------
     void                  setup_dofs();
@@ -142,28 +141,34 @@ namespace ContactStefan
     ContactStepReport     solve();
     std::vector<Vector *> primary_state(); // {u, u_old}, owned vectors
     void                  after_transfer();
-    // Forget factorisations, preconditioners and the last solution, as a new
-    // set-up does. A checkpoint calls it (after re-deriving the state with
-    // after_transfer()), so that the steps after it do exactly the work of a
-    // run resumed from it.
+    /**
+     * Forget factorisations, preconditioners and the last solution, as a new
+     * set-up does. A checkpoint calls it (after re-deriving the state with
+     * after_transfer()), so that the steps after it do exactly the work of a
+     * run resumed from it.
+     */
     void restart_solvers()
     {
       ++stiffness_version; // the preconditioner is rebuilt for it
       have_matrix = have_factorisation = have_solution = false;
       linear_solver.clear();
     }
-    // Adds the displacement, the stresses and strains (doc/output.md: cell-centre
-    // values as cell data, their recovered nodal field per body as point data),
-    // the contact pressure and the gap.
+    /**
+     * Adds the displacement, the stresses and strains (doc/output.md: cell-centre
+     * values as cell data, their recovered nodal field per body as point data),
+     * the contact pressure and the gap.
+     */
     void add_output(DataOut<dim> &data_out) const;
 
-    // The stress where Q1 is accurate: at the cell centre, from the strain there
-    // and the mean of the four vertex values of Theta - Theta_0 (the thermal
-    // load is integrated by the vertex rule, so this is the thermal stress the
-    // discrete equilibrium holds). On a rectangle the elastic stress of Q1 is
-    // linear in x and in y separately, so its centre value is its exact mean
-    // over the cell, and the sum of sigma n over the cells along a mesh line
-    // is the section force (doc/output.md).
+    /**
+     * The stress where Q1 is accurate: at the cell centre, from the strain there
+     * and the mean of the four vertex values of Theta - Theta_0 (the thermal
+     * load is integrated by the vertex rule, so this is the thermal stress the
+     * discrete equilibrium holds). On a rectangle the elastic stress of Q1 is
+     * linear in x and in y separately, so its centre value is its exact mean
+     * over the cell, and the sum of sigma n over the cells along a mesh line
+     * is the section force (doc/output.md).
+     */
     struct CellStress
     {
       SymmetricTensor<2, dim> strain;  // e(u)
@@ -172,27 +177,33 @@ namespace ContactStefan
       double                  sigma_zz = 0, thermal_zz = 0;
       double                  von_mises() const;
     };
-    // Per active cell index (owned cells; the entries of other cells are zero).
+    /** Per active cell index (owned cells; the entries of other cells are zero). */
     std::vector<CellStress> cell_centre_stresses() const;
-    // The largest von Mises stress of the cell-centre values over all cells,
-    // with the centre of a cell where it is reached (of the cells within 1e-10
-    // of it, the first by x, then y: the same on any partition); 0 and the
-    // origin below round-off of the stiffness. Collective.
+    /**
+     * The largest von Mises stress of the cell-centre values over all cells,
+     * with the centre of a cell where it is reached (of the cells within 1e-10
+     * of it, the first by x, then y: the same on any partition); 0 and the
+     * origin below round-off of the stiffness. Collective.
+     */
     std::pair<double, Point<dim>> max_cell_von_mises() const;
-    // The recovered nodal stress of each body, {(sigma_xx, sigma_yy),
-    // (sigma_xy, sigma_zz)} in the x and y components of the body's slot
-    // (recover_nodal_pair() of the cell-centre values); ghosted vectors.
+    /**
+     * The recovered nodal stress of each body, {(sigma_xx, sigma_yy),
+     * (sigma_xy, sigma_zz)} in the x and y components of the body's slot
+     * (recover_nodal_pair() of the cell-centre values); ghosted vectors.
+     */
     void recover_stresses(const std::vector<CellStress> &stresses,
                           std::array<Vector, 2>         &ghosted) const;
-    // The section force across each line: the integral of sigma n (n = +x or
-    // +y) over the faces on the line of the cells before it (left or below:
-    // side 0) and of those after it (side 1), from the cell-centre stresses and
-    // from the recovered nodal field (trapezoidal rule on each face: exact for
-    // its linear trace); and the length of those faces. Collective.
-    // On a side whose cells all have the same extent across the line (a row
-    // of equal cells: uniform_row()), the cell-centre force is the exact
-    // section force of the discrete equilibrium (doc/output.md); where hanging
-    // nodes border the row it is not.
+    /**
+     * The section force across each line: the integral of sigma n (n = +x or
+     * +y) over the faces on the line of the cells before it (left or below:
+     * side 0) and of those after it (side 1), from the cell-centre stresses and
+     * from the recovered nodal field (trapezoidal rule on each face: exact for
+     * its linear trace); and the length of those faces. Collective.
+     * On a side whose cells all have the same extent across the line (a row
+     * of equal cells: uniform_row()), the cell-centre force is the exact
+     * section force of the discrete equilibrium (doc/output.md); where hanging
+     * nodes border the row it is not.
+     */
     struct SectionForce
     {
       std::array<Tensor<1, dim>, 2> cell_centre, recovered;
@@ -206,15 +217,19 @@ namespace ContactStefan
     };
     std::vector<SectionForce>
     section_forces(const std::vector<Parameters::SectionLine> &lines) const;
-    // Visit every vertex of every owned cell with its vertex-rule weight and
-    // the recovered stress there (sigma, sigma_zz): the L2 error of the
-    // recovered field by the vertex rule. Collective (the recovery).
+    /**
+     * Visit every vertex of every owned cell with its vertex-rule weight and
+     * the recovered stress there (sigma, sigma_zz): the L2 error of the
+     * recovered field by the vertex rule. Collective (the recovery).
+     */
     void for_each_recovered_vertex_stress(
       const std::function<void(const Point<dim> &, double, const SymmetricTensor<2, dim> &, double)>
         &visit) const;
-    // Refuses (InputError naming 'Output/Section lines') a line that cuts a
-    // coarse cell or meets no face of the mesh: refinement keeps the lines of
-    // the coarse mesh, so these are mesh lines at every step.
+    /**
+     * Refuses (InputError naming 'Output/Section lines') a line that cuts a
+     * coarse cell or meets no face of the mesh: refinement keeps the lines of
+     * the coarse mesh, so these are mesh lines at every step.
+     */
     void check_section_lines(const std::vector<Parameters::SectionLine> &lines) const;
 
     // --- coupling (doc/coupling.md) -------------------------------------------------
@@ -226,32 +241,38 @@ namespace ContactStefan
     // stiffness and beta of cells whose mixture changed are re-assembled.
     // Returns the number of cells re-assembled (over all ranks).
     unsigned int set_phase_weights(const std::vector<std::vector<double>> &weights);
-    // Theta at the vertices: the thermal stress load of the next solve().
+    /** Theta at the vertices: the thermal stress load of the next solve(). */
     void set_cell_temperatures(const CellVertexValues &theta);
-    // The thermoelastic work per vertex, sum_i B_K(i, v) (u - u_old)_i with
-    // B_K(i, v) = w_v beta_K : e(phi_i)(x_v): times the absolute Theta_0(x_v) it
-    // is the heat that the step's strain increment takes out of node v.
+    /**
+     * The thermoelastic work per vertex, sum_i B_K(i, v) (u - u_old)_i with
+     * B_K(i, v) = w_v beta_K : e(phi_i)(x_v): times the absolute Theta_0(x_v) it
+     * is the heat that the step's strain increment takes out of node v.
+     */
     void thermoelastic_work(CellVertexValues &work) const;
-    // Stored elastic energy 1/2 int sigma : C^{-1} : sigma (thermal part
-    // included), by the trapezoidal rule, and the largest strain (Frobenius
-    // norm of e(u) at the cell vertices, for the small-strain check); one pass,
-    // collective.
+    /**
+     * Stored elastic energy 1/2 int sigma : C^{-1} : sigma (thermal part
+     * included), by the trapezoidal rule, and the largest strain (Frobenius
+     * norm of e(u) at the cell vertices, for the small-strain check); one pass,
+     * collective.
+     */
     struct ElasticStatistics
     {
       double energy     = 0;
       double max_strain = 0;
     };
     ElasticStatistics elastic_statistics() const;
-    // Work of the contact forces on the bodies over the last step; collective.
+    /** Work of the contact forces on the bodies over the last step; collective. */
     double contact_work() const;
-    // sigma and sigma_zz at vertex v of an owned cell for the strain e there.
+    /** sigma and sigma_zz at vertex v of an owned cell for the strain e there. */
     std::pair<SymmetricTensor<2, dim>, double>
     stress(const typename DoFHandler<dim>::active_cell_iterator &cell,
            const unsigned int                                    vertex,
            const SymmetricTensor<2, dim>                        &strain) const;
-    // Visit every vertex of every owned cell with its trapezoidal weight, the
-    // computed stress there, sigma_zz, the thermal part -beta (Theta - Theta_0)
-    // and the cell's moduli.
+    /**
+     * Visit every vertex of every owned cell with its trapezoidal weight, the
+     * computed stress there, sigma_zz, the thermal part -beta (Theta - Theta_0)
+     * and the cell's moduli.
+     */
     void for_each_vertex_stress(const std::function<void(const Point<dim> &,
                                                          double,
                                                          const SymmetricTensor<2, dim> &,
@@ -282,31 +303,37 @@ namespace ContactStefan
     {
       return cell_thermal_operator[cell_index];
     }
-    // The start of the next solve's linear solve (a displacement that nearly
-    // solves it): if its residual is already within the CG tolerance, it is
-    // the solution (no linear solve, on either path); CG starts from it
-    // otherwise. The next solve() never reuses the last solution unchanged.
+    /**
+     * The start of the next solve's linear solve (a displacement that nearly
+     * solves it): if its residual is already within the CG tolerance, it is
+     * the solution (no linear solve, on either path); CG starts from it
+     * otherwise. The next solve() never reuses the last solution unchanged.
+     */
     void set_initial_guess(const Vector &u)
     {
       displacement  = u;
       have_solution = false;
       guess_pending = true;
     }
-    // How many solves a guess answered without a linear solve.
+    /** How many solves a guess answered without a linear solve. */
     unsigned int n_guesses_accepted() const
     {
       return guesses_accepted;
     }
-    // change = the condensed thermal load of theta minus that of theta_before
-    // (what the right-hand side of the contact step moves by).
+    /**
+     * change = the condensed thermal load of theta minus that of theta_before
+     * (what the right-hand side of the contact step moves by).
+     */
     void thermal_load_change(const CellVertexValues &theta,
                              const CellVertexValues &theta_before,
                              Vector                 &change) const;
 
     void contact_points(std::vector<Point<dim>> &points) const;
-    // The Kelly jump indicator of the displacement, per active cell (zero on
-    // cells that are not owned). The jump across a contact interface is not
-    // counted (the two bodies' displacements are independent there).
+    /**
+     * The Kelly jump indicator of the displacement, per active cell (zero on
+     * cells that are not owned). The jump across a contact interface is not
+     * counted (the two bodies' displacements are independent there).
+     */
     void error_indicator(dealii::Vector<float> &indicator) const;
 
     // --- queries ----------------------------------------------------------------
@@ -322,8 +349,10 @@ namespace ContactStefan
     {
       return normal_conditions;
     }
-    // Every obstacle boundary and interface ("boundary N", "interface k-l"),
-    // the same sorted list on every rank.
+    /**
+     * Every obstacle boundary and interface ("boundary N", "interface k-l"),
+     * the same sorted list on every rank.
+     */
     const std::vector<std::string> &get_contact_groups() const
     {
       return contact_groups;
@@ -335,20 +364,22 @@ namespace ContactStefan
     {
       return slot_of_body.at(body);
     }
-    // Height of the bounding box of a body (the patch test's compliance).
+    /** Height of the bounding box of a body (the patch test's compliance). */
     double body_height(const unsigned int body) const;
-    // How many roller, obstacle and interface nodes the field found.
+    /** How many roller, obstacle and interface nodes the field found. */
     std::string describe() const;
-    // result = K u - f (hanging nodes condensed) for the displacement u
-    // (ghosted): the residual from which contact forces are read.
+    /**
+     * result = K u - f (hanging nodes condensed) for the displacement u
+     * (ghosted): the residual from which contact forces are read.
+     */
     void apply_stiffness(const Vector &u_ghosted, Vector &result, const bool with_load) const;
 
   private:
     using LocalMatrix = FullMatrix<double>;
 
-    // mechanical_field/setup.cc
+    /** mechanical_field/setup.cc */
     void assemble_cell_stiffness();
-    // K_K and (with coupling) B_K of one owned cell with its cell_moduli.
+    /** K_K and (with coupling) B_K of one owned cell with its cell_moduli. */
     void assemble_cell_operators(const typename DoFHandler<dim>::active_cell_iterator &cell,
                                  hp::FEValues<dim>                                    &gauss_values,
                                  hp::FEValues<dim> &vertex_values);
@@ -367,15 +398,17 @@ namespace ContactStefan
     void assemble_load();
     void make_fixed_constraints();
 
-    // mechanical_field/contact_step.cc
+    /** mechanical_field/contact_step.cc */
     void update_condition_gaps();
     void build_contact_constraints(unsigned int &n_skipped);
     void check_rigid_body_modes() const;
     void assemble_system(const bool with_matrix);
-    // settled: the active set has settled, solve to the full CG tolerance.
+    /** settled: the active set has settled, solve to the full CG tolerance. */
     void solve_linear_system(const bool factorise, const bool settled);
-    // Hash of the constraint lines: their pattern and coefficients (what the
-    // matrix depends on), with inhomogeneities if asked; the same on every rank.
+    /**
+     * Hash of the constraint lines: their pattern and coefficients (what the
+     * matrix depends on), with inhomogeneities if asked; the same on every rank.
+     */
     std::uint64_t constraints_hash(const bool with_inhomogeneities) const;
     std::uint64_t gaps_hash() const;
     std::uint64_t loads_hash() const;
@@ -391,11 +424,13 @@ namespace ContactStefan
     std::vector<Decision>
     contact_decisions(const Vector &residual, double &local_scale, double &max_penetration) const;
     void store_contact_output(const std::vector<Decision> &decisions, ContactStepReport &report);
-    // The steps of solve() (doc/contact.md, "The active-set iteration"), all
-    // collective: the last converged solve's report if its data are unchanged;
-    // the active set moved by the decisions (changes and active nodes counted
-    // into the report); the converged set checked with c at full size; c
-    // divided by ten where a set keeps recurring.
+    /**
+     * The steps of solve() (doc/contact.md, "The active-set iteration"), all
+     * collective: the last converged solve's report if its data are unchanged;
+     * the active set moved by the decisions (changes and active nodes counted
+     * into the report); the converged set checked with c at full size; c
+     * divided by ten where a set keeps recurring.
+     */
     struct SetUpdate
     {
       unsigned int  changes;          // on all ranks
@@ -426,64 +461,82 @@ namespace ContactStefan
     DoFHandler<dim>                      dof_handler;
     IndexSet                             owned, relevant;
 
-    // Hanging nodes alone; plus prescribed displacements, ties and rollers
-    // (rebuilt each step); plus the active contact set (each iteration).
+    /**
+     * Hanging nodes alone; plus prescribed displacements, ties and rollers
+     * (rebuilt each step); plus the active contact set (each iteration).
+     */
     AffineConstraints<double> hanging_node_constraints, fixed_constraints, constraints;
-    // For each DoF, the targets of the fixed (non-hanging) lines that name it as
-    // an entry; rebuilt with the fixed constraints.
+    /**
+     * For each DoF, the targets of the fixed (non-hanging) lines that name it as
+     * an entry; rebuilt with the fixed constraints.
+     */
     std::unordered_map<types::global_dof_index, std::vector<types::global_dof_index>> named_by;
     TrilinosWrappers::SparseMatrix                                                    system_matrix;
-    // The part of K that no active set changes: the cells whose DoFs (closed
-    // under the fixed constraints) carry no contact condition, condensed with
-    // the fixed constraints. Each active-set iteration copies its values and
-    // adds the few cells along the contact boundaries (assemble_system).
-    // bulk_signature: the stiffness version and fixed-constraint pattern it
-    // was assembled for.
+    /**
+     * The part of K that no active set changes: the cells whose DoFs (closed
+     * under the fixed constraints) carry no contact condition, condensed with
+     * the fixed constraints. Each active-set iteration copies its values and
+     * adds the few cells along the contact boundaries (assemble_system).
+     * bulk_signature: the stiffness version and fixed-constraint pattern it
+     * was assembled for.
+     */
     TrilinosWrappers::SparseMatrix bulk_matrix;
     std::uint64_t                  bulk_signature = 0;
     bool                           have_bulk      = false;
-    // Whether bulk_matrix and system_matrix store their entries in the same
-    // order (checked when bulk_matrix is made): the copy is then one array copy.
+    /**
+     * Whether bulk_matrix and system_matrix store their entries in the same
+     * order (checked when bulk_matrix is made): the copy is then one array copy.
+     */
     bool bulk_storage_matches = false;
-    // Per active cell index: whether the cell's DoF closure carries a contact
-    // condition (make_sparsity_pattern), and whether one of its DoFs is
-    // constrained by the fixed constraints (its right-hand side then carries
-    // inhomogeneities even without a load).
+    /**
+     * Per active cell index: whether the cell's DoF closure carries a contact
+     * condition (make_sparsity_pattern), and whether one of its DoFs is
+     * constrained by the fixed constraints (its right-hand side then carries
+     * inhomogeneities even without a load).
+     */
     std::vector<bool> cell_near_contact, cell_fixed_constrained;
-    // Assemble bulk_matrix for the current stiffness and fixed constraints.
+    /** Assemble bulk_matrix for the current stiffness and fixed constraints. */
     void         assemble_bulk_matrix(const std::uint64_t signature);
     Vector       system_rhs, load, stiffness_diagonal;
     LinearSolver linear_solver;
 
-    // Primary state.
+    /** Primary state. */
     Vector displacement, old_displacement;
-    // Derived state: the ghosted displacement; the active flags (1 or 0 at the
-    // x DoF of side k) of the obstacle and interface conditions, owned and
-    // ghosted; nodal contact pressure and gap for output (at the same DoF).
+    /**
+     * Derived state: the ghosted displacement; the active flags (1 or 0 at the
+     * x DoF of side k) of the obstacle and interface conditions, owned and
+     * ghosted; nodal contact pressure and gap for output (at the same DoF).
+     */
     Vector displacement_ghosted;
     Vector obstacle_active, obstacle_active_ghosted, interface_active, interface_active_ghosted;
     Vector pressure, gap;
 
-    // Per-cell operators by active cell index: the moduli of the cell's phase
-    // mixture, K_K, the mechanical load F_K; with coupling the thermal operator
-    // B_K (n x 4), Theta_0 and Theta - Theta_0 at the vertices and the thermal
-    // load B_K (Theta - Theta_0).
+    /**
+     * Per-cell operators by active cell index: the moduli of the cell's phase
+     * mixture, K_K, the mechanical load F_K; with coupling the thermal operator
+     * B_K (n x 4), Theta_0 and Theta - Theta_0 at the vertices and the thermal
+     * load B_K (Theta - Theta_0).
+     */
     std::vector<ElasticModuli>          cell_moduli;
     std::vector<LocalMatrix>            cell_stiffness, cell_thermal_operator;
     std::vector<dealii::Vector<double>> cell_load, cell_thermal_load;
-    // The traction part of F_K of each boundary face with a traction, by
-    // (active cell index, face): the section forces leave out the traction on
-    // a face that lies on the section line.
+    /**
+     * The traction part of F_K of each boundary face with a traction, by
+     * (active cell index, face): the section forces leave out the traction on
+     * a face that lies on the section line.
+     */
     std::map<std::pair<unsigned int, unsigned int>, dealii::Vector<double>> traction_face_load;
     CellVertexValues cell_reference, cell_theta_excess;
     const bool       coupled, thermal_stress;
 
-    // Work skipped when its inputs did not change: the matrix (stiffness
-    // version, constraint pattern) last assembled and factorised, and the data
-    // of the last converged solve (contact_data_hash(): loads, inhomogeneities,
-    // gaps).
+    /**
+     * Work skipped when its inputs did not change: the matrix (stiffness
+     * version, constraint pattern) last assembled and factorised, and the data
+     * of the last converged solve (contact_data_hash(): loads, inhomogeneities,
+     * gaps).
+     */
     unsigned int stiffness_version = 0;
-    // The stiffness the linear solver's preconditioner was built for.
+    /** The stiffness the linear solver's preconditioner was built for. */
     unsigned int      preconditioner_stiffness_version = static_cast<unsigned int>(-1);
     bool              have_matrix = false, have_factorisation = false, have_solution = false;
     bool              guess_pending    = false;
@@ -494,17 +547,21 @@ namespace ContactStefan
 
     std::vector<NormalCondition> normal_conditions;
     std::vector<std::string>     contact_groups;
-    // The conditions imposed by the last build_contact_constraints(), by (x DoF
-    // of side k, kind), and per group the owned ones among them. setup_dofs()
-    // builds once with every node active: what can be imposed at all.
+    /**
+     * The conditions imposed by the last build_contact_constraints(), by (x DoF
+     * of side k, kind), and per group the owned ones among them. setup_dofs()
+     * builds once with every node active: what can be imposed at all.
+     */
     std::set<std::pair<std::uint64_t, int>> imposed_conditions;
     std::map<std::string, unsigned int>     placed_per_group;
     std::map<std::string, unsigned int>     imposable_per_group; // with every node active
     unsigned int                            n_dropped_conditions = 0;
 
-    // Body slot, component and position of every locally relevant displacement
-    // DoF, and per slot the centre and size of the body (for its rotation mode)
-    // and its bounding box.
+    /**
+     * Body slot, component and position of every locally relevant displacement
+     * DoF, and per slot the centre and size of the body (for its rotation mode)
+     * and its bounding box.
+     */
     struct DofInfo
     {
       unsigned int slot, component;
@@ -517,21 +574,23 @@ namespace ContactStefan
     double complementarity_scale = 1; // divided by 10 per cycling remedy
     double time                  = 0; // of the data: the start time or the last begin_time_step()
 
-    // The lumped L2 projection of per-cell values onto the continuous Q1 field of
-    // each body (doc/output.md): two values per cell go into the x and y
-    // components of the cell's body slot; a node's value is the area-weighted
-    // mean of the values of the cells of its body around it (hanging nodes
-    // condensed and distributed). Returns an owned vector.
-    // The displacement at the vertices of an owned cell (u[component][vertex]),
-    // from the cell's DoFs: the closed-form Q1 strains of the statistics and
-    // the cell-centre stresses need no FEValues.
+    /**
+     * The lumped L2 projection of per-cell values onto the continuous Q1 field of
+     * each body (doc/output.md): two values per cell go into the x and y
+     * components of the cell's body slot; a node's value is the area-weighted
+     * mean of the values of the cells of its body around it (hanging nodes
+     * condensed and distributed). Returns an owned vector.
+     * The displacement at the vertices of an owned cell (u[component][vertex]),
+     * from the cell's DoFs: the closed-form Q1 strains of the statistics and
+     * the cell-centre stresses need no FEValues.
+     */
     void cell_vertex_displacement(const typename DoFHandler<dim>::active_cell_iterator &cell,
                                   std::array<std::array<double, 4>, dim>               &u) const;
 
     void recover_nodal_pair(const std::vector<std::array<double, 2>> &cell_values,
                             Vector                                   &nodal) const;
 
-    // Output, alive until the next add_output().
+    /** Output, alive until the next add_output(). */
     mutable Vector                                               output_pressure, output_gap;
     mutable std::array<Vector, 4>                                output_recovered;
     mutable std::vector<dealii::Vector<double>>                  output_cell_data;

@@ -13,8 +13,10 @@
 namespace ContactStefan
 {
   template <int dim>
-  // coarse_only: the coarse mesh alone (checked the same way), on which a
-  // checkpoint's refined mesh is loaded.
+  /**
+   * coarse_only: the coarse mesh alone (checked the same way), on which a
+   * checkpoint's refined mesh is loaded.
+   */
   void make_mesh(const SceneParameters                     &prm,
                  const Parameters::Refinement              &refinement,
                  parallel::distributed::Triangulation<dim> &triangulation,

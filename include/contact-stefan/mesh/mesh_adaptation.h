@@ -34,17 +34,19 @@
 
 namespace ContactStefan
 {
-  // The points around which cells are refined: centres of cells that carry a
-  // phase front, positions of nodes in contact. Every rank holds the points of
-  // all ranks, so that a buffer reaches across rank boundaries whatever its
-  // width (a ghost layer is one cell wide).
+  /**
+   * The points around which cells are refined: centres of cells that carry a
+   * phase front, positions of nodes in contact. Every rank holds the points of
+   * all ranks, so that a buffer reaches across rank boundaries whatever its
+   * width (a ghost layer is one cell wide).
+   */
   template <int dim>
   class FeatureCloud
   {
   public:
-    // Collective: gathers the local points of every rank.
+    /** Collective: gathers the local points of every rank. */
     FeatureCloud(const std::vector<Point<dim>> &local_points, const MPI_Comm comm);
-    // Serial (the unit tests).
+    /** Serial (the unit tests). */
     explicit FeatureCloud(const std::vector<Point<dim>> &all_points);
 
     bool empty() const
@@ -55,14 +57,16 @@ namespace ContactStefan
     {
       return points.size();
     }
-    // The distance from p to the nearest point (infinity if there is none).
+    /** The distance from p to the nearest point (infinity if there is none). */
     double distance(const Point<dim> &p) const;
-    // Whether a cell with this centre and diameter lies within `buffer` cells
-    // of a point: distance <= (buffer + 1/2) diameter. A cell that contains a
-    // point is within 0 cells of it (its centre is at most half a diameter
-    // away); with buffer k every cell up to k cells away in any direction
-    // joins it (k sqrt(2) widths = k diameters), and along the axes a few more
-    // (k = 1 on a square mesh: the cells two across, 2 < 1.5 sqrt(2) widths).
+    /**
+     * Whether a cell with this centre and diameter lies within `buffer` cells
+     * of a point: distance <= (buffer + 1/2) diameter. A cell that contains a
+     * point is within 0 cells of it (its centre is at most half a diameter
+     * away); with buffer k every cell up to k cells away in any direction
+     * joins it (k sqrt(2) widths = k diameters), and along the axes a few more
+     * (k = 1 on a square mesh: the cells two across, 2 < 1.5 sqrt(2) widths).
+     */
     bool within(const Point<dim> &centre, const double diameter, const unsigned int buffer) const;
 
   private:
@@ -70,12 +74,14 @@ namespace ContactStefan
 
     std::vector<Point<dim>> points;
     RTree<Point<dim>>       tree;
-    // The bounding box of the points: most cells of a mesh are farther from it
-    // than any buffer, and are answered without a query of the tree.
+    /**
+     * The bounding box of the points: most cells of a mesh are farther from it
+     * than any buffer, and are answered without a query of the tree.
+     */
     Point<dim> lower, upper;
   };
 
-  // What mark_cells() was given and what it decided, for the statistics.
+  /** What mark_cells() was given and what it decided, for the statistics. */
   struct AdaptationReport
   {
     unsigned int feature_cells = 0;     // owned cells within a buffer of a front or contact point
@@ -84,9 +90,11 @@ namespace ContactStefan
     bool         capped        = false; // indicator flags dropped for 'Max cells'
   };
 
-  // Sets refine/coarsen flags on the locally owned cells. indicator: per
-  // active cell (zero on cells that are not owned), already weighted;
-  // features: cells near them are refined to max_level and never coarsened.
+  /**
+   * Sets refine/coarsen flags on the locally owned cells. indicator: per
+   * active cell (zero on cells that are not owned), already weighted;
+   * features: cells near them are refined to max_level and never coarsened.
+   */
   template <int dim>
   AdaptationReport mark_cells(parallel::distributed::Triangulation<dim> &triangulation,
                               const Parameters::Refinement              &prm,
@@ -94,19 +102,23 @@ namespace ContactStefan
                               const FeatureCloud<dim>                   &fronts,
                               const FeatureCloud<dim>                   &contacts);
 
-  // Propagates refine flags across interfaces between bodies (faces whose two
-  // cells have different material ids) until both sides of every interface
-  // face are flagged alike, clears coarsen flags next to interfaces, and runs
-  // the triangulation's own flag smoothing, repeated until nothing changes.
-  // Collective. The node-to-node contact pairs of MechanicalField need the
-  // same vertices on both sides of an interface.
+  /**
+   * Propagates refine flags across interfaces between bodies (faces whose two
+   * cells have different material ids) until both sides of every interface
+   * face are flagged alike, clears coarsen flags next to interfaces, and runs
+   * the triangulation's own flag smoothing, repeated until nothing changes.
+   * Collective. The node-to-node contact pairs of MechanicalField need the
+   * same vertices on both sides of an interface.
+   */
   template <int dim>
   void make_interfaces_conforming(parallel::distributed::Triangulation<dim> &triangulation);
 
-  // After a refinement: flags (for refinement) the owned cells at an interface
-  // whose neighbour across it is refined, and returns their number over all
-  // ranks (0: the mesh is conforming at every interface). p4est's 2:1 balance
-  // can refine cells that carried no flag, on one side only.
+  /**
+   * After a refinement: flags (for refinement) the owned cells at an interface
+   * whose neighbour across it is refined, and returns their number over all
+   * ranks (0: the mesh is conforming at every interface). p4est's 2:1 balance
+   * can refine cells that carried no flag, on one side only.
+   */
   template <int dim>
   unsigned int
   flag_nonconforming_interface_cells(parallel::distributed::Triangulation<dim> &triangulation);

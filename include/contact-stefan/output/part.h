@@ -25,6 +25,7 @@
 #include <contact-stefan/core/common.h>
 #include <contact-stefan/core/materials.h>
 #include <contact-stefan/core/parameters.h>
+#include <contact-stefan/core/scene_context.h>
 #include <contact-stefan/core/scene_functions.h>
 #include <contact-stefan/mechanics/mechanical_field.h>
 #include <contact-stefan/output/output_parameters.h>
@@ -48,42 +49,27 @@ namespace ContactStefan
   };
 
   /**
-   * The run as a part sees it (ASPECT's SimulatorAccess): the scene, the
-   * materials and functions, the mesh, the fields (null: that physics is
-   * off), the timer and the screen. Parts read it and never change the fields.
+   * The run as a part sees it: the scene context that the fields share
+   * (core/scene_context.h: scene, materials, functions, mesh, timer, screen),
+   * the Output entries, the fields (null: that physics is off; parts read them
+   * and never change them) and the names of the run's parts.
    */
   template <int dim>
-  struct RunContext
+  struct RunContext : SceneContext<dim>
   {
-    RunContext(const SceneParameters                           &scene,
-               const Parameters::Output                        &output,
-               const Materials                                 &materials,
-               SceneFunctions<dim>                             &functions,
-               const parallel::distributed::Triangulation<dim> &triangulation,
-               TimerOutput                                     &timer,
-               const ConditionalOStream                        &pcout,
-               const bool                                       adaptive)
-      : scene(scene)
+    RunContext(const SceneContext<dim>  &context,
+               const Parameters::Output &output,
+               const bool                adaptive)
+      : SceneContext<dim>(context)
       , output(output)
-      , materials(materials)
-      , functions(functions)
-      , triangulation(triangulation)
-      , mpi_communicator(triangulation.get_communicator())
-      , timer(timer)
-      , pcout(pcout)
+      , mpi_communicator(context.triangulation.get_communicator())
       , adaptive(adaptive)
     {}
 
-    const SceneParameters                           &scene;
-    const Parameters::Output                        &output;
-    const Materials                                 &materials;
-    SceneFunctions<dim>                             &functions;
-    const parallel::distributed::Triangulation<dim> &triangulation;
-    MPI_Comm                                         mpi_communicator;
-    TimerOutput                                     &timer;
-    const ConditionalOStream                        &pcout;
+    const Parameters::Output &output;
+    MPI_Comm                  mpi_communicator;
     /** The mesh adapts during the run. */
-    bool                        adaptive   = false;
+    bool                        adaptive;
     const ThermalField<dim>    *thermal    = nullptr;
     const MechanicalField<dim> *mechanical = nullptr;
     /** The names of the parts this run uses, in registry order. */
@@ -166,6 +152,7 @@ namespace ContactStefan
       gaps,                 // mechanical statistics: mean gap per contact group
       hertz,                // check 'hertz'
       patch,                // check 'patch'
+      other_checks,         // any further check, in registry order
       coupling,             // coupling statistics
       adaptation,           // mesh statistics
       solver_calls          // solver calls
@@ -230,7 +217,11 @@ namespace ContactStefan
     /** Its self-checks that failed, one sentence each (not collective). */
     virtual void add_failures(std::vector<std::string> &) const
     {}
-    /** What it accumulated over the run, as text (the same on every rank). */
+    /**
+     * What it accumulated over the run, as text. Rank 0 only (the checkpoint
+     * is written there), so not collective: the state must be the same on
+     * every rank. load() runs on every rank.
+     */
     virtual std::string save() const
     {
       return "";
@@ -281,6 +272,8 @@ namespace ContactStefan
     std::string name, description;
     /** Chosen by 'Exact solution/Type' = name (one per run); else by its entries or the physics. */
     bool exact_solution = false;
+    /** It gives the scene an exact temperature (PartParameters::exact_temperature()). */
+    bool gives_temperature = false;
     /** Declares its entries (in their subsection, e.g. 'Exact solution'); may be empty. */
     std::function<void(ParameterHandler &)> declare;
     /**

@@ -31,14 +31,9 @@ namespace ContactStefan
      * InputError naming Output/Directory otherwise), before any work is done.
      * adaptive: the mesh adapts during the run.
      */
-    Postprocessor(const SceneParameters                           &scene,
-                  const Parameters::Output                        &output,
-                  const bool                                       adaptive,
-                  const Materials                                 &materials,
-                  SceneFunctions<dim>                             &functions,
-                  const parallel::distributed::Triangulation<dim> &triangulation,
-                  TimerOutput                                     &timer,
-                  const ConditionalOStream                        &pcout);
+    Postprocessor(const SceneContext<dim>  &context,
+                  const Parameters::Output &output,
+                  const bool                adaptive);
 
     /**
      * The fields to report on (either may be null: that physics is off) and
@@ -111,7 +106,9 @@ namespace ContactStefan
 
     RunContext<dim>                                                 context;
     std::vector<std::pair<std::string, std::unique_ptr<Part<dim>>>> parts;
-    // Rank 0 holds the output directory's lock for the run's lifetime.
+    // The parts' parameters, which the parts refer to: alive as long as they.
+    std::vector<std::shared_ptr<const PartParameters>> part_parameters;
+    /** Rank 0 holds the output directory's lock for the run's lifetime. */
     std::unique_ptr<OutputDirectoryLock> output_lock;
   };
 } // namespace ContactStefan

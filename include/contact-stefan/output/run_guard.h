@@ -32,8 +32,10 @@ namespace ContactStefan
   class OutputDirectoryLock
   {
   public:
-    // Takes the lock or throws a runtime_error naming the directory and the
-    // process that holds it. Not collective (rank 0).
+    /**
+     * Takes the lock or throws a runtime_error naming the directory and the
+     * process that holds it. Not collective (rank 0).
+     */
     explicit OutputDirectoryLock(const std::string &directory);
     ~OutputDirectoryLock();
     OutputDirectoryLock(const OutputDirectoryLock &)            = delete;
@@ -43,15 +45,19 @@ namespace ContactStefan
     int descriptor = -1;
   };
 
-  // Removes 'solution.pvd' and every 'solution_NNNNN.vtu', 'solution_NNNNN.k.vtu'
-  // and 'solution_NNNNN.pvtu' of 'directory' whose step NNNNN is larger than
-  // last_kept_step (a fresh run: -1, everything; a resumed one: the
-  // checkpoint's step, whose earlier files are its own). Returns the number
-  // of files removed. Not collective (rank 0).
+  /**
+   * Removes 'solution.pvd' and every 'solution_NNNNN.vtu', 'solution_NNNNN.k.vtu'
+   * and 'solution_NNNNN.pvtu' of 'directory' whose step NNNNN is larger than
+   * last_kept_step (a fresh run: -1, everything; a resumed one: the
+   * checkpoint's step, whose earlier files are its own). Returns the number
+   * of files removed. Not collective (rank 0).
+   */
   unsigned int remove_stale_output(const std::string &directory, const long last_kept_step);
 
-  // Writes text to path through a temporary file in the same directory and a
-  // rename, so that path always holds either the old or the new whole text.
+  /**
+   * Writes text to path through a temporary file in the same directory and a
+   * rename, so that path always holds either the old or the new whole text.
+   */
   void write_file_atomically(const std::string &path, const std::string &text);
 
   // What made a run, kept in 'provenance.json' in its output directory (rank 0;
@@ -66,16 +72,18 @@ namespace ContactStefan
     void begin(const std::string              &version_line,
                const std::vector<std::string> &command_line,
                const unsigned int              n_ranks);
-    // The parameters as read: the files and the expanded text.
+    /** The parameters as read: the files and the expanded text. */
     void set_parameters(const std::vector<std::string> &files, const std::string &text);
-    // The run owns `directory` now: write the record (status "running").
+    /** The run owns `directory` now: write the record (status "running"). */
     void write(const std::string &directory, const bool resumed);
-    // The run ends with this exit code: rewrite the record, if written.
+    /** The run ends with this exit code: rewrite the record, if written. */
     void finish(const int exit_code);
   } // namespace RunRecord
 
-  // Thrown between two time steps when a stop signal arrived; the output is
-  // complete up to that step. main() exits with 128 + signal.
+  /**
+   * Thrown between two time steps when a stop signal arrived; the output is
+   * complete up to that step. main() exits with 128 + signal.
+   */
   class StoppedBySignal : public std::runtime_error
   {
   public:
@@ -86,24 +94,26 @@ namespace ContactStefan
     const int signal;
   };
 
-  // Fault injection for the restart and signal tests: if the environment
-  // variable holds this step number, the process sends itself the signal
-  // (SIGKILL: uncatchable, as an external kill -9). Unset in normal runs.
+  /**
+   * Fault injection for the restart and signal tests: if the environment
+   * variable holds this step number, the process sends itself the signal
+   * (SIGKILL: uncatchable, as an external kill -9). Unset in normal runs.
+   */
   void kill_if_asked(const char *variable, const unsigned int step, const int signal = SIGKILL);
 
   namespace StopSignals
   {
-    // Holds the stop signals back in this thread (and the threads it starts).
+    /** Holds the stop signals back in this thread (and the threads it starts). */
     void block();
-    // Installs the handlers of the stop signals.
+    /** Installs the handlers of the stop signals. */
     void install();
-    // Lets the stop signals through again (one that arrived meanwhile now).
+    /** Lets the stop signals through again (one that arrived meanwhile now). */
     void unblock();
-    // The signal received so far on this rank (0: none).
+    /** The signal received so far on this rank (0: none). */
     int received();
-    // Collective: the signal any rank received (0: none), the same on all ranks.
+    /** Collective: the signal any rank received (0: none), the same on all ranks. */
     int received_by_any(const MPI_Comm comm);
-    // "SIGTERM", "SIGINT", "SIGUSR1", "SIGUSR2", or the number.
+    /** "SIGTERM", "SIGINT", "SIGUSR1", "SIGUSR2", or the number. */
     std::string name(const int signal);
   } // namespace StopSignals
 } // namespace ContactStefan

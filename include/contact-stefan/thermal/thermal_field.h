@@ -43,6 +43,7 @@
 #include <contact-stefan/core/enthalpy_law.h>
 #include <contact-stefan/core/materials.h>
 #include <contact-stefan/core/parameters.h>
+#include <contact-stefan/core/scene_context.h>
 #include <contact-stefan/core/scene_functions.h>
 #include <contact-stefan/linear_algebra/linear_solver.h>
 #include <contact-stefan/thermal/enthalpy_step_parameters.h>
@@ -56,7 +57,7 @@
 
 namespace ContactStefan
 {
-  // What one enthalpy step did, for the screen and the statistics table.
+  /** What one enthalpy step did, for the screen and the statistics table. */
   struct EnthalpyStepReport
   {
     unsigned int active_set_iterations = 0;
@@ -75,17 +76,13 @@ namespace ContactStefan
   class ThermalField
   {
   public:
-    // prm: the scene; step_prm: the enthalpy step's own entries; linear_prm:
-    // the shared linear-solver entries; verbosity: Output/Verbosity.
-    ThermalField(const SceneParameters                           &prm,
-                 const Parameters::EnthalpyStep                  &step_prm,
-                 const Parameters::LinearSolvers                 &linear_prm,
-                 const unsigned int                               verbosity,
-                 const Materials                                 &materials,
-                 SceneFunctions<dim>                             &functions,
-                 const parallel::distributed::Triangulation<dim> &triangulation,
-                 TimerOutput                                     &timer,
-                 const ConditionalOStream                        &pcout);
+    /**
+     * prm: the scene; step_prm: the enthalpy step's own entries; linear_prm:
+     * the shared linear-solver entries; verbosity: Output/Verbosity.
+     */
+    ThermalField(const SceneContext<dim>         &context,
+                 const Parameters::EnthalpyStep  &step_prm,
+                 const Parameters::LinearSolvers &linear_prm);
 
     // --- the step contract ----------------------------------------------------
     void                  setup_dofs();
@@ -94,18 +91,22 @@ namespace ContactStefan
     EnthalpyStepReport    solve();
     std::vector<Vector *> primary_state(); // {h, h_old}, owned vectors
     void                  after_transfer();
-    // Forget factorisations, preconditioners and the last solution, as a new
-    // set-up does. A checkpoint calls it (after re-deriving the state with
-    // after_transfer()), so that the steps after it do exactly the work of a
-    // run resumed from it.
+    /**
+     * Forget factorisations, preconditioners and the last solution, as a new
+     * set-up does. A checkpoint calls it (after re-deriving the state with
+     * after_transfer()), so that the steps after it do exactly the work of a
+     * run resumed from it.
+     */
     void restart_solvers()
     {
       have_factorisation  = false;
       have_preconditioner = false;
       linear_solver.clear();
     }
-    // Adds temperature, enthalpy, phase index and liquid fraction. The vectors
-    // stay alive in this object until the next call.
+    /**
+     * Adds temperature, enthalpy, phase index and liquid fraction. The vectors
+     * stay alive in this object until the next call.
+     */
     void add_output(DataOut<dim> &data_out) const;
 
     // --- coupling (doc/coupling.md) -------------------------------------------------
@@ -113,18 +114,26 @@ namespace ContactStefan
     // vertex v of a cell is its v-th FE_Q(1) DoF.
     // Theta at the vertices of each owned cell (the current temperature).
     void cell_temperatures(CellVertexValues &theta) const;
-    // The phase weights of each owned cell (one per phase of its body): the
-    // phase fractions of its nodes at the previous time level, averaged.
+    /**
+     * The phase weights of each owned cell (one per phase of its body): the
+     * phase fractions of its nodes at the previous time level, averaged.
+     */
     void cell_phase_weights(std::vector<std::vector<double>> &weights) const;
-    // The thermoelastic work at the vertices (MechanicalField::thermoelastic_work):
-    // times the absolute Theta_0 it is the heat G the step's strain increment
-    // takes out of each node, m_i (h_i - h_i^old) + tau (A Theta)_i + G_i = tau F_i.
+    /**
+     * The thermoelastic work at the vertices (MechanicalField::thermoelastic_work):
+     * times the absolute Theta_0 it is the heat G the step's strain increment
+     * takes out of each node, m_i (h_i - h_i^old) + tau (A Theta)_i + G_i = tau F_i.
+     */
     void set_thermoelastic_work(const CellVertexValues &work);
-    // -sum_i G_i: the heat the step's strain increment released (J per unit
-    // thickness; > 0 under compression, < 0 where the body expands).
+    /**
+     * -sum_i G_i: the heat the step's strain increment released (J per unit
+     * thickness; > 0 under compression, < 0 where the body expands).
+     */
     double thermoelastic_heat() const;
-    // The largest gamma / rho c over the bodies and phases, gamma = Theta_0^abs
-    // beta : C^{-1} : beta: the contraction factor of the coupled step's lag.
+    /**
+     * The largest gamma / rho c over the bodies and phases, gamma = Theta_0^abs
+     * beta : C^{-1} : beta: the contraction factor of the coupled step's lag.
+     */
     double coupling_strength() const
     {
       return max_coupling_strength;
@@ -150,15 +159,19 @@ namespace ContactStefan
     {
       return cell_absolute_reference;
     }
-    // The start of the next linear solve of the enthalpy step (a temperature
-    // that nearly solves it: CG then stops at once; the direct path solves
-    // anyway). Only the starting point: the phase states stay.
+    /**
+     * The start of the next linear solve of the enthalpy step (a temperature
+     * that nearly solves it: CG then stops at once; the direct path solves
+     * anyway). Only the starting point: the phase states stay.
+     */
     void set_initial_guess(const Vector &theta)
     {
       temperature = theta;
     }
-    // The values of a nodal vector (all relevant entries readable) at the
-    // vertices of each owned cell.
+    /**
+     * The values of a nodal vector (all relevant entries readable) at the
+     * vertices of each owned cell.
+     */
     void cell_values(const Vector &theta, CellVertexValues &values) const;
 
     // --- queries ----------------------------------------------------------------
@@ -184,7 +197,7 @@ namespace ContactStefan
       return lumped_mass;
     }
     const EnthalpyLaw &law(const types::global_dof_index dof) const;
-    // Where each DoF of a locally owned cell sits (the nodes of the mesh).
+    /** Where each DoF of a locally owned cell sits (the nodes of the mesh). */
     const std::map<types::global_dof_index, Point<dim>> &get_support_points() const
     {
       return support_points;
@@ -197,13 +210,17 @@ namespace ContactStefan
     // Centres of the owned cells that carry a phase front: nodes in different
     // phases, or a node on a plateau.
     void front_points(std::vector<Point<dim>> &points) const;
-    // The Kelly jump indicator of the temperature, per active cell (zero on
-    // cells that are not owned).
+    /**
+     * The Kelly jump indicator of the temperature, per active cell (zero on
+     * cells that are not owned).
+     */
     void error_indicator(dealii::Vector<float> &indicator) const;
 
-    // What a restart needs besides the primary state: whether a step was taken,
-    // the length of the last one (the warm start extrapolates from it), and
-    // whether the steps start with the truncated Newton method (large-step mode).
+    /**
+     * What a restart needs besides the primary state: whether a step was taken,
+     * the length of the last one (the warm start extrapolates from it), and
+     * whether the steps start with the truncated Newton method (large-step mode).
+     */
     std::vector<double> restart_state() const
     {
       return {first_step ? 1. : 0., previous_time_step, large_step_mode ? 1. : 0.};
@@ -215,79 +232,95 @@ namespace ContactStefan
       large_step_mode    = state.at(2) != 0;
     }
 
-    // sum_i m_i h_i: the heat content (J per unit thickness) of the mesh.
+    /** sum_i m_i h_i: the heat content (J per unit thickness) of the mesh. */
     double total_enthalpy() const;
-    // sum_i m_i (fraction of node i through the transition at T).
+    /** sum_i m_i (fraction of node i through the transition at T). */
     double liquid_area(const double transition_temperature) const;
-    // sum_i m_i (liquid fraction of node i): the melt area.
+    /** sum_i m_i (liquid fraction of node i): the melt area. */
     double melt_area() const;
-    // A one-line description of what the field will do, for the start of a run.
+    /** A one-line description of what the field will do, for the start of a run. */
     std::string describe() const;
-    // A warning if cells give the conductivity matrix positive off-diagonal
-    // entries (cells far from square), empty if none do. Collective.
+    /**
+     * A warning if cells give the conductivity matrix positive off-diagonal
+     * entries (cells far from square), empty if none do. Collective.
+     */
     std::string mesh_warning() const;
-    // result = A theta (hanging-node condensed), integrated cell by cell from
-    // the A_K, independently of the assembled matrix the step itself uses (the
-    // field tests probe the conductivity with it).
+    /**
+     * result = A theta (hanging-node condensed), integrated cell by cell from
+     * the A_K, independently of the assembled matrix the step itself uses (the
+     * field tests probe the conductivity with it).
+     */
     void apply_conductivity(const Vector &theta_ghosted, Vector &result) const;
 
   private:
     using LocalMatrix = FullMatrix<double>;
 
-    // thermal_field/setup.cc
+    /** thermal_field/setup.cc */
     void setup_nodal_enthalpy_laws();
     void assemble_cell_conductivities();
     void assemble_heat_load();
     void make_dirichlet_constraints();
     void set_nodal_state_from_enthalpy();
     void setup_coupling();
-    // Phase weights of one owned cell of the given enthalpy (ghosted).
+    /** Phase weights of one owned cell of the given enthalpy (ghosted). */
     void phase_weights(const typename DoFHandler<dim>::active_cell_iterator &cell,
                        const Vector                                         &h,
                        std::vector<double>                                  &weights) const;
-    // The heat a node receives in the step: tau F_i - G_i.
+    /** The heat a node receives in the step: tau F_i - G_i. */
     double step_heat(const types::global_dof_index dof) const
     {
       return time_step * heat_load[dof] - coupling_heat[dof];
     }
 
-    // thermal_field/enthalpy_step.cc
+    /** thermal_field/enthalpy_step.cc */
     void assemble_conductivity_matrix();
     void assemble_step_load();
     void assemble_system(const bool assemble_matrix);
-    // result = A Theta (hanging nodes condensed) for the current temperature,
-    // from the assembled A; with absolute, |A| |Theta| entrywise (the size of
-    // the terms against which the round-off of (A Theta)_i is measured).
+    /**
+     * result = A Theta (hanging nodes condensed) for the current temperature,
+     * from the assembled A; with absolute, |A| |Theta| entrywise (the size of
+     * the terms against which the round-off of (A Theta)_i is measured).
+     */
     void conductivity_times(Vector &result, const bool absolute = false) const;
-    // Imports owned values (one per row of the conductivity matrix) onto its
-    // column map.
+    /**
+     * Imports owned values (one per row of the conductivity matrix) onto its
+     * column map.
+     */
     void to_columns(const Epetra_Vector &values, std::vector<double> &result) const;
-    // One linear solve with every node on the linear piece of its current
-    // phase state: the plateau constraints come from phase_state_ghosted, the
-    // nodal diagonal and right-hand side from phase_state, so every write to
-    // phase_state must be copied to phase_state_ghosted before the call.
+    /**
+     * One linear solve with every node on the linear piece of its current
+     * phase state: the plateau constraints come from phase_state_ghosted, the
+     * nodal diagonal and right-hand side from phase_state, so every write to
+     * phase_state must be copied to phase_state_ghosted before the call.
+     */
     unsigned int solve_for_pieces(Vector &h_new, const double tolerance = 0);
-    // At most max_iterations solves; false if the set did not settle.
+    /** At most max_iterations solves; false if the set did not settle. */
     bool active_set_iteration(EnthalpyStepReport &report, const unsigned int max_iterations);
-    // The steps of one active-set iteration: the size of the enthalpy changes
-    // that matter; and, collective, whether every free node of the Newton
-    // target h_new lies on the piece it was computed with, whether the step to
-    // it moves no enthalpy beyond round-off, the Armijo line search's step
-    // length along it, and taking the (damped) step and moving the nodes to
-    // their new pieces (returns the free nodes that moved).
+    /**
+     * The steps of one active-set iteration: the size of the enthalpy changes
+     * that matter; and, collective, whether every free node of the Newton
+     * target h_new lies on the piece it was computed with, whether the step to
+     * it moves no enthalpy beyond round-off, the Armijo line search's step
+     * length along it, and taking the (damped) step and moving the nodes to
+     * their new pieces (returns the free nodes that moved).
+     */
     double       enthalpy_change_scale() const;
     bool         newton_target_consistent(const Vector &h_new) const;
     bool         newton_step_negligible(const Vector &h_new, const double enthalpy_scale) const;
     double       line_search_step(const Vector &h_new, const Vector &z) const;
     unsigned int take_step_and_update_states(const Vector &h_new, Vector &z, const double alpha);
-    // thermal_field/enthalpy_newton.cc: the truncated nonsmooth Newton method in Theta.
+    /** thermal_field/enthalpy_newton.cc: the truncated nonsmooth Newton method in Theta. */
     bool truncated_newton_iteration(EnthalpyStepReport &report);
-    // One forward nonlinear Gauss-Seidel sweep over the free owned nodes
-    // (ghost values held fixed); theta is owned, hanging nodes distributed.
+    /**
+     * One forward nonlinear Gauss-Seidel sweep over the free owned nodes
+     * (ghost values held fixed); theta is owned, hanging nodes distributed.
+     */
     void gauss_seidel_sweep(Vector &theta);
-    // Exact minimisation of the step functional on theta + alpha v, alpha in
-    // [0, 1]; theta moves there, nodes the minimiser stops at snapped onto
-    // their transition temperature. Returns alpha.
+    /**
+     * Exact minimisation of the step functional on theta + alpha v, alpha in
+     * [0, 1]; theta moves there, nodes the minimiser stops at snapped onto
+     * their transition temperature. Returns alpha.
+     */
     double       exact_line_search(Vector &theta, const Vector &v);
     unsigned int relaxation_fallback();
     double       compute_energy_balance(unsigned int &inconsistent_nodes) const;
@@ -306,15 +339,19 @@ namespace ContactStefan
     DoFHandler<dim> dof_handler;
     IndexSet        owned, relevant;
 
-    // Hanging-node constraints alone, the Dirichlet ones on top (rebuilt each
-    // step), and the full set of one active-set iteration (plus the plateau nodes).
+    /**
+     * Hanging-node constraints alone, the Dirichlet ones on top (rebuilt each
+     * step), and the full set of one active-set iteration (plus the plateau nodes).
+     */
     AffineConstraints<double> hanging_node_constraints, dirichlet_constraints, constraints;
 
     TrilinosWrappers::SparseMatrix system_matrix;
     Vector                         system_rhs;
-    // A itself (hanging nodes condensed, no other constraint), assembled when
-    // conductivity_version moves; the load tau F - G of the current solve();
-    // per column of the matrix, the prescribed value of that node (NaN: free).
+    /**
+     * A itself (hanging nodes condensed, no other constraint), assembled when
+     * conductivity_version moves; the load tau F - G of the current solve();
+     * per column of the matrix, the prescribed value of that node (NaN: free).
+     */
     TrilinosWrappers::SparseMatrix conductivity_matrix;
     unsigned int                   conductivity_matrix_version = 0;
     Vector                         step_load;
@@ -322,74 +359,98 @@ namespace ContactStefan
     mutable std::vector<double>    column_values;
     LinearSolver                   linear_solver;
 
-    // Primary state: the nodal enthalpy now and at the previous time level.
+    /** Primary state: the nodal enthalpy now and at the previous time level. */
     Vector enthalpy, old_enthalpy;
-    // Derived state: Theta = beta(h) and the phase state of each node (stored as
-    // a double so that it travels with the ghost exchange), owned and ghosted.
+    /**
+     * Derived state: Theta = beta(h) and the phase state of each node (stored as
+     * a double so that it travels with the ghost exchange), owned and ghosted.
+     */
     Vector temperature, temperature_ghosted, enthalpy_ghosted;
     Vector phase_state, phase_state_ghosted;
-    // Per-node data: lumped mass m_i, heat load F_i of the step, and the
-    // coefficients of one iteration's system m_i d_i Theta_i + tau (A Theta)_i =
-    // m_i g_i + tau F_i.
+    /**
+     * Per-node data: lumped mass m_i, heat load F_i of the step, and the
+     * coefficients of one iteration's system m_i d_i Theta_i + tau (A Theta)_i =
+     * m_i g_i + tau F_i.
+     */
     Vector lumped_mass, heat_load, nodal_diagonal, nodal_rhs;
-    // The truncated Newton method's first iterate: Theta of the enthalpy
-    // extrapolated by begin_time_step().
+    /**
+     * The truncated Newton method's first iterate: Theta of the enthalpy
+     * extrapolated by begin_time_step().
+     */
     Vector predicted_temperature;
-    // The thermoelastic heat G of the step (condensed) and its cell parts G_K,
-    // the absolute Theta_0 at the vertices, and whether the scene has the term.
+    /**
+     * The thermoelastic heat G of the step (condensed) and its cell parts G_K,
+     * the absolute Theta_0 at the vertices, and whether the scene has the term.
+     */
     Vector                              coupling_heat;
     std::vector<dealii::Vector<double>> cell_heating;
     CellVertexValues                    cell_absolute_reference;
     const bool                          heating;
     double                              max_coupling_strength = 0;
 
-    // The matrix last factorised: its fingerprint (tau, conductivity version,
-    // constraint pattern, nodal diagonal), so that an unchanged one is reused.
+    /**
+     * The matrix last factorised: its fingerprint (tau, conductivity version,
+     * constraint pattern, nodal diagonal), so that an unchanged one is reused.
+     */
     unsigned int  conductivity_version    = 0;
     bool          have_factorisation      = false;
     std::uint64_t factorisation_signature = 0;
-    // The values the system matrix holds (after solves that borrowed the AMG
-    // hierarchy, not those of factorisation_signature).
+    /**
+     * The values the system matrix holds (after solves that borrowed the AMG
+     * hierarchy, not those of factorisation_signature).
+     */
     std::uint64_t matrix_signature = 0;
-    // The operator (tau, conductivity) the AMG hierarchy was built for.
+    /** The operator (tau, conductivity) the AMG hierarchy was built for. */
     bool          have_preconditioner      = false;
     std::uint64_t preconditioner_signature = 0;
     unsigned int  n_factorisations         = 0; // in the current solve()
 
-    // The enthalpy law of each locally relevant node: body laws first, then the
-    // mass-weighted sums for nodes shared by bodies with different laws.
+    /**
+     * The enthalpy law of each locally relevant node: body laws first, then the
+     * mass-weighted sums for nodes shared by bodies with different laws.
+     */
     std::vector<EnthalpyLaw>             laws;
     std::vector<unsigned int>            law_of_node; // index within `relevant`
     std::map<unsigned int, unsigned int> law_of_body;
 
-    // Per-cell operators by active cell index: the conductivity shape matrix
-    // S_K (per mesh), A_K = k_K S_K (with the lagged phase mixture), the lumped
-    // vertex weights m_K and the heat load F_K.
+    /**
+     * Per-cell operators by active cell index: the conductivity shape matrix
+     * S_K (per mesh), A_K = k_K S_K (with the lagged phase mixture), the lumped
+     * vertex weights m_K and the heat load F_K.
+     */
     std::vector<LocalMatrix> cell_shape_conductivity, cell_conductivity;
-    // k_K of each owned cell (A_K = k_K S_K): the heat flux of the output.
+    /** k_K of each owned cell (A_K = k_K S_K): the heat flux of the output. */
     std::vector<double>                           cell_conductivity_factor;
     std::vector<dealii::Vector<double>>           cell_mass, cell_load;
     std::map<types::global_dof_index, Point<dim>> support_points;
 
-    // Direct access to the entries of the per-node loops. The owned DoFs are
-    // one contiguous range (p4est numbering), so owned entry dof of an owned
-    // vector is its local entry dof - first_owned; for relevant node k (k-th
-    // element of `relevant`) relevant_entry[k] is its local entry in a ghosted
-    // vector. Per owned node: its law and whether it is free (no Dirichlet
-    // value). Element access through TrilinosWrappers maps every index through
-    // Epetra's hash table: 13 % of a Stefan strip run before these.
+    /**
+     * Direct access to the entries of the per-node loops. The owned DoFs are
+     * one contiguous range (p4est numbering), so owned entry dof of an owned
+     * vector is its local entry dof - first_owned; for relevant node k (k-th
+     * element of `relevant`) relevant_entry[k] is its local entry in a ghosted
+     * vector. Per owned node: its law and whether it is free (no Dirichlet
+     * value). Element access through TrilinosWrappers maps every index through
+     * Epetra's hash table: 13 % of a Stefan strip run before these.
+     */
     types::global_dof_index first_owned = 0;
     unsigned int            n_owned     = 0;
     std::vector<int>        relevant_entry;
-    // Per owned cell (by active cell index): the relevant-node numbers k of its
-    // vertices.
+    /**
+     * Per owned cell (by active cell index): the relevant-node numbers k of its
+     * vertices.
+     */
     std::vector<std::array<unsigned int, GeometryInfo<dim>::vertices_per_cell>> cell_nodes;
-    // The melt area's weights, per mesh: for each body law with a transition,
-    // its melting temperature and, per relevant node k, the lumped mass the
-    // node carries in the owned cells of bodies with that law.
+    /**
+     * The melt area's weights, per mesh: for each body law with a transition,
+     * its melting temperature and, per relevant node k, the lumped mass the
+     * node carries in the owned cells of bodies with that law.
+     */
     std::vector<std::pair<double, std::vector<double>>> melt_weights;
-    // The nodes of each temperature boundary, per mesh: (id, [(DoF, vertex)]) in
-    // the order of the boundaries; the DoFs of the non-artificial cells' faces.
+    /**
+     * The nodes of each temperature boundary, per mesh: (id, [(DoF, vertex)]) in
+     * the order of the boundaries; the DoFs of the non-artificial cells' faces.
+     */
     std::vector<
       std::pair<types::boundary_id, std::vector<std::pair<types::global_dof_index, Point<dim>>>>>
                               dirichlet_nodes;
@@ -412,20 +473,24 @@ namespace ContactStefan
     unsigned int n_setups = 0;
     double       time = 0, time_step = 0, previous_time_step = 0;
     bool         first_step = true; // no previous step to extrapolate from
-    // Whether the warm start of this step moved a node to another piece.
+    /** Whether the warm start of this step moved a node to another piece. */
     bool predicted_set_changed = false;
-    // With 'Enthalpy solver = active-set': whether a step was handed over to
-    // the truncated Newton method ('Truncated Newton hand-over') and no step
-    // since has handed back; the next step then starts with it.
+    /**
+     * With 'Enthalpy solver = active-set': whether a step was handed over to
+     * the truncated Newton method ('Truncated Newton hand-over') and no step
+     * since has handed back; the next step then starts with it.
+     */
     bool large_step_mode = false;
-    // The mode of the current step (set by begin_time_step(), and by a
-    // hand-over within the step, so that later passes of a coupling loop use
-    // the method that solved the first), and whether solve() has not yet run
-    // in this step (the truncated Newton method starts later passes from the
-    // last pass's temperature).
+    /**
+     * The mode of the current step (set by begin_time_step(), and by a
+     * hand-over within the step, so that later passes of a coupling loop use
+     * the method that solved the first), and whether solve() has not yet run
+     * in this step (the truncated Newton method starts later passes from the
+     * last pass's temperature).
+     */
     bool step_in_large_step_mode = false, first_pass_of_step = true;
 
-    // Output fields, alive until the next add_output().
+    /** Output fields, alive until the next add_output(). */
     mutable Vector                                output_phase_index, output_liquid_fraction;
     mutable std::array<dealii::Vector<double>, 2> output_heat_flux; // cell data
   };

@@ -10,9 +10,11 @@
 
 namespace ContactStefan
 {
-  // The checks both closed-form contact solutions (hertz, patch) make: the
-  // mechanics is on, the body exists, and no material couples shear and
-  // extension (C16 = C26 = 0): otherwise no uniform state fits the rollers.
+  /**
+   * The checks both closed-form contact solutions (hertz, patch) make: the
+   * mechanics is on, the body exists, and no material couples shear and
+   * extension (C16 = C26 = 0): otherwise no uniform state fits the rollers.
+   */
   inline void check_contact_solution_scene(const SceneParameters &scene,
                                            const std::string     &name,
                                            const unsigned int     body)

@@ -18,13 +18,15 @@ namespace ContactStefan
   class NeumannSolution
   {
   public:
-    // Phases are numbered from cold (0) to hot (n); transition j separates phase j
-    // from phase j+1 at transition_temperatures[j] (strictly increasing) and has
-    // volumetric latent heat rho*L_j >= 0. conductivities and volumetric heat
-    // capacities (rho*c_p) are given per phase and must be > 0. Requires
-    // T_hot > T_{n-1} and T_cold <= T_0 (equality: one-phase problem, which needs
-    // rho*L_0 > 0). Invalid data throws std::invalid_argument; std::runtime_error
-    // if the Stefan conditions cannot be solved to (near) machine precision.
+    /**
+     * Phases are numbered from cold (0) to hot (n); transition j separates phase j
+     * from phase j+1 at transition_temperatures[j] (strictly increasing) and has
+     * volumetric latent heat rho*L_j >= 0. conductivities and volumetric heat
+     * capacities (rho*c_p) are given per phase and must be > 0. Requires
+     * T_hot > T_{n-1} and T_cold <= T_0 (equality: one-phase problem, which needs
+     * rho*L_0 > 0). Invalid data throws std::invalid_argument; std::runtime_error
+     * if the Stefan conditions cannot be solved to (near) machine precision.
+     */
     NeumannSolution(const std::vector<double> &conductivities,
                     const std::vector<double> &volumetric_heat_capacities,
                     const std::vector<double> &transition_temperatures,
@@ -37,21 +39,25 @@ namespace ContactStefan
       return temperatures.size();
     }
 
-    // Theta(x,t) and dTheta/dx for t > 0, x >= 0.
+    /** Theta(x,t) and dTheta/dx for t > 0, x >= 0. */
     double temperature(const double x, const double t) const;
     double temperature_gradient(const double x, const double t) const;
 
-    // s_j(t) = 2 mu_j sqrt(t), ordered s_{n-1} < ... < s_0.
+    /** s_j(t) = 2 mu_j sqrt(t), ordered s_{n-1} < ... < s_0. */
     double front_position(const unsigned int transition, const double t) const;
     double front_coefficient(const unsigned int transition) const;
 
-    // lambda with s_{n-1} = 2 lambda sqrt(a_n t), a_n = k_n/(rho c)_n: for a single
-    // transition the classical Neumann lambda.
+    /**
+     * lambda with s_{n-1} = 2 lambda sqrt(a_n t), a_n = k_n/(rho c)_n: for a single
+     * transition the classical Neumann lambda.
+     */
     double classical_lambda() const;
 
   private:
-    // The region of one phase in the similarity variable xi = x/(2 sqrt(a t)) of
-    // that phase, with the temperatures at its ends.
+    /**
+     * The region of one phase in the similarity variable xi = x/(2 sqrt(a t)) of
+     * that phase, with the temperatures at its ends.
+     */
     struct Region
     {
       unsigned int phase;
@@ -61,18 +67,20 @@ namespace ContactStefan
     };
     Region region_of_phase(const unsigned int phase, const std::vector<double> &mu_values) const;
     const Region &region_containing(const double x, const double t) const;
-    // The similarity heat flux q = -k dTheta/deta, eta = x/(2 sqrt t), in region r.
+    /** The similarity heat flux q = -k dTheta/deta, eta = x/(2 sqrt t), in region r. */
     double flux(const Region &r, const double eta) const;
 
-    // Given mu_{n-1}, integrate the Stefan conditions outwards; see the .cc file.
+    /** Given mu_{n-1}, integrate the Stefan conditions outwards; see the .cc file. */
     double shoot(const double mu_innermost, std::vector<double> &mu_out) const;
 
     std::vector<double> conductivities, capacities, diffusivities;
     std::vector<double> temperatures, latent_heats;
     double              T_hot, T_cold;
     std::vector<double> mu;
-    // The regions of the final fronts, phase by phase (evaluation at every
-    // quadrature point of every step must not recompute their constants).
+    /**
+     * The regions of the final fronts, phase by phase (evaluation at every
+     * quadrature point of every step must not recompute their constants).
+     */
     std::vector<Region> regions;
   };
 } // namespace ContactStefan

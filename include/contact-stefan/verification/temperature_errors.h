@@ -45,9 +45,11 @@ namespace ContactStefan
     add_results(ResultLines &results, const unsigned int n_steps, const double time) const override;
 
   private:
-    // The geometry the error norms need, computed once per mesh: the errors
-    // are evaluated at every step, and re-running FEValues over all cells
-    // cost more than the step itself on large meshes.
+    /**
+     * The geometry the error norms need, computed once per mesh: the errors
+     * are evaluated at every step, and re-running FEValues over all cells
+     * cost more than the step itself on large meshes.
+     */
     void update_geometry();
     struct Geometry
     {

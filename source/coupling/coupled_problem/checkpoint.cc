@@ -64,7 +64,8 @@ namespace ContactStefan
   // contact reports; 3: the manifest and the checkpoint's id; 4: the section-force and
   // stress-output errors of the postprocessor; 5: the parameters the run was
   // started with; 6: the largest von Mises stress over the steps; 7: the
-  // parameters include the laws per interface, Contact/Interface k-l), so
+  // parameters include the laws per interface, Contact/Interface k-l; 8: the
+  // postprocessor's state is each part's state by its name), so
   // that an older checkpoint is refused by name, not misread.
   const std::string checkpoint_format = "contact-stefan checkpoint 8";
 

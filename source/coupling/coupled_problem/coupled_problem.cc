@@ -31,38 +31,19 @@ namespace ContactStefan
     , triangulation(mpi_communicator)
     , materials(parameters)
     , functions(parameters, parameters.exact_temperature())
-    , postprocessor(std::make_unique<Postprocessor<dim>>(prm,
-                                                         prm.output,
-                                                         prm.refinement.adaptive(),
-                                                         materials,
-                                                         functions,
-                                                         triangulation,
-                                                         timer,
-                                                         pcout))
+    , context{prm, materials, functions, triangulation, timer, pcout, prm.output.verbosity}
+    , postprocessor(
+        std::make_unique<Postprocessor<dim>>(context, prm.output, prm.refinement.adaptive()))
     , time(parameters.time.start_time)
   {
     assert_two_dimensional<dim>();
     if (prm.physics.thermal)
-      thermal = std::make_unique<ThermalField<dim>>(prm,
-                                                    prm.enthalpy_step,
-                                                    prm.linear_solvers,
-                                                    prm.output.verbosity,
-                                                    materials,
-                                                    functions,
-                                                    triangulation,
-                                                    timer,
-                                                    pcout);
+      thermal = std::make_unique<ThermalField<dim>>(context, prm.enthalpy_step, prm.linear_solvers);
     if (prm.physics.mechanics)
-      mechanical = std::make_unique<MechanicalField<dim>>(prm,
+      mechanical = std::make_unique<MechanicalField<dim>>(context,
                                                           prm.contact_step,
                                                           prm.linear_solvers,
-                                                          prm.output.verbosity,
-                                                          prm.output.section_lines,
-                                                          materials,
-                                                          functions,
-                                                          triangulation,
-                                                          timer,
-                                                          pcout);
+                                                          prm.output.section_lines);
     postprocessor->attach(thermal.get(), mechanical.get(), prm.parts);
   }
 

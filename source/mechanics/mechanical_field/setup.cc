@@ -42,28 +42,21 @@ namespace ContactStefan
 
 
   template <int dim>
-  MechanicalField<dim>::MechanicalField(
-    const SceneParameters                           &prm,
-    const Parameters::ContactStep                   &contact_prm,
-    const Parameters::LinearSolvers                 &linear_prm,
-    const unsigned int                               verbosity,
-    const std::vector<Parameters::SectionLine>      &section_lines,
-    const Materials                                 &materials,
-    SceneFunctions<dim>                             &functions,
-    const parallel::distributed::Triangulation<dim> &triangulation,
-    TimerOutput                                     &timer,
-    const ConditionalOStream                        &pcout)
-    : prm(prm)
+  MechanicalField<dim>::MechanicalField(const SceneContext<dim>                    &context,
+                                        const Parameters::ContactStep              &contact_prm,
+                                        const Parameters::LinearSolvers            &linear_prm,
+                                        const std::vector<Parameters::SectionLine> &section_lines)
+    : prm(context.scene)
     , contact_prm(contact_prm)
     , linear_prm(linear_prm)
-    , verbosity(verbosity)
+    , verbosity(context.verbosity)
     , section_lines(section_lines)
-    , materials(materials)
-    , functions(functions)
-    , triangulation(triangulation)
+    , materials(context.materials)
+    , functions(context.functions)
+    , triangulation(context.triangulation)
     , mpi_communicator(triangulation.get_communicator())
-    , timer(timer)
-    , pcout(pcout)
+    , timer(context.timer)
+    , pcout(context.pcout)
     , dof_handler(triangulation)
     // A contact set changes boundary rows only: the first hierarchy serves
     // every set (Solver/AMG update = automatic).

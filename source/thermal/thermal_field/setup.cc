@@ -21,24 +21,18 @@
 namespace ContactStefan
 {
   template <int dim>
-  ThermalField<dim>::ThermalField(const SceneParameters                           &prm,
-                                  const Parameters::EnthalpyStep                  &step_prm,
-                                  const Parameters::LinearSolvers                 &linear_prm,
-                                  const unsigned int                               verbosity,
-                                  const Materials                                 &materials,
-                                  SceneFunctions<dim>                             &functions,
-                                  const parallel::distributed::Triangulation<dim> &triangulation,
-                                  TimerOutput                                     &timer,
-                                  const ConditionalOStream                        &pcout)
-    : prm(prm)
+  ThermalField<dim>::ThermalField(const SceneContext<dim>         &context,
+                                  const Parameters::EnthalpyStep  &step_prm,
+                                  const Parameters::LinearSolvers &linear_prm)
+    : prm(context.scene)
     , step_prm(step_prm)
-    , verbosity(verbosity)
-    , materials(materials)
-    , functions(functions)
-    , triangulation(triangulation)
+    , verbosity(context.verbosity)
+    , materials(context.materials)
+    , functions(context.functions)
+    , triangulation(context.triangulation)
     , mpi_communicator(triangulation.get_communicator())
-    , timer(timer)
-    , pcout(pcout)
+    , timer(context.timer)
+    , pcout(context.pcout)
     , fe(1)
     , dof_handler(triangulation)
     // A phase front changes interior rows: recompute (Solver/AMG update = automatic).
