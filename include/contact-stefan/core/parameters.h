@@ -16,6 +16,7 @@
 #include <deal.II/base/point.h>
 
 #include <contact-stefan/core/checked_input.h>
+#include <contact-stefan/core/interface_laws.h>
 
 #include <algorithm>
 #include <functional>
@@ -135,45 +136,6 @@ namespace ContactStefan
 
       static void declare(ParameterHandler &prm);
       void        parse(ParameterHandler &prm, const std::string &path);
-    };
-
-    struct Contact
-    {
-      // Where two bodies share faces: "contact" (frictionless Signorini) or
-      // "tied"; the default of every interface (InterfacePair).
-      enum class Interfaces
-      {
-        contact,
-        tied
-      } interfaces;
-      // The default gap g(x, y, t) of every interface.
-      std::string interface_gap;
-
-      static void declare(ParameterHandler &prm);
-      void        parse(ParameterHandler &prm);
-    };
-
-    /**
-     * The laws of one interface, between bodies k < l (subsection 'Contact/
-     * Interface k-l', declared for every pair of listed bodies; a pair whose
-     * bodies do not touch has no interface and its entries are unused). Each
-     * entry left at 'default' (or empty) takes the global entry of 'Contact'.
-     */
-    struct InterfacePair
-    {
-      Contact::Interfaces kind;    // contact (Signorini) or tied
-      std::string         gap;     // g(x, y, t)
-      bool                own_gap; // set here (else 'Contact/Interface gap')
-      // The thermal law across it: perfect contact (a continuous temperature)
-      // is the only one today.
-      enum class ThermalContact
-      {
-        perfect
-      } thermal_contact;
-
-      static std::string section(const unsigned int k, const unsigned int l);
-      static void        declare(ParameterHandler &prm);
-      void parse(ParameterHandler &prm, const std::string &path, const Contact &defaults);
     };
 
     /** The two-way thermo-mechanical coupling (doc/coupling.md). */
