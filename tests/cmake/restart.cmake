@@ -90,6 +90,16 @@ resume_test(restart/T4-1-to-2 1 2 CONTACT_STEFAN_KILL_AFTER_STEP 7
   ${P}/shrink_fit_T4.prm "SET:Checkpoint/Interval (steps)=5")
 resume_test(restart/T2-plateau 1 1 CONTACT_STEFAN_KILL_AFTER_STEP 7
   ${P}/adiabatic_compression_T2_plateau.prm "SET:Checkpoint/Interval (steps)=5")
+# The verification parts' own states through a checkpoint: the stress errors
+# of T3 (part 'stress'), the initial enthalpy of the equilibrium scene (part
+# 'equilibrium') and the section-force errors of the stacked blocks (part
+# 'section normal force'), each resumed from a checkpoint before its kill.
+resume_test(restart/T3-stress 1 1 CONTACT_STEFAN_KILL_AFTER_STEP 4
+  ${P}/free_expansion_T3.prm "SET:Checkpoint/Interval (steps)=2")
+resume_test(restart/equilibrium 1 1 CONTACT_STEFAN_KILL_AFTER_STEP 25
+  ${T}/scenes/two_body_equilibrium.prm "SET:Checkpoint/Interval (steps)=10")
+resume_test(restart/section-force 1 1 CONTACT_STEFAN_KILL_AFTER_STEP 7
+  ${T}/scenes/stacked_blocks_section.prm "SET:Checkpoint/Interval (steps)=5")
 resume_test(restart/coupled-2-to-1 2 1 CONTACT_STEFAN_KILL_AFTER_STEP 10
   ${CMAKE_SOURCE_DIR}/prm/coupled_melting_contact.prm ${ADAPTIVE_COUPLED}
   "SET:Checkpoint/Interval (steps)=4")

@@ -77,7 +77,7 @@ namespace ContactStefan
     CoupledBlock(const CoupledBlock &)            = delete;
     CoupledBlock &operator=(const CoupledBlock &) = delete;
 
-    /** In this run (not carried over a restart). */
+    /** Since this object was made (the report sums them per step over a restart). */
     unsigned int n_factorisations() const
     {
       return factorisations;

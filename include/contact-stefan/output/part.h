@@ -46,6 +46,13 @@ namespace ContactStefan
     unsigned int iterations        = 0;          // passes of contact + enthalpy step (1: staggered)
     unsigned int reassembled_cells = 0;          // stiffness re-assembled for a new phase mixture
     double       change_u = 0, change_theta = 0; // last fixed-point changes, max norm
+    // The block correction of the fixed point (coupling/coupled_block.h), where
+    // the run has one: corrections and factorisations of the block in this
+    // step, and the elasticity solves a corrected guess answered.
+    bool         block_correction     = false;
+    unsigned int block_corrections    = 0;
+    unsigned int block_factorisations = 0;
+    unsigned int guesses_accepted     = 0;
   };
 
   /**
@@ -155,7 +162,8 @@ namespace ContactStefan
       other_checks,         // any further check, in registry order
       coupling,             // coupling statistics
       adaptation,           // mesh statistics
-      solver_calls          // solver calls
+      solver_calls,         // solver calls
+      block_correction      // coupling statistics: the block correction's counts
     };
 
     void add(const Slot slot, const std::string &name, const double value);

@@ -202,7 +202,18 @@ namespace ContactStefan
         EnthalpyStepReport thermal_report;
         ContactStepReport  contact_report;
         CouplingReport     coupling_report;
+        const unsigned int corrections    = block ? block->n_corrections() : 0;
+        const unsigned int factorisations = block ? block->n_factorisations() : 0;
+        const unsigned int guesses        = block ? mechanical->n_guesses_accepted() : 0;
         coupled_step(thermal_report, contact_report, coupling_report);
+        if (block)
+          {
+            // This step's counts: the report carries them over a restart.
+            coupling_report.block_correction     = true;
+            coupling_report.block_corrections    = block->n_corrections() - corrections;
+            coupling_report.block_factorisations = block->n_factorisations() - factorisations;
+            coupling_report.guesses_accepted     = mechanical->n_guesses_accepted() - guesses;
+          }
 
         postprocessor->end_step(step_number,
                                 time,
@@ -241,13 +252,6 @@ namespace ContactStefan
       }
 
     postprocessor->print_results(step_number, time);
-    // (The block correction belongs to this class, not to the postprocessor's
-    // accumulated results, and so do its RESULT lines: counts of this run.)
-    if (block)
-      pcout << "RESULT block corrections = " << block->n_corrections()
-            << "\nRESULT block factorisations = " << block->n_factorisations()
-            << "\nRESULT elasticity solves answered by the corrected guess = "
-            << mechanical->n_guesses_accepted() << std::endl;
     pcout << "RESULT wall time = " << wall_offset + wall_clock.wall_time() << std::endl;
     timer.print_wall_time_statistics(comm);
     return postprocessor->failed_diagnostics();

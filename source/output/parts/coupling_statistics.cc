@@ -11,11 +11,18 @@ namespace ContactStefan
     {
       unsigned int total_iterations = 0, max_iterations = 0, reassembled_cells = 0;
       double       total_thermoelastic_heat = 0;
+      // The block correction: whether the run has one, and its counts over the
+      // run (carried over a restart, as every count of the report).
+      bool         block_correction     = false;
+      unsigned int block_corrections    = 0;
+      unsigned int block_factorisations = 0;
+      unsigned int guesses_accepted     = 0;
 
       template <class Archive>
       void serialize(Archive &ar, const unsigned int)
       {
-        ar &total_iterations &max_iterations &reassembled_cells &total_thermoelastic_heat;
+        ar &total_iterations &max_iterations &reassembled_cells &total_thermoelastic_heat
+          &block_correction &block_corrections &block_factorisations &guesses_accepted;
       }
     };
 
@@ -33,6 +40,10 @@ namespace ContactStefan
         s.max_iterations = std::max(s.max_iterations, data.coupling.iterations);
         s.reassembled_cells += data.coupling.reassembled_cells;
         s.total_thermoelastic_heat += data.thermal.thermoelastic_heat;
+        s.block_correction |= data.coupling.block_correction;
+        s.block_corrections += data.coupling.block_corrections;
+        s.block_factorisations += data.coupling.block_factorisations;
+        s.guesses_accepted += data.coupling.guesses_accepted;
       }
 
       void add_columns(StatisticsRow &row, const StepData &data) const override
@@ -61,6 +72,14 @@ namespace ContactStefan
                     n_steps > 0 ? double(s.total_iterations) / n_steps : 0.);
         results.add(Slot::coupling, "total thermoelastic heat", s.total_thermoelastic_heat);
         results.add(Slot::coupling, "cells re-stiffened for a phase change", s.reassembled_cells);
+        if (s.block_correction)
+          {
+            results.add(Slot::block_correction, "block corrections", s.block_corrections);
+            results.add(Slot::block_correction, "block factorisations", s.block_factorisations);
+            results.add(Slot::block_correction,
+                        "elasticity solves answered by the corrected guess",
+                        s.guesses_accepted);
+          }
       }
     };
   } // namespace
