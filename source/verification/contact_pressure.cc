@@ -109,10 +109,7 @@ namespace ContactStefan
               "an exact contact pressure needs Physics/Mechanics = true");
       return std::shared_ptr<const PartParameters>(p);
     };
-    info.create = [](const RunContext<2> &run, const PartParameters &p) {
-      return std::unique_ptr<Part<2>>(
-        std::make_unique<PressureCheck<2>>(run, dynamic_cast<const PressureParameters &>(p)));
-    };
+    info.create = part_factory<PressureCheck, PressureParameters>();
     return info;
   }
 } // namespace ContactStefan

@@ -116,9 +116,7 @@ namespace ContactStefan
               "'equilibrium' needs Physics/Thermal = true");
       return std::make_shared<const PartParameters>();
     };
-    info.create = [](const RunContext<2> &run, const PartParameters &) {
-      return std::unique_ptr<Part<2>>(std::make_unique<EquilibriumCheck<2>>(run));
-    };
+    info.create = part_factory<EquilibriumCheck>();
     return info;
   }
 } // namespace ContactStefan

@@ -120,10 +120,7 @@ namespace ContactStefan
       check_contact_solution_scene(scene, "hertz", p->body);
       return std::shared_ptr<const PartParameters>(p);
     };
-    info.create = [](const RunContext<2> &run, const PartParameters &p) {
-      return std::unique_ptr<Part<2>>(
-        std::make_unique<HertzCheck<2>>(run, dynamic_cast<const HertzParameters &>(p)));
-    };
+    info.create = part_factory<HertzCheck, HertzParameters>();
     return info;
   }
 } // namespace ContactStefan

@@ -98,10 +98,7 @@ namespace ContactStefan
               "an exact liquid fraction needs Physics/Thermal = true");
       return std::shared_ptr<const PartParameters>(p);
     };
-    info.create = [](const RunContext<2> &run, const PartParameters &p) {
-      return std::unique_ptr<Part<2>>(
-        std::make_unique<FractionCheck<2>>(run, dynamic_cast<const FractionParameters &>(p)));
-    };
+    info.create = part_factory<FractionCheck, FractionParameters>();
     return info;
   }
 } // namespace ContactStefan

@@ -221,10 +221,7 @@ namespace ContactStefan
       check_scene(scene, *p);
       return std::shared_ptr<const PartParameters>(p);
     };
-    info.create = [](const RunContext<2> &run, const PartParameters &p) {
-      return std::unique_ptr<Part<2>>(
-        std::make_unique<NeumannCheck<2>>(run, dynamic_cast<const NeumannParameters &>(p)));
-    };
+    info.create = part_factory<NeumannCheck, NeumannParameters>();
     return info;
   }
 } // namespace ContactStefan

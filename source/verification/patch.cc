@@ -150,10 +150,7 @@ namespace ContactStefan
       check_contact_solution_scene(scene, "patch", body);
       return std::shared_ptr<const PartParameters>(p);
     };
-    info.create = [](const RunContext<2> &run, const PartParameters &p) {
-      return std::unique_ptr<Part<2>>(
-        std::make_unique<PatchCheck<2>>(run, dynamic_cast<const PatchParameters &>(p)));
-    };
+    info.create = part_factory<PatchCheck, PatchParameters>();
     return info;
   }
 } // namespace ContactStefan

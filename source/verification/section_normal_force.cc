@@ -157,10 +157,7 @@ namespace ContactStefan
               "needs at least one line in 'Output/Section lines'");
       return std::shared_ptr<const PartParameters>(p);
     };
-    info.create = [](const RunContext<2> &run, const PartParameters &p) {
-      return std::unique_ptr<Part<2>>(
-        std::make_unique<SectionCheck<2>>(run, dynamic_cast<const SectionParameters &>(p)));
-    };
+    info.create = part_factory<SectionCheck, SectionParameters>();
     return info;
   }
 } // namespace ContactStefan

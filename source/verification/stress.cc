@@ -168,10 +168,7 @@ namespace ContactStefan
               "an exact stress or contact pressure needs Physics/Mechanics = true");
       return std::shared_ptr<const PartParameters>(p);
     };
-    info.create = [](const RunContext<2> &run, const PartParameters &p) {
-      return std::unique_ptr<Part<2>>(
-        std::make_unique<StressCheck<2>>(run, dynamic_cast<const StressParameters &>(p)));
-    };
+    info.create = part_factory<StressCheck, StressParameters>();
     return info;
   }
 } // namespace ContactStefan

@@ -35,6 +35,7 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -296,6 +297,25 @@ namespace ContactStefan
     /** The part (2D; a 3D port adds its factory beside it). */
     std::function<std::unique_ptr<Part<2>>(const RunContext<2> &, const PartParameters &)> create;
   };
+
+  /**
+   * PartInfo::create for a part class P<2>: made from the run alone, or (with
+   * its parameters' type Params) from the run and its parameters.
+   */
+  template <template <int> class P, class Params = void>
+  auto part_factory()
+  {
+    return
+      [](const RunContext<2> &run, const PartParameters &parameters) -> std::unique_ptr<Part<2>> {
+        if constexpr (std::is_void_v<Params>)
+          {
+            (void)parameters;
+            return std::make_unique<P<2>>(run);
+          }
+        else
+          return std::make_unique<P<2>>(run, dynamic_cast<const Params &>(parameters));
+      };
+  }
 
   /** The largest cell extent in x over the mesh (collective). */
   template <int dim>

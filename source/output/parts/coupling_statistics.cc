@@ -96,9 +96,7 @@ namespace ContactStefan
                      std::make_shared<const PartParameters>() :
                      nullptr;
     };
-    info.create = [](const RunContext<2> &run, const PartParameters &) {
-      return std::unique_ptr<Part<2>>(std::make_unique<CouplingStatistics<2>>(run));
-    };
+    info.create = part_factory<CouplingStatistics>();
     return info;
   }
 } // namespace ContactStefan

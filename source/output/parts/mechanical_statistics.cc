@@ -339,9 +339,7 @@ namespace ContactStefan
     info.parse       = [](ParameterHandler &, const SceneParameters &scene, const bool) {
       return scene.physics.mechanics ? std::make_shared<const PartParameters>() : nullptr;
     };
-    info.create = [](const RunContext<2> &run, const PartParameters &) {
-      return std::unique_ptr<Part<2>>(std::make_unique<MechanicalStatistics<2>>(run));
-    };
+    info.create = part_factory<MechanicalStatistics>();
     return info;
   }
 } // namespace ContactStefan

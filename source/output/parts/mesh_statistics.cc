@@ -2,6 +2,7 @@
 // enthalpy change of the last adaptation as columns, and over the run the
 // adaptations, the time-averaged DoFs and the largest enthalpy changes through
 // refinement and through coarsening.
+#include <contact-stefan/mesh/refinement_parameters.h>
 #include <contact-stefan/output/part.h>
 
 namespace ContactStefan
@@ -102,14 +103,12 @@ namespace ContactStefan
     info.name        = "mesh statistics";
     info.description = "The adaptive mesh's columns and RESULT lines (Mesh refinement/Adaptive "
                        "refinement interval > 0 or Initial adaptive refinements > 0).";
-    // The mesh adapts when either entry of the refinement says so
-    // (Parameters::Refinement::adaptive(), which the run's context holds).
+    // The mesh adapts as the refinement's own entries say (the run's context
+    // holds the same answer: RunContext::adaptive).
     info.parse = [](ParameterHandler &prm, const SceneParameters &, const bool) {
-      prm.enter_subsection("Mesh refinement");
-      const bool adaptive = prm.get_integer("Adaptive refinement interval") > 0 ||
-                            prm.get_integer("Initial adaptive refinements") > 0;
-      prm.leave_subsection();
-      return adaptive ? std::make_shared<const PartParameters>() : nullptr;
+      Parameters::Refinement refinement;
+      refinement.parse(prm);
+      return refinement.adaptive() ? std::make_shared<const PartParameters>() : nullptr;
     };
     info.create = [](const RunContext<2> &run, const PartParameters &) {
       AssertThrow(run.adaptive, ExcInternalError());

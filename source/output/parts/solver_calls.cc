@@ -53,9 +53,7 @@ namespace ContactStefan
     info.parse       = [](ParameterHandler &, const SceneParameters &, const bool) {
       return std::make_shared<const PartParameters>();
     };
-    info.create = [](const RunContext<2> &run, const PartParameters &) {
-      return std::unique_ptr<Part<2>>(std::make_unique<SolverCalls<2>>(run));
-    };
+    info.create = part_factory<SolverCalls>();
     return info;
   }
 } // namespace ContactStefan

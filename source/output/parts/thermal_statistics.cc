@@ -128,9 +128,7 @@ namespace ContactStefan
     info.parse       = [](ParameterHandler &, const SceneParameters &scene, const bool) {
       return scene.physics.thermal ? std::make_shared<const PartParameters>() : nullptr;
     };
-    info.create = [](const RunContext<2> &run, const PartParameters &) {
-      return std::unique_ptr<Part<2>>(std::make_unique<ThermalStatistics<2>>(run));
-    };
+    info.create = part_factory<ThermalStatistics>();
     return info;
   }
 } // namespace ContactStefan

@@ -114,9 +114,7 @@ namespace ContactStefan
     info.parse       = [](ParameterHandler &, const SceneParameters &, const bool) {
       return std::make_shared<const PartParameters>();
     };
-    info.create = [](const RunContext<2> &run, const PartParameters &) {
-      return std::unique_ptr<Part<2>>(std::make_unique<VtuOutput<2>>(run));
-    };
+    info.create = part_factory<VtuOutput>();
     return info;
   }
 } // namespace ContactStefan
