@@ -97,6 +97,23 @@ namespace ContactStefan
                         Patterns::Anything(),
                         "Specific heat c_p of each phase, cold to hot (J/(kg K)), > 0: "
                         "one more than transitions, or one value for all phases.");
+      prm.declare_entry("Stress free at solidification",
+                        "false",
+                        Patterns::Bool(),
+                        "true: a material point is stress-free in the configuration and at "
+                        "the temperature at which it solidifies (and again when it melts): "
+                        "its stress is C : (e - e_ref) - beta (Theta - Theta_ref) with e_ref "
+                        "its strain then and Theta_ref the last transition temperature "
+                        "(doc/solidification.md). false: the seed's model, one reference "
+                        "state (e = 0, Theta = Coupling/Reference temperature) for all time. "
+                        "Needs a transition temperature, both physics and the thermal stress.");
+      prm.declare_entry("Solid fraction at birth",
+                        "1",
+                        Patterns::Double(),
+                        "With Stress free at solidification: a node counts as solid once "
+                        "its solid fraction (1 minus its fraction through the last "
+                        "transition) reaches this value, in (0, 1]; 1: fully solid, "
+                        "the node on the solid branch of the enthalpy law.");
       prm.leave_subsection();
     }
 
@@ -215,13 +232,21 @@ namespace ContactStefan
       const std::string L = prm.get("Latent heats");
       latent_heats    = L.empty() ? std::vector<double>() : parse_doubles(L, pc + "Latent heats");
       heat_capacities = parse_doubles(prm.get("Heat capacities"), pc + "Heat capacities");
+      stress_free_at_solidification = prm.get_bool("Stress free at solidification");
+      birth_solid_fraction          = get_finite(prm, pc, "Solid fraction at birth");
       prm.leave_subsection();
+      require(birth_solid_fraction > 0 && birth_solid_fraction <= 1,
+              pc + "Solid fraction at birth",
+              "must lie in (0, 1], got " + str(birth_solid_fraction));
 
       const unsigned int n = transition_temperatures.size();
       for (unsigned int j = 1; j < n; ++j)
         require(transition_temperatures[j] > transition_temperatures[j - 1],
                 pc + "Transition temperatures",
                 "must be strictly increasing");
+      require(!stress_free_at_solidification || n > 0,
+              pc + "Stress free at solidification",
+              "needs a phase change (Transition temperatures is empty)");
       require(latent_heats.size() == n,
               pc + "Latent heats",
               "needs one value per transition temperature (" + std::to_string(n) + ")");

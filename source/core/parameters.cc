@@ -662,6 +662,11 @@ namespace ContactStefan
                   path + "Youngs modulus",
                   "values per phase need both Physics/Thermal and Physics/Mechanics "
                   "(the phases come from the temperature)");
+        if (m.stress_free_at_solidification)
+          require(thermal_stress_active(),
+                  path + "Phase change/Stress free at solidification",
+                  "needs the thermal stress: Physics/Thermal and Physics/Mechanics on, "
+                  "Coupling/Thermal stress on and a Thermal expansion != 0 in some body");
         const double E_max = *std::max_element(m.youngs_moduli.begin(), m.youngs_moduli.end());
         for (unsigned int p = 0; p < m.youngs_moduli.size(); ++p)
           require(m.youngs_moduli[p] >= coupling.min_stiffness_ratio * E_max,
@@ -712,6 +717,16 @@ namespace ContactStefan
       return false;
     for (const auto &[id, m] : materials)
       if (m.has_thermal_stress())
+        return true;
+    return false;
+  }
+
+  bool SceneParameters::solidification_history_active() const
+  {
+    if (!(physics.thermal && physics.mechanics))
+      return false;
+    for (const auto &[id, m] : materials)
+      if (m.stress_free_at_solidification)
         return true;
     return false;
   }

@@ -9,6 +9,7 @@
 #include <contact-stefan/output/part.h>
 
 #include <cmath>
+#include <limits>
 
 namespace ContactStefan
 {
@@ -19,6 +20,8 @@ namespace ContactStefan
     struct StressParameters : PartParameters
     {
       std::vector<std::string> stress;
+      /** Checked at the steps that end at t >= from_time (-inf: every step). */
+      double from_time = -std::numeric_limits<double>::infinity();
     };
 
     struct StressState
@@ -39,13 +42,14 @@ namespace ContactStefan
       StressCheck(const RunContext<dim> &run, const StressParameters &parameters)
         : PartWithState<dim, StressState>(run)
         , exact(run.functions.checked_expression(parameters.stress, "Exact solution/Stress"))
+        , from_time(parameters.from_time)
       {}
 
       // After each step, not at t0 (a scene may start before its loading
       // does, as T4 with its first step).
       void update(const StepData &data) override
       {
-        if (data.time > this->run.scene.time.start_time)
+        if (data.time > this->run.scene.time.start_time && data.time >= from_time)
           accumulate(data.time);
       }
 
@@ -76,6 +80,7 @@ namespace ContactStefan
       void accumulate(const double time);
 
       const std::unique_ptr<Function<dim>> exact;
+      const double                         from_time;
     };
 
 
@@ -147,15 +152,30 @@ namespace ContactStefan
                         "Empty, or the exact stress sigma_xx; sigma_yy; sigma_xy; sigma_zz "
                             "(Pa, functions of x, y, t; thermal part included): the run reports "
                             "the stress error at every step (any Type).");
+      prm.declare_entry("Stress check from time",
+                        "",
+                        Patterns::Anything(),
+                        "Empty: the stress is checked after every step; a time t_c: only "
+                        "after the steps that end at t >= t_c (an exact stress known only "
+                        "at the end, as after solidification, doc/solidification.md).");
       prm.leave_subsection();
     };
     info.parse = [](ParameterHandler &prm, const SceneParameters &scene, const bool) {
       prm.enter_subsection("Exact solution");
       const std::string sigma = prm.get("Stress");
+      const std::string from  = prm.get("Stress check from time");
       prm.leave_subsection();
       if (sigma.empty())
         return std::shared_ptr<const PartParameters>();
-      auto p    = std::make_shared<StressParameters>();
+      auto p = std::make_shared<StressParameters>();
+      if (!from.empty())
+        {
+          const auto values = parse_doubles(from, "Exact solution/Stress check from time");
+          require(values.size() == 1,
+                  "Exact solution/Stress check from time",
+                  "needs one time, got " + std::to_string(values.size()));
+          p->from_time = values[0];
+        }
       p->stress = Utilities::split_string_list(sigma, ';');
       require(
         p->stress.size() == 4,

@@ -73,6 +73,12 @@ namespace ContactStefan
       std::vector<double> transition_temperatures; // n
       std::vector<double> latent_heats;            // n, per unit mass
       std::vector<double> heat_capacities;         // n+1, per unit mass
+      // Solidification stress (doc/solidification.md): whether a point of this
+      // body is stress-free in the configuration and at the temperature at
+      // which it changes phase (solid <-> not solid, at the last transition),
+      // and the solid fraction from which a node counts as solid.
+      bool                stress_free_at_solidification = false;
+      double              birth_solid_fraction          = 1;
       std::vector<double> conductivities;          // n+1 (or 1: the same in all phases)
       double              anisotropy[3];           // k_xx, k_xy, k_yy of the shape tensor
       std::string         heat_source;             // W/m^3, function of x, y, t
@@ -321,6 +327,11 @@ namespace ContactStefan
     }
     /** Some body's elasticity changes with its phase (both physics on). */
     bool elasticity_depends_on_phase() const;
+    /**
+     * Some body is stress-free at solidification (both physics on): the
+     * mechanical field keeps a reference state per material point.
+     */
+    bool solidification_history_active() const;
     /** The laws of the interface between bodies a and b (either order). */
     const Parameters::InterfacePair &interface_pair(const unsigned int a,
                                                     const unsigned int b) const

@@ -53,6 +53,7 @@
 #include <contact-stefan/core/scene_functions.h>
 #include <contact-stefan/linear_algebra/linear_solver.h>
 #include <contact-stefan/mechanics/contact_step_parameters.h>
+#include <contact-stefan/mechanics/solidification_history.h>
 
 #include <array>
 #include <cstdint>
@@ -172,9 +173,14 @@ namespace ContactStefan
     struct CellStress
     {
       SymmetricTensor<2, dim> strain;  // e(u)
-      SymmetricTensor<2, dim> sigma;   // C e(u) - beta (Theta - Theta_0)
-      SymmetricTensor<2, dim> thermal; // - beta (Theta - Theta_0)
-      double                  sigma_zz = 0, thermal_zz = 0;
+      SymmetricTensor<2, dim> sigma;   // C (e(u) - e_ref) - beta (Theta - Theta_ref)
+      SymmetricTensor<2, dim> thermal; // - beta (Theta - Theta_ref)
+      /**
+       * - C e_ref: the stress of the reference strain of the cell's material
+       * points (their mean over the cell; zero without a solidification history).
+       */
+      SymmetricTensor<2, dim> reference;
+      double                  sigma_zz = 0, thermal_zz = 0, reference_zz = 0;
       double                  von_mises() const;
     };
     /** Per active cell index (owned cells; the entries of other cells are zero). */
@@ -279,6 +285,36 @@ namespace ContactStefan
                                                          double,
                                                          const SymmetricTensor<2, dim> &,
                                                          const ElasticModuli &)> &visit) const;
+
+    // --- solidification stress (doc/solidification.md) ----------------------------
+    // A body that is stress-free at solidification gives each material point
+    // (cell corner) its own reference state (solidification_history.h); the
+    // history exists only when some body asks for it.
+    SolidificationHistory<dim> *solidification_history()
+    {
+      return history.get();
+    }
+    /**
+     * The initial references: e_ref = 0 and Theta_ref = Theta_0 at every point,
+     * and each point's class (solid or not) from the solid fraction of its
+     * node, per cell and vertex (ThermalField::cell_solid_fractions()).
+     */
+    void initialize_references(const CellVertexValues &solid_fraction, const double t0);
+    /**
+     * At the start of a step, with the phases of the last step's end (as the
+     * stiffness, lagged): every point of a stress-free body whose node changed
+     * class is born anew from the displacement u_old at time t. Returns the
+     * number of points born (over all ranks).
+     */
+    unsigned int update_references(const CellVertexValues &solid_fraction, const double t);
+    /**
+     * Theta_ref at the vertices and the load of e_ref, from the history and
+     * the cells' moduli: after the references or the moduli changed, and
+     * after a mesh change. Call before set_cell_temperatures().
+     */
+    void apply_references();
+    /** The reference of corner v of an owned cell (a default one without a history). */
+    CornerReference corner_reference(const unsigned int cell_index, const unsigned int v) const;
 
     // --- adaptivity (doc/adaptivity.md) ----------------------------------------
     // Positions of the owned obstacle and interface nodes in contact.
@@ -528,6 +564,17 @@ namespace ContactStefan
     std::map<std::pair<unsigned int, unsigned int>, dealii::Vector<double>> traction_face_load;
     CellVertexValues cell_reference, cell_theta_excess;
     const bool       coupled, thermal_stress;
+
+    /**
+     * The references of the material points (null unless some body is
+     * stress-free at solidification), and per active cell the load of its
+     * reference strains, sum_q w_q e(phi_i)(x_q) : C_K : e_ref,q (empty where
+     * every e_ref is zero); it is part of cell_thermal_load.
+     */
+    std::unique_ptr<SolidificationHistory<dim>> history;
+    std::vector<dealii::Vector<double>>         cell_reference_load;
+    /** Whether the body of the cell keeps a history (stress-free at solidification). */
+    bool keeps_history(const typename DoFHandler<dim>::active_cell_iterator &cell) const;
 
     /**
      * Work skipped when its inputs did not change: the matrix (stiffness

@@ -54,6 +54,9 @@ namespace ContactStefan
     unsigned int block_corrections    = 0;
     unsigned int block_factorisations = 0;
     unsigned int guesses_accepted     = 0;
+    // Material points born anew at the start of this step (solidification
+    // history, doc/solidification.md; 0 without one).
+    unsigned int births = 0;
   };
 
   /**

@@ -120,6 +120,14 @@ namespace ContactStefan
      */
     void cell_phase_weights(std::vector<std::vector<double>> &weights) const;
     /**
+     * Per owned cell and vertex, the solid fraction of the node at the last
+     * time level, with respect to the last transition of the cell's body:
+     * 1 minus the node's fraction through that transition temperature (1 for
+     * a body without transitions). What decides the births of
+     * doc/solidification.md.
+     */
+    void cell_solid_fractions(CellVertexValues &solid) const;
+    /**
      * The thermoelastic work at the vertices (MechanicalField::thermoelastic_work):
      * times the absolute Theta_0 it is the heat G the step's strain increment
      * takes out of each node, m_i (h_i - h_i^old) + tau (A Theta)_i + G_i = tau F_i.

@@ -65,9 +65,11 @@ namespace ContactStefan
   // stress-output errors of the postprocessor; 5: the parameters the run was
   // started with; 6: the largest von Mises stress over the steps; 7: the
   // parameters include the laws per interface, Contact/Interface k-l; 8: the
-  // postprocessor's state is each part's state by its name), so
+  // postprocessor's state is each part's state by its name; 9: the references
+  // of the solidification history are attached to the mesh after the fields'
+  // state), so
   // that an older checkpoint is refused by name, not misread.
-  const std::string checkpoint_format = "contact-stefan checkpoint 8";
+  const std::string checkpoint_format = "contact-stefan checkpoint 9";
 
   namespace
   {
@@ -638,6 +640,11 @@ namespace ContactStefan
     if (mechanical)
       mechanical_state =
         std::make_unique<Attached<dim>>(mechanical->get_dof_handler(), mechanical->primary_state());
+    // The material points' references last (solidification_history.h).
+    SolidificationHistory<dim> *history =
+      mechanical ? mechanical->solidification_history() : nullptr;
+    if (history)
+      history->prepare_for_serialization();
     // Collective: when it returns, every rank has written and closed its part.
     triangulation.save(next + "/mesh");
     kill_if_asked("CONTACT_STEFAN_KILL_DURING_CHECKPOINT", step_number);
@@ -920,6 +927,8 @@ namespace ContactStefan
       }
     if (mechanical)
       restore(mechanical->get_dof_handler(), mechanical->primary_state());
+    if (mechanical && mechanical->solidification_history())
+      mechanical->solidification_history()->deserialize();
     after_mesh_change();
   }
 

@@ -72,6 +72,15 @@ namespace ContactStefan
         thermal->cell_phase_weights(weights);
         mechanical->set_phase_weights(weights);
       }
+    // Every material point starts from the scene's reference state, in the
+    // class (solid or not) of its node's initial phase.
+    if (prm.solidification_history_active())
+      {
+        CellVertexValues solid;
+        thermal->cell_solid_fractions(solid);
+        mechanical->initialize_references(solid, time);
+        mechanical->apply_references();
+      }
     if (thermal && mechanical)
       exchange_temperature();
     // The initial displacement is the equilibrium with the data at t0 and the
@@ -354,6 +363,11 @@ namespace ContactStefan
       prepare(thermal->get_dof_handler(), thermal->primary_state(), carried_thermal);
     if (transfer && mechanical)
       prepare(mechanical->get_dof_handler(), mechanical->primary_state(), carried_mechanical);
+    // The material points' references by their own rules (solidification_history.h).
+    SolidificationHistory<dim> *history =
+      transfer && mechanical ? mechanical->solidification_history() : nullptr;
+    if (history)
+      history->prepare_for_coarsening_and_refinement();
     triangulation.execute_coarsening_and_refinement();
     if (thermal)
       thermal->setup_dofs();
@@ -363,6 +377,8 @@ namespace ContactStefan
       interpolate(thermal->get_dof_handler(), thermal->primary_state(), carried_thermal);
     if (transfer && mechanical)
       interpolate(mechanical->get_dof_handler(), mechanical->primary_state(), carried_mechanical);
+    if (history)
+      history->unpack();
   }
 
 
@@ -400,6 +416,9 @@ namespace ContactStefan
         thermal->cell_phase_weights(weights);
         mechanical->set_phase_weights(weights);
       }
+    // (The references themselves were moved with the mesh.)
+    if (prm.solidification_history_active())
+      mechanical->apply_references();
     if (thermal && mechanical)
       exchange_temperature();
     if (mechanical)
@@ -554,6 +573,15 @@ namespace ContactStefan
         std::vector<std::vector<double>> weights;
         thermal->cell_phase_weights(weights);
         coupling_report.reassembled_cells = mechanical->set_phase_weights(weights);
+      }
+    // Births, lagged like the stiffness: the points whose node changed class
+    // over the last step are born from its displacement, at its end time.
+    if (prm.solidification_history_active())
+      {
+        CellVertexValues solid;
+        thermal->cell_solid_fractions(solid);
+        coupling_report.births = mechanical->update_references(solid, time - time_step);
+        mechanical->apply_references();
       }
     // One-way coupling needs no iterations: with the heating off, Theta does not
     // depend on u, and the fully coupled step is the enthalpy step followed by

@@ -81,6 +81,9 @@ namespace ContactStefan
               for (unsigned int i = 0; i < B.m(); ++i)
                 f(i) += B(i, v) * cell_theta_excess[c][v];
             }
+          // The load of the reference strains (solidification.cc).
+          if (history && cell_reference_load[c].size() == B.m())
+            f += cell_reference_load[c];
         }
   }
 
@@ -155,8 +158,11 @@ namespace ContactStefan
     const unsigned int      c      = cell->active_cell_index();
     const ElasticModuli    &moduli = cell_moduli[c];
     const double            excess = thermal_stress ? cell_theta_excess[c][vertex] : 0.;
-    SymmetricTensor<2, dim> sigma  = moduli.C * strain - excess * moduli.beta;
-    return {sigma, moduli.lambda_zz * trace(strain) - moduli.beta_zz * excess};
+    // The elastic strain: e less the reference strain of the vertex's
+    // material point (the Gauss point of its quadrant; zero without a history).
+    const SymmetricTensor<2, dim> elastic = strain - corner_reference(c, vertex).reference_strain();
+    SymmetricTensor<2, dim>       sigma   = moduli.C * elastic - excess * moduli.beta;
+    return {sigma, moduli.lambda_zz * trace(elastic) - moduli.beta_zz * excess};
   }
 
 

@@ -150,12 +150,20 @@ namespace ContactStefan
           if (thermal_stress)
             for (unsigned int v = 0; v < 4; ++v)
               excess += 0.25 * cell_theta_excess[c][v];
-          CellStress &s = result[c];
-          s.strain      = strain[0];
-          s.thermal     = -excess * moduli.beta;
-          s.sigma       = moduli.C * strain[0] + s.thermal;
-          s.thermal_zz  = -excess * moduli.beta_zz;
-          s.sigma_zz    = moduli.lambda_zz * trace(strain[0]) + s.thermal_zz;
+          // The reference strain at the centre: the mean of the four
+          // points' (the bilinear interpolant through the Gauss points).
+          SymmetricTensor<2, dim> reference_strain;
+          if (history)
+            for (unsigned int v = 0; v < 4; ++v)
+              reference_strain += 0.25 * corner_reference(c, v).reference_strain();
+          CellStress &s  = result[c];
+          s.strain       = strain[0];
+          s.thermal      = -excess * moduli.beta;
+          s.reference    = -(moduli.C * reference_strain);
+          s.sigma        = moduli.C * strain[0] + s.thermal + s.reference;
+          s.thermal_zz   = -excess * moduli.beta_zz;
+          s.reference_zz = -moduli.lambda_zz * trace(reference_strain);
+          s.sigma_zz     = moduli.lambda_zz * trace(strain[0]) + s.thermal_zz + s.reference_zz;
         }
     return result;
   }
@@ -511,6 +519,41 @@ namespace ContactStefan
       }
     for (unsigned int k = 0; k < cell_names.size(); ++k)
       data_out.add_data_vector(output_cell_data[k], cell_names[k], DataOut<dim>::type_cell_data);
+    // With a solidification history: the means over the cell's material points
+    // of Theta_ref and of the time of the reference (doc/solidification.md), and
+    // the stress of the reference strain, - C e_ref.
+    if (history)
+      {
+        const std::vector<std::string> history_names{"cell_birth_temperature",
+                                                     "cell_birth_time",
+                                                     "cell_reference_stress_xx",
+                                                     "cell_reference_stress_yy",
+                                                     "cell_reference_stress_xy",
+                                                     "cell_reference_stress_zz"};
+        const unsigned int             first = output_cell_data.size();
+        output_cell_data.resize(first + history_names.size(),
+                                dealii::Vector<double>(stresses.size()));
+        for (const auto &cell : triangulation.active_cell_iterators())
+          if (cell->is_locally_owned())
+            {
+              const unsigned int c     = cell->active_cell_index();
+              const CellStress  &s     = stresses[c];
+              double             theta = 0, t = 0;
+              for (unsigned int v = 0; v < 4; ++v)
+                {
+                  theta += 0.25 * cell_reference[c][v];
+                  t += 0.25 * corner_reference(c, v).time;
+                }
+              const double values[6] = {
+                theta, t, s.reference[0][0], s.reference[1][1], s.reference[0][1], s.reference_zz};
+              for (unsigned int k = 0; k < history_names.size(); ++k)
+                output_cell_data[first + k](c) = values[k];
+            }
+        for (unsigned int k = 0; k < history_names.size(); ++k)
+          data_out.add_data_vector(output_cell_data[first + k],
+                                   history_names[k],
+                                   DataOut<dim>::type_cell_data);
+      }
 
     // Point data: the recovered field of each body (never averaged across a
     // contact interface or a body boundary: each body has its own DoFs there):

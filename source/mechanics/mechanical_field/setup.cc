@@ -90,6 +90,10 @@ namespace ContactStefan
           }
         fe.push_back(FESystem<dim>(elements, multiplicities));
       }
+    // Only a scene with a body that is stress-free at solidification keeps
+    // references per material point.
+    if (prm.solidification_history_active())
+      history = std::make_unique<SolidificationHistory<dim>>(triangulation);
   }
 
 

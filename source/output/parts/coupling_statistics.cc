@@ -17,12 +17,14 @@ namespace ContactStefan
       unsigned int block_corrections    = 0;
       unsigned int block_factorisations = 0;
       unsigned int guesses_accepted     = 0;
+      // Material points born anew (solidification history), over the run.
+      unsigned int births = 0;
 
       template <class Archive>
       void serialize(Archive &ar, const unsigned int)
       {
         ar &total_iterations &max_iterations &reassembled_cells &total_thermoelastic_heat
-          &block_correction &block_corrections &block_factorisations &guesses_accepted;
+          &block_correction &block_corrections &block_factorisations &guesses_accepted &births;
       }
     };
 
@@ -44,6 +46,7 @@ namespace ContactStefan
         s.block_corrections += data.coupling.block_corrections;
         s.block_factorisations += data.coupling.block_factorisations;
         s.guesses_accepted += data.coupling.guesses_accepted;
+        s.births += data.coupling.births;
       }
 
       void add_columns(StatisticsRow &row, const StepData &data) const override
@@ -60,6 +63,11 @@ namespace ContactStefan
         row.count("restiffened_cells",
                   "cells whose stiffness was re-assembled for a phase change",
                   data.coupling.reassembled_cells);
+        if (this->run.scene.solidification_history_active())
+          row.count("births",
+                    "material points (cell corners) born anew at the step's start: frozen or "
+                    "molten over the step before (doc/solidification.md)",
+                    data.coupling.births);
       }
 
       void
@@ -72,6 +80,8 @@ namespace ContactStefan
                     n_steps > 0 ? double(s.total_iterations) / n_steps : 0.);
         results.add(Slot::coupling, "total thermoelastic heat", s.total_thermoelastic_heat);
         results.add(Slot::coupling, "cells re-stiffened for a phase change", s.reassembled_cells);
+        if (this->run.scene.solidification_history_active())
+          results.add(Slot::coupling, "material points born", s.births);
         if (s.block_correction)
           {
             results.add(Slot::block_correction, "block corrections", s.block_corrections);

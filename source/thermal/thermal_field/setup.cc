@@ -370,6 +370,29 @@ namespace ContactStefan
 
 
 
+  template <int dim>
+  void ThermalField<dim>::cell_solid_fractions(CellVertexValues &solid) const
+  {
+    solid.assign(triangulation.n_active_cells(), {{1., 1., 1., 1.}});
+    Vector h_old(owned, relevant, mpi_communicator);
+    h_old = old_enthalpy;
+    std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const EnthalpyLaw &body_law = laws[law_of_body.at(cell->material_id())];
+          if (body_law.n_transitions() == 0)
+            continue;
+          const double melting = body_law.transition_temperature(body_law.n_transitions() - 1);
+          cell->get_dof_indices(dofs);
+          for (unsigned int v = 0; v < 4; ++v)
+            solid[cell->active_cell_index()][v] =
+              1. - law(dofs[v]).fraction_through_temperature(melting, h_old[dofs[v]]);
+        }
+  }
+
+
+
   // The enthalpy law of each node. With lumped mass the nodal enthalpy is the
   // mass-weighted mixture of the laws of the bodies around the node; inside a body
   // (and wherever neighbouring bodies share one law) that is just the body's law.

@@ -1,0 +1,168 @@
+// MechanicalField: the reference states of the material points of bodies that
+// are stress-free at solidification (doc/solidification.md).
+//
+// The stress of a material point (corner q of a cell: Gauss point q for the
+// elastic part, vertex q for the thermal part) is
+//     sigma = C_K : (e - e_ref,q) - beta_K (Theta_q - Theta_ref,q),
+// so the discrete equilibrium gains, besides the thermal load B_K (Theta -
+// Theta_ref), the load of the reference strains with the stiffness's own rule,
+//     f_i = sum_q w_q e(phi_i)(x_q) : C_K : e_ref,q.
+// A cell whose four points are born together from the displacement u_n thus
+// gets f = K_K u_n: the cell is exactly stress-free in the configuration u_n,
+// whatever the mesh.
+//
+// When. The stiffness of a cell is lagged at the phases of the last step's
+// end (coupled_problem.cc); births are lagged the same way: at the start of
+// step n+1, a point whose node changed class during step n (the enthalpy
+// step's phase state, exactly, with Materials/Body N/Phase change/Solid
+// fraction at birth) is born from u_n, at t_n, at the transition temperature.
+#include <deal.II/base/quadrature_lib.h>
+
+#include <deal.II/fe/fe_values.h>
+
+#include <deal.II/hp/fe_values.h>
+#include <deal.II/hp/q_collection.h>
+
+#include <contact-stefan/mechanics/mechanical_field.h>
+
+namespace ContactStefan
+{
+  template <int dim>
+  bool MechanicalField<dim>::keeps_history(
+    const typename DoFHandler<dim>::active_cell_iterator &cell) const
+  {
+    return history && prm.materials.at(cell->material_id()).stress_free_at_solidification;
+  }
+
+
+
+  template <int dim>
+  CornerReference MechanicalField<dim>::corner_reference(const unsigned int cell_index,
+                                                         const unsigned int v) const
+  {
+    if (!history)
+      return CornerReference();
+    return (*history)[cell_index][v];
+  }
+
+
+
+  template <int dim>
+  void MechanicalField<dim>::initialize_references(const CellVertexValues &solid_fraction,
+                                                   const double            t0)
+  {
+    if (!history)
+      return;
+    history->resize();
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const unsigned int c         = cell->active_cell_index();
+          const double       threshold = prm.materials.at(cell->material_id()).birth_solid_fraction;
+          for (unsigned int v = 0; v < 4; ++v)
+            {
+              CornerReference &corner = (*history)[c][v];
+              corner.solid            = solid_fraction[c][v] >= threshold ? 1 : 0;
+              corner.time             = t0;
+            }
+        }
+  }
+
+
+
+  template <int dim>
+  unsigned int MechanicalField<dim>::update_references(const CellVertexValues &solid_fraction,
+                                                       const double            t)
+  {
+    if (!history)
+      return 0;
+    TimerOutput::Scope         timer_scope(timer, "coupling: solidification references");
+    const hp::QCollection<dim> gauss(QGauss<dim>(2));
+    hp::FEValues<dim>          gauss_values(fe, gauss, update_gradients);
+    Vector                     u_old(owned, relevant, mpi_communicator);
+    u_old = old_displacement;
+    std::vector<SymmetricTensor<2, dim>> strain(4);
+    unsigned int                         born = 0;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned() && keeps_history(cell))
+        {
+          const unsigned int c           = cell->active_cell_index();
+          const auto        &body        = prm.materials.at(cell->material_id());
+          bool               have_strain = false;
+          for (unsigned int v = 0; v < 4; ++v)
+            {
+              CornerReference &corner    = (*history)[c][v];
+              const bool       solid_now = solid_fraction[c][v] >= body.birth_solid_fraction;
+              if ((corner.solid != 0) == solid_now)
+                continue;
+              if (!have_strain)
+                {
+                  // The strains of u_old at the four Gauss points (Gauss
+                  // point v lies in the quadrant of vertex v).
+                  gauss_values.reinit(cell);
+                  const FEValues<dim>             &fv = gauss_values.get_present_fe_values();
+                  const FEValuesExtractors::Vector u(slot_of_body.at(cell->material_id()) * dim);
+                  fv[u].get_function_symmetric_gradients(u_old, strain);
+                  have_strain = true;
+                }
+              born +=
+                update_corner(corner, solid_now, strain[v], body.transition_temperatures.back(), t);
+            }
+        }
+    return Utilities::MPI::sum(born, mpi_communicator);
+  }
+
+
+
+  template <int dim>
+  void MechanicalField<dim>::apply_references()
+  {
+    if (!history)
+      return;
+    TimerOutput::Scope         timer_scope(timer, "coupling: solidification references");
+    const hp::QCollection<dim> gauss(QGauss<dim>(2));
+    hp::FEValues<dim>          gauss_values(fe, gauss, update_gradients | update_JxW_values);
+    cell_reference_load.assign(triangulation.n_active_cells(), dealii::Vector<double>());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned() && keeps_history(cell))
+        {
+          const unsigned int c          = cell->active_cell_index();
+          bool               any_strain = false;
+          for (unsigned int v = 0; v < 4; ++v)
+            {
+              const CornerReference &corner = (*history)[c][v];
+              // Theta_ref: the birth temperature of a born point; Theta_0 of
+              // the scene at the vertex otherwise (set with the cell operators).
+              if (corner.born != 0)
+                cell_reference[c][v] = corner.theta;
+              any_strain = any_strain || corner.reference_strain().norm() != 0;
+            }
+          if (!any_strain)
+            continue;
+          gauss_values.reinit(cell);
+          const FEValues<dim>             &fv = gauss_values.get_present_fe_values();
+          const FEValuesExtractors::Vector u(slot_of_body.at(cell->material_id()) * dim);
+          const unsigned int               n = fv.get_fe().n_dofs_per_cell();
+          dealii::Vector<double>          &f = cell_reference_load[c];
+          f.reinit(n);
+          for (unsigned int q = 0; q < fv.n_quadrature_points; ++q)
+            {
+              const SymmetricTensor<2, dim> stress =
+                cell_moduli[c].C * (*history)[c][q].reference_strain();
+              for (unsigned int i = 0; i < n; ++i)
+                f(i) += fv[u].symmetric_gradient(i, q) * stress * fv.JxW(q);
+            }
+        }
+  }
+
+
+
+  template bool
+  MechanicalField<2>::keeps_history(const typename DoFHandler<2>::active_cell_iterator &cell) const;
+  template CornerReference MechanicalField<2>::corner_reference(const unsigned int,
+                                                                const unsigned int) const;
+  template void MechanicalField<2>::initialize_references(const CellVertexValues &, const double);
+  template unsigned int MechanicalField<2>::update_references(const CellVertexValues &,
+                                                              const double);
+  template void         MechanicalField<2>::apply_references();
+} // namespace ContactStefan

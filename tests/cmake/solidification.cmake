@@ -1,0 +1,71 @@
+# Tests: solidification stress, material born stress-free (doc/solidification.md).
+# Every test's name contains 'birth', so that 'ctest -R birth' runs them all.
+# Included by tests/CMakeLists.txt (BIN, T, P and the helper functions are set there
+# or in the files included before this one).
+
+# --- the frozen layer (tests/scenes/birth_layer.prm) --------------------------------
+# A laterally held plane-strain layer freezes out of its melt and cools to
+# Theta_m - 10: the final stress is E alpha dT / (1 - nu) = 4/3 in x and z,
+# uniform, to round-off of the cell-centre values, whatever Theta_0 and the
+# cooling path (all 256 material points born once).
+set(BIRTH_EXACT
+  "RESULT max relative stress L2 error (cell centres)<1e-12"
+  "RESULT max relative stress L2 error (recovered)<1e-12"
+  "RESULT max energy-balance residual<1e-12"
+  "RESULT nodes with h outside H(Theta)<1")
+scene(birth/layer 1 ${T}/scenes/birth_layer.prm birth_layer ${BIRTH_EXACT}
+  "RESULT material points born>255.5" "RESULT material points born<256.5")
+scene(birth/layer-mpi2 2 ${T}/scenes/birth_layer.prm birth_layer ${BIRTH_EXACT})
+# Theta_0 = 50: the same final stress.
+scene(birth/layer-reference-50 1 ${T}/scenes/birth_layer.prm birth_layer-reference-50
+  "SET:Coupling/Reference temperature=50" ${BIRTH_EXACT})
+# Another cooling path: to Theta_m - 20 first, then back up to Theta_m - 10.
+set(BIRTH_PATH_B "if(t < 1, -20, -10)")
+scene(birth/layer-cooling-path 1 ${T}/scenes/birth_layer.prm birth_layer-cooling-path
+  "SET:Boundary conditions/Thermal boundary 2/Value=${BIRTH_PATH_B}"
+  "SET:Boundary conditions/Thermal boundary 3/Value=${BIRTH_PATH_B}" ${BIRTH_EXACT})
+# Frozen, re-molten (Theta_m + 5) and frozen again: every point's history
+# restarts twice (768 births), and the final stress is again 4/3.
+set(BIRTH_REMELT "if(t < 1.5, -10, if(t < 4, 5, -10))")
+scene(birth/layer-remelt 1 ${T}/scenes/birth_layer.prm birth_layer-remelt
+  "SET:Coupling/Reference temperature=50"
+  "SET:Boundary conditions/Thermal boundary 2/Value=${BIRTH_REMELT}"
+  "SET:Boundary conditions/Thermal boundary 3/Value=${BIRTH_REMELT}"
+  "SET:Time stepping/Time step function=if(t < 6, tau, 100)" ${BIRTH_EXACT}
+  "RESULT material points born>767.5" "RESULT material points born<768.5")
+# The switch off (the seed's model) with Theta_0 = 50: the stress of the
+# global reference, E alpha (Theta_0 - Theta_f) / (1 - nu) = 8, to round-off.
+scene(birth/layer-switch-off 1 ${T}/scenes/birth_layer.prm birth_layer-switch-off
+  "SET:Coupling/Reference temperature=50"
+  "SET:Materials/Body 0/Phase change/Stress free at solidification=false"
+  "SET:Exact solution/Stress=8<semicolon> 0<semicolon> 0<semicolon> 8" ${BIRTH_EXACT})
+# Adapted every step (the fronts refined up to level 2, nothing coarsened:
+# once the layer is frozen and the temperature uniform, a fixed-fraction
+# marking would follow round-off; coarsening is checked bit for bit in
+# unit/solidification_history): the references move with the mesh while the
+# layer freezes (each child takes its quadrant's point), and the final stress
+# is still exact.
+set(BIRTH_ADAPTIVE "SET:Mesh refinement/Adaptive refinement interval=1"
+  "SET:Mesh refinement/Maximum level=2" "SET:Mesh refinement/Minimum level=0"
+  "SET:Mesh refinement/Coarsen fraction=0")
+scene(birth/layer-adaptive 1 ${T}/scenes/birth_layer.prm birth_layer-adaptive
+  ${BIRTH_ADAPTIVE} ${BIRTH_EXACT} "RESULT mesh adaptations>4.5")
+# (Its own reference: on the adapted mesh the enthalpy step's damped Newton
+# path, not its result, depends on the order of the parallel sums.)
+scene(birth/layer-adaptive-mpi2 2 ${T}/scenes/birth_layer.prm birth_layer-adaptive-mpi2
+  ${BIRTH_ADAPTIVE} ${BIRTH_EXACT} "RESULT mesh adaptations>4.5")
+
+# --- checkpoint/restart ---------------------------------------------------------------
+# Killed mid-solidification (after step 5, checkpoint at step 4; the fronts
+# are inside the layer, the adaptive mesh still refining) and resumed: the
+# references come back with the mesh, and the resumed run repeats the
+# uninterrupted one (tests/run_resume.sh), on 1 and 2 ranks.
+set(BIRTH_RESUME "SET:Checkpoint/Interval (steps)=2")
+resume_test(restart/birth-layer 1 1 CONTACT_STEFAN_KILL_AFTER_STEP 5
+  ${T}/scenes/birth_layer.prm ${BIRTH_RESUME})
+resume_test(restart/birth-layer-adaptive 1 1 CONTACT_STEFAN_KILL_AFTER_STEP 5
+  ${T}/scenes/birth_layer.prm ${BIRTH_RESUME} ${BIRTH_ADAPTIVE})
+resume_test(restart/birth-layer-adaptive-mpi2 2 2 CONTACT_STEFAN_KILL_AFTER_STEP 5
+  ${T}/scenes/birth_layer.prm ${BIRTH_RESUME} ${BIRTH_ADAPTIVE})
+
+# (The bad input of the switch: tests/bad_input/birth_*.prm.)
