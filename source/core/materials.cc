@@ -117,6 +117,45 @@ namespace ContactStefan
       prm.leave_subsection();
     }
 
+    // 'Materials/Body N/Phase change' (pc: that path, with the trailing '/').
+    void BodyMaterial::parse_phase_change(ParameterHandler &prm, const std::string &pc)
+    {
+      prm.enter_subsection("Phase change");
+      const std::string T = prm.get("Transition temperatures");
+      transition_temperatures =
+        T.empty() ? std::vector<double>() : parse_doubles(T, pc + "Transition temperatures");
+      const std::string L = prm.get("Latent heats");
+      latent_heats    = L.empty() ? std::vector<double>() : parse_doubles(L, pc + "Latent heats");
+      heat_capacities = parse_doubles(prm.get("Heat capacities"), pc + "Heat capacities");
+      stress_free_at_solidification = prm.get_bool("Stress free at solidification");
+      birth_solid_fraction          = get_finite(prm, pc, "Solid fraction at birth");
+      prm.leave_subsection();
+      require(birth_solid_fraction > 0 && birth_solid_fraction <= 1,
+              pc + "Solid fraction at birth",
+              "must lie in (0, 1], got " + str(birth_solid_fraction));
+
+      const unsigned int n = transition_temperatures.size();
+      for (unsigned int j = 1; j < n; ++j)
+        require(transition_temperatures[j] > transition_temperatures[j - 1],
+                pc + "Transition temperatures",
+                "must be strictly increasing");
+      require(!stress_free_at_solidification || n > 0,
+              pc + "Stress free at solidification",
+              "needs a phase change (Transition temperatures is empty)");
+      require(latent_heats.size() == n,
+              pc + "Latent heats",
+              "needs one value per transition temperature (" + std::to_string(n) + ")");
+      for (const double l : latent_heats)
+        require(l >= 0, pc + "Latent heats", "must be >= 0, got " + str(l));
+      if (heat_capacities.size() == 1)
+        heat_capacities.assign(n + 1, heat_capacities[0]);
+      require(heat_capacities.size() == n + 1,
+              pc + "Heat capacities",
+              "needs one value per phase (" + std::to_string(n + 1) + ") or a single value");
+      for (const double c : heat_capacities)
+        require(c > 0, pc + "Heat capacities", "must be > 0, got " + str(c));
+    }
+
     void BodyMaterial::parse(ParameterHandler &prm, const std::string &path)
     {
       name    = prm.get("Name");
@@ -224,41 +263,8 @@ namespace ContactStefan
           check_function(f[d], path + "/Body force", false);
         }
 
-      prm.enter_subsection("Phase change");
-      const std::string pc = path + "/Phase change/";
-      const std::string T  = prm.get("Transition temperatures");
-      transition_temperatures =
-        T.empty() ? std::vector<double>() : parse_doubles(T, pc + "Transition temperatures");
-      const std::string L = prm.get("Latent heats");
-      latent_heats    = L.empty() ? std::vector<double>() : parse_doubles(L, pc + "Latent heats");
-      heat_capacities = parse_doubles(prm.get("Heat capacities"), pc + "Heat capacities");
-      stress_free_at_solidification = prm.get_bool("Stress free at solidification");
-      birth_solid_fraction          = get_finite(prm, pc, "Solid fraction at birth");
-      prm.leave_subsection();
-      require(birth_solid_fraction > 0 && birth_solid_fraction <= 1,
-              pc + "Solid fraction at birth",
-              "must lie in (0, 1], got " + str(birth_solid_fraction));
-
+      parse_phase_change(prm, path + "/Phase change/");
       const unsigned int n = transition_temperatures.size();
-      for (unsigned int j = 1; j < n; ++j)
-        require(transition_temperatures[j] > transition_temperatures[j - 1],
-                pc + "Transition temperatures",
-                "must be strictly increasing");
-      require(!stress_free_at_solidification || n > 0,
-              pc + "Stress free at solidification",
-              "needs a phase change (Transition temperatures is empty)");
-      require(latent_heats.size() == n,
-              pc + "Latent heats",
-              "needs one value per transition temperature (" + std::to_string(n) + ")");
-      for (const double l : latent_heats)
-        require(l >= 0, pc + "Latent heats", "must be >= 0, got " + str(l));
-      if (heat_capacities.size() == 1)
-        heat_capacities.assign(n + 1, heat_capacities[0]);
-      require(heat_capacities.size() == n + 1,
-              pc + "Heat capacities",
-              "needs one value per phase (" + std::to_string(n + 1) + ") or a single value");
-      for (const double c : heat_capacities)
-        require(c > 0, pc + "Heat capacities", "must be > 0, got " + str(c));
       require(conductivities.size() == 1 || conductivities.size() == n + 1,
               path + "/Conductivities",
               "needs one value per phase (" + std::to_string(n + 1) + ") or a single value");

@@ -107,6 +107,7 @@ namespace ContactStefan
 
       static void declare(ParameterHandler &prm);
       void        parse(ParameterHandler &prm, const std::string &path);
+      void        parse_phase_change(ParameterHandler &prm, const std::string &pc);
     };
 
     struct ThermalBoundary

@@ -295,9 +295,11 @@ namespace ContactStefan
       return history.get();
     }
     /**
-     * The initial references: e_ref = 0 and Theta_ref = Theta_0 at every point,
-     * and each point's class (solid or not) from the solid fraction of its
-     * node, per cell and vertex (ThermalField::cell_solid_fractions()).
+     * The initial references: e_ref = 0 at every point, Theta_ref = Theta_0 at
+     * a solid point and the transition temperature at a melt point of a body
+     * that is stress-free at solidification; each point's class (solid or not)
+     * from the solid fraction of its node, per cell and vertex
+     * (ThermalField::cell_solid_fractions()).
      */
     void initialize_references(const CellVertexValues &solid_fraction, const double t0);
     /**

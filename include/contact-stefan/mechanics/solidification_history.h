@@ -47,9 +47,10 @@ namespace ContactStefan
     /** 1 if the point counted as solid at the last update, 0 if not. */
     double solid = 1;
     /**
-     * 1 once the point has been born anew; 0 while it keeps the initial
-     * reference (e_ref = 0, Theta_ref = Theta_0 at its vertex, evaluated
-     * where the vertex is: a refined point keeps Theta_0(x) exactly).
+     * 1 once the point has its own reference (born anew, or melt at the
+     * start: e_ref = 0 at the transition temperature); 0 while it keeps the
+     * scene's (e_ref = 0, Theta_ref = Theta_0 at its vertex, evaluated where
+     * the vertex is: a refined point keeps Theta_0(x) exactly).
      */
     double born = 0;
     /** Theta_ref at the corner's vertex (when born). */

@@ -57,13 +57,22 @@ namespace ContactStefan
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
-          const unsigned int c         = cell->active_cell_index();
-          const double       threshold = prm.materials.at(cell->material_id()).birth_solid_fraction;
+          const unsigned int c    = cell->active_cell_index();
+          const auto        &body = prm.materials.at(cell->material_id());
           for (unsigned int v = 0; v < 4; ++v)
             {
               CornerReference &corner = (*history)[c][v];
-              corner.solid            = solid_fraction[c][v] >= threshold ? 1 : 0;
+              corner.solid            = solid_fraction[c][v] >= body.birth_solid_fraction ? 1 : 0;
               corner.time             = t0;
+              // Solid at the start: the scene's reference (e = 0 at Theta_0).
+              // Melt at the start: referenced to the melt, e_ref = 0 at the
+              // transition temperature (a melt keeps no memory of Theta_0,
+              // and melt and new crust are both stress-free at the front).
+              if (keeps_history(cell) && corner.solid == 0)
+                {
+                  corner.born  = 1;
+                  corner.theta = body.transition_temperatures.back();
+                }
             }
         }
   }
