@@ -12,6 +12,9 @@ writes to doc/figures/scenes/:
   <scene>_interface.png  contact pressure along the contact interface at those times
   <scene>_series.png     active contact nodes, melt area, largest contact pressure
                          and energy residual against time
+  casting_birth.png      the casting's residual stress after it has frozen (t =
+                         200 s) with and without 'Stress free at solidification'
+                         (doc/solidification.md): sigma_zz and von Mises
 
     /usr/bin/python3 doc/make_pictures.py [--binary build/contact-stefan]
     cmake --build build --target pictures       (the same)
@@ -33,7 +36,8 @@ ROOT = os.path.dirname(HERE)
 # (benchmarks/plot_run.py, which turns any run into pictures); this script adds
 # the scenes' interface profiles and their chosen statistics.
 sys.path.insert(0, os.path.join(ROOT, "benchmarks"))
-from plot_run import fields_figure, np, plt, read_pieces, read_pvd  # noqa: E402
+from plot_run import fields_figure, np, plt, read_pieces, read_pvd, triangulation  # noqa: E402
+from ladder import set_path  # noqa: E402
 
 YEAR = 3.15576e7
 
@@ -114,6 +118,68 @@ def series_figure(name, scene, statistics, path):
     plt.close(fig)
 
 
+def birth_figure(binary, work, path, t_end=200.0):
+    """The casting (body 0) frozen and cooling, at t_end, run with the seed's
+    global reference (Theta_0 = the pouring temperature) and with every point
+    born stress-free at 660 degC: sigma_zz and von Mises of the cell centres."""
+    text = open(os.path.join(ROOT, "prm", "casting.prm")).read()
+    text = set_path(text, "Time stepping/End time", repr(t_end))
+    text = set_path(text, "Output/VTU interval", "100000")
+    rows, summary = [], []
+    for switch in ("false", "true"):
+        directory = os.path.join(work, "casting-birth-" + switch)
+        os.makedirs(directory, exist_ok=True)
+        scene = set_path(text, "Materials/Body 0/Phase change/Stress free at solidification",
+                         switch)
+        scene = set_path(scene, "Output/Directory", "output")
+        with open(os.path.join(directory, "scene.prm"), "w") as f:
+            f.write(scene)
+        run = subprocess.run([binary, "scene.prm"], cwd=directory, capture_output=True, text=True)
+        if run.returncode != 0:
+            sys.exit("casting (birth %s) failed: %s" % (switch, run.stderr.strip()[-300:]))
+        out = os.path.join(directory, "output")
+        t, last = read_pvd(os.path.join(out, "solution.pvd"))[-1]
+        points, quads, data = read_pieces(out, last)
+        casting = data["body_id"][quads[:, 0]] == 0
+        rows.append((switch, points, quads[casting], data))
+        vm = data["cell_von_mises"][quads[casting, 0]] / 1e6
+        szz = data["cell_stress_zz"][quads[casting, 0]] / 1e6
+        summary.append((switch, vm.max(), vm.mean(), szz.min(), szz.max()))
+    zz_lo = min(r[3]["cell_stress_zz"][r[2][:, 0]].min() for r in rows) / 1e6
+    zz_hi = max(r[3]["cell_stress_zz"][r[2][:, 0]].max() for r in rows) / 1e6
+    vm_hi = max(r[3]["cell_von_mises"][r[2][:, 0]].max() for r in rows) / 1e6
+    fig, axes = plt.subplots(2, 2, figsize=(9.5, 8.4))
+    titles = {"false": "one reference (pouring, 700 degC)",
+              "true": "born stress-free at 660 degC"}
+    for row, (switch, points, quads, data) in enumerate(rows):
+        tri = triangulation(points * 1e3, quads)
+        for col, (field, lo, hi, cmap) in enumerate(
+                (("cell_stress_zz", zz_lo, zz_hi, "coolwarm"), ("cell_von_mises", 0, vm_hi,
+                                                                "viridis"))):
+            ax = axes[row][col]
+            # Cell data: constant on each cell's own copies of its vertices;
+            # the triangulation holds each cell's first triangles, then its second.
+            values = data[field][quads[:, 0]] / 1e6
+            c = ax.tripcolor(tri, facecolors=np.concatenate([values, values]),
+                             vmin=lo, vmax=hi, cmap=cmap)
+            fig.colorbar(c, ax=ax, shrink=0.85, label="MPa")
+            ax.set_title("%s, t = %g s: %s" % (titles[switch], t_end,
+                                                "sigma_zz" if col == 0 else "von Mises"),
+                         fontsize=9)
+            ax.set_aspect("equal")
+            ax.set_xlim(0, 52)
+            ax.set_ylim(0, 52)
+            ax.set_xlabel("x (mm)", fontsize=8)
+            ax.tick_params(labelsize=7)
+    fig.suptitle("Casting: residual stress of the frozen casting (cell centres)", fontsize=12)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    for switch, vm_max, vm_mean, zz_min, zz_max in summary:
+        print("casting, stress free at solidification = %s: von Mises max %.1f MPa, mean "
+              "%.1f MPa; sigma_zz %.1f .. %.1f MPa" % (switch, vm_max, vm_mean, zz_min, zz_max))
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--binary", default=os.path.join(ROOT, "build", "contact-stefan"))
@@ -143,6 +209,10 @@ def main():
         series_figure(name, scene, os.path.join(directory, "statistics.txt"),
                       os.path.join(args.output, name + "_series.png"))
         print("wrote %s/%s_{fields,interface,series}.png" % (args.output, name))
+        if name == "casting":
+            birth_figure(os.path.abspath(args.binary), work,
+                         os.path.join(args.output, "casting_birth.png"))
+            print("wrote %s/casting_birth.png" % args.output)
 
 
 if __name__ == "__main__":
