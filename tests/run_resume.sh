@@ -25,7 +25,7 @@ TMPDIR=$(mktemp -d) && export TMPDIR
 work=$(mktemp -d "$PWD/$name.XXXXXX") && cd "$work" || exit 1
 trap 'rm -rf "$TMPDIR"; [ "$passed" = 1 ] && rm -rf "$work"' EXIT
 passed=0
-cp "$scene" scene.prm
+"$(dirname "$0")/copy_scene.sh" "$scene" scene.prm
 extra=$("$(dirname "$0")/apply_settings.sh" scene.prm "$@")
 [ -z "$extra" ] || { echo "unexpected arguments: $extra"; exit 1; }
 grep -q "Interval (steps)" scene.prm || { echo "the scene writes no checkpoints"; exit 1; }

@@ -30,7 +30,7 @@ out=$name.out
 work=$(mktemp -d "$PWD/$name.XXXXXX") && cd "$work" || exit 1
 trap 'rm -rf "$TMPDIR"; [ "$passed" = 1 ] && rm -rf "$work"' EXIT
 passed=0
-cp "$scene" scene.prm
+"$(dirname "$0")/copy_scene.sh" "$scene" scene.prm
 requirements=()
 listed=$("$(dirname "$0")/apply_settings.sh" scene.prm "$@") ||
   { echo "cannot apply the SET: entries"; exit 1; }

@@ -98,7 +98,8 @@ namespace ContactStefan
                                             const SymmetricTensor<2, dim> &sigma,
                                             const double                   szz,
                                             const SymmetricTensor<2, dim> &thermal_part,
-                                            const ElasticModuli &) {
+                                            const ElasticModuli &,
+                                            const SymmetricTensor<2, dim> &) {
         error2 += w * squared_error(x, sigma, szz);
         norm2 += w * (std::pow(exact->value(x, 0), 2) + std::pow(exact->value(x, 1), 2) +
                       2 * std::pow(exact->value(x, 2), 2) + std::pow(exact->value(x, 3), 2));

@@ -35,6 +35,17 @@ scene(birth/layer-remelt 1 ${T}/scenes/birth_layer.prm birth_layer-remelt
   "SET:Boundary conditions/Thermal boundary 3/Value=${BIRTH_REMELT}"
   "SET:Time stepping/Time step function=if(t < 6, tau, 100)" ${BIRTH_EXACT}
   "RESULT material points born>767.5" "RESULT material points born<768.5")
+# Where the birth strain itself decides the answer: the melt is stretched
+# (the right face at u_x = 0.001, e_xx = 0.004) while it freezes, and the
+# stretch is then halved (u_x = 0.0005 from t = 100). Born in the stretched
+# configuration, the layer ends at sigma_xx = E / (1 - nu^2) (0.002 - 0.004) +
+# 4/3 = -0.8 and sigma_zz = nu sigma_xx + E alpha dT = 0.8 (e_ref = 0 would
+# give +3.47 and 1.87).
+scene(birth/layer-stretched 1 ${T}/scenes/birth_layer.prm birth_layer-stretched
+  "SET:Boundary conditions/Mechanical boundary 1/Type=displacement"
+  "SET:Boundary conditions/Mechanical boundary 1/Components=x"
+  "SET:Boundary conditions/Mechanical boundary 1/Value=if(t < 100, 0.001, 0.0005)<semicolon> 0"
+  "SET:Exact solution/Stress=-0.8<semicolon> 0<semicolon> 0<semicolon> 0.8" ${BIRTH_EXACT})
 # The switch off (the seed's model) with Theta_0 = 50: the stress of the
 # global reference, E alpha (Theta_0 - Theta_f) / (1 - nu) = 8, to round-off.
 scene(birth/layer-switch-off 1 ${T}/scenes/birth_layer.prm birth_layer-switch-off

@@ -276,15 +276,17 @@ namespace ContactStefan
            const SymmetricTensor<2, dim>                        &strain) const;
     /**
      * Visit every vertex of every owned cell with its trapezoidal weight, the
-     * computed stress there, sigma_zz, the thermal part -beta (Theta - Theta_0)
-     * and the cell's moduli.
+     * computed stress there, sigma_zz, the thermal part -beta (Theta -
+     * Theta_ref), the cell's moduli and the strain e(u) there.
      */
-    void for_each_vertex_stress(const std::function<void(const Point<dim> &,
-                                                         double,
-                                                         const SymmetricTensor<2, dim> &,
-                                                         double,
-                                                         const SymmetricTensor<2, dim> &,
-                                                         const ElasticModuli &)> &visit) const;
+    void
+    for_each_vertex_stress(const std::function<void(const Point<dim> &,
+                                                    double,
+                                                    const SymmetricTensor<2, dim> &,
+                                                    double,
+                                                    const SymmetricTensor<2, dim> &,
+                                                    const ElasticModuli &,
+                                                    const SymmetricTensor<2, dim> &)> &visit) const;
 
     // --- solidification stress (doc/solidification.md) ----------------------------
     // A body that is stress-free at solidification gives each material point
@@ -575,6 +577,13 @@ namespace ContactStefan
      */
     std::unique_ptr<SolidificationHistory<dim>> history;
     std::vector<dealii::Vector<double>>         cell_reference_load;
+    /**
+     * Per active cell, the strain of K_K^+ (load of e_ref) at the four
+     * vertices: the part of the reference strain the element can hold
+     * (solidification.cc), for the stress at the vertices; zero where the
+     * cell has no reference load.
+     */
+    std::vector<std::array<SymmetricTensor<2, dim>, 4>> cell_vertex_reference_strain;
     /** Whether the body of the cell keeps a history (stress-free at solidification). */
     bool keeps_history(const typename DoFHandler<dim>::active_cell_iterator &cell) const;
 

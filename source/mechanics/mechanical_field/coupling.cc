@@ -158,10 +158,13 @@ namespace ContactStefan
     const unsigned int      c      = cell->active_cell_index();
     const ElasticModuli    &moduli = cell_moduli[c];
     const double            excess = thermal_stress ? cell_theta_excess[c][vertex] : 0.;
-    // The elastic strain: e less the reference strain of the vertex's
-    // material point (the Gauss point of its quadrant; zero without a history).
-    const SymmetricTensor<2, dim> elastic = strain - corner_reference(c, vertex).reference_strain();
-    SymmetricTensor<2, dim>       sigma   = moduli.C * elastic - excess * moduli.beta;
+    // The elastic strain: e less the reference strain at the vertex (the part
+    // of the cell's reference strains the element holds, solidification.cc;
+    // zero without a history or a reference load).
+    SymmetricTensor<2, dim> elastic = strain;
+    if (history && cell_reference_load[c].size() > 0)
+      elastic -= cell_vertex_reference_strain[c][vertex];
+    const SymmetricTensor<2, dim> sigma = moduli.C * elastic - excess * moduli.beta;
     return {sigma, moduli.lambda_zz * trace(elastic) - moduli.beta_zz * excess};
   }
 
@@ -200,7 +203,8 @@ namespace ContactStefan
                              const SymmetricTensor<2, dim> &,
                              double,
                              const SymmetricTensor<2, dim> &,
-                             const ElasticModuli &)> &visit) const
+                             const ElasticModuli &,
+                             const SymmetricTensor<2, dim> &)> &visit) const
   {
     assert_two_dimensional<dim>();
     Point<2>                               x[4];
@@ -221,12 +225,10 @@ namespace ContactStefan
               strain[1][1]            = du_y[1];
               strain[0][1]            = 0.5 * (du_x[1] + du_y[0]);
               const auto [sigma, szz] = stress(cell, v, strain);
-              visit(x[v],
-                    weight[v],
-                    sigma,
-                    szz,
-                    stress(cell, v, SymmetricTensor<2, dim>()).first,
-                    cell_moduli[cell->active_cell_index()]);
+              const unsigned int c      = cell->active_cell_index();
+              const double       excess = thermal_stress ? cell_theta_excess[c][v] : 0.;
+              visit(
+                x[v], weight[v], sigma, szz, -excess * cell_moduli[c].beta, cell_moduli[c], strain);
             }
         }
   }
@@ -246,16 +248,16 @@ namespace ContactStefan
                                const double                   w,
                                const SymmetricTensor<2, dim> &sigma,
                                const double,
-                               const SymmetricTensor<2, dim> &thermal_part,
-                               const ElasticModuli           &moduli) {
+                               const SymmetricTensor<2, dim> &,
+                               const ElasticModuli           &moduli,
+                               const SymmetricTensor<2, dim> &strain) {
       if (last_moduli == nullptr || !(moduli == *last_moduli))
         {
           compliance  = invert(moduli.C);
           last_moduli = &moduli;
         }
       result.energy += 0.5 * sigma * (compliance * sigma) * w;
-      // sigma = C e + sigma(e = 0): the strain from the mechanical part.
-      result.max_strain = std::max(result.max_strain, (compliance * (sigma - thermal_part)).norm());
+      result.max_strain = std::max(result.max_strain, strain.norm());
     });
     result.energy     = Utilities::MPI::sum(result.energy, mpi_communicator);
     result.max_strain = Utilities::MPI::max(result.max_strain, mpi_communicator);
@@ -308,7 +310,8 @@ namespace ContactStefan
                              const SymmetricTensor<2, 2> &,
                              double,
                              const SymmetricTensor<2, 2> &,
-                             const ElasticModuli &)> &visit) const;
+                             const ElasticModuli &,
+                             const SymmetricTensor<2, 2> &)> &visit) const;
   template typename MechanicalField<2>::ElasticStatistics
                   MechanicalField<2>::elastic_statistics() const;
   template double MechanicalField<2>::contact_work() const;

@@ -23,6 +23,8 @@
 #include <deal.II/hp/fe_values.h>
 #include <deal.II/hp/q_collection.h>
 
+#include <deal.II/lac/lapack_full_matrix.h>
+
 #include <contact-stefan/mechanics/mechanical_field.h>
 
 namespace ContactStefan
@@ -131,7 +133,10 @@ namespace ContactStefan
     TimerOutput::Scope         timer_scope(timer, "coupling: solidification references");
     const hp::QCollection<dim> gauss(QGauss<dim>(2));
     hp::FEValues<dim>          gauss_values(fe, gauss, update_gradients | update_JxW_values);
+    const hp::QCollection<dim> vertex_rule(QTrapezoid<dim>{});
+    hp::FEValues<dim>          vertex_values(fe, vertex_rule, update_gradients);
     cell_reference_load.assign(triangulation.n_active_cells(), dealii::Vector<double>());
+    cell_vertex_reference_strain.assign(triangulation.n_active_cells(), {});
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned() && keeps_history(cell))
         {
@@ -160,6 +165,31 @@ namespace ContactStefan
                 cell_moduli[c].C * (*history)[c][q].reference_strain();
               for (unsigned int i = 0; i < n; ++i)
                 f(i) += fv[u].symmetric_gradient(i, q) * stress * fv.JxW(q);
+            }
+          // The part of e_ref the element can hold: the strain of u_ref =
+          // K_K^+ f (K_K u_ref = f, u_ref free of rigid motion; f is
+          // self-equilibrated). Points born at different steps give a
+          // reference strain that jumps inside the cell, which a Q1 strain
+          // cannot follow; the rest loads nothing (it is orthogonal to every
+          // element strain in the C-weighted Gauss product) and would only
+          // add a constant, spurious energy and stress at the points. The
+          // point values (vertex rule: stress(), the elastic energy) use the
+          // projected strain; its mean over the Gauss points is the mean of
+          // e_ref (take a constant test strain), so the cell-centre values
+          // are the same either way.
+          LAPACKFullMatrix<double> K(n, n);
+          K = cell_stiffness[c];
+          K.compute_inverse_svd_with_kernel(3);
+          dealii::Vector<double> u_ref(n);
+          K.vmult(u_ref, f);
+          vertex_values.reinit(cell);
+          const FEValues<dim> &fw = vertex_values.get_present_fe_values();
+          auto                &e  = cell_vertex_reference_strain[c];
+          for (unsigned int v = 0; v < 4; ++v)
+            {
+              e[v] = SymmetricTensor<2, dim>();
+              for (unsigned int i = 0; i < n; ++i)
+                e[v] += u_ref(i) * fw[u].symmetric_gradient(i, v);
             }
         }
   }
