@@ -118,6 +118,8 @@ namespace ContactStefan
     std::string mesh_file_content;
     /** The data each field hands the other (doc/coupling.md). */
     void exchange_temperature();
+    /** Births after a step (doc/solidification.md); returns how many. */
+    unsigned int update_births();
     void exchange_thermoelastic_work();
     /** A one-line summary of what the scene couples and what it skips. */
     std::string describe_coupling() const;

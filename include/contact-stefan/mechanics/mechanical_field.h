@@ -305,12 +305,18 @@ namespace ContactStefan
      */
     void initialize_references(const CellVertexValues &solid_fraction, const double t0);
     /**
-     * At the start of a step, with the phases of the last step's end (as the
-     * stiffness, lagged): every point of a stress-free body whose node changed
-     * class is born anew from the displacement u_old at time t. Returns the
-     * number of points born (over all ranks).
+     * After a step (t: its end, tau: its length), before the next one begins,
+     * with the phases of its end: every point of a stress-free body whose node
+     * changed class is born anew, with the strain interpolated between u_old
+     * and u to the fraction of the step at which its node's enthalpy passed
+     * the birth value (crossing, ThermalField::cell_solid_fractions()).
+     * Applies from the next step on (apply_references()). Returns the number
+     * of points born (over all ranks).
      */
-    unsigned int update_references(const CellVertexValues &solid_fraction, const double t);
+    unsigned int update_references(const CellVertexValues &solid_fraction,
+                                   const CellVertexValues &crossing,
+                                   const double            t,
+                                   const double            tau);
     /**
      * Theta_ref at the vertices and the load of e_ref, from the history and
      * the cells' moduli: after the references or the moduli changed, and

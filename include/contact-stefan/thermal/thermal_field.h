@@ -120,13 +120,16 @@ namespace ContactStefan
      */
     void cell_phase_weights(std::vector<std::vector<double>> &weights) const;
     /**
-     * Per owned cell and vertex, the solid fraction of the node at the last
-     * time level, with respect to the last transition of the cell's body:
-     * 1 minus the node's fraction through that transition temperature (1 for
-     * a body without transitions). What decides the births of
-     * doc/solidification.md.
+     * Per owned cell and vertex, the solid fraction of the node (current
+     * enthalpy) with respect to the last transition of the cell's body: 1
+     * minus the node's fraction through that transition temperature (1 for a
+     * body without transitions). With crossing: also the fraction s in [0, 1]
+     * of the last step (old to current enthalpy, linear in time) at which the
+     * node's enthalpy passed the value where its solid fraction is the body's
+     * 'Solid fraction at birth' (1 if it did not move). What decides the
+     * births of doc/solidification.md.
      */
-    void cell_solid_fractions(CellVertexValues &solid) const;
+    void cell_solid_fractions(CellVertexValues &solid, CellVertexValues *crossing = nullptr) const;
     /**
      * The thermoelastic work at the vertices (MechanicalField::thermoelastic_work):
      * times the absolute Theta_0 it is the heat G the step's strain increment

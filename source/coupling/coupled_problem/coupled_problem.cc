@@ -195,7 +195,8 @@ namespace ContactStefan
     const auto &schedule = prm.time.step_sizes;
     while (step_number < schedule.size())
       {
-        time_step = schedule[step_number];
+        const unsigned int births = update_births();
+        time_step                 = schedule[step_number];
         // Checked at parse time; guarded here so that no run can loop forever.
         if (!(prm.time.step_times[step_number] > time))
           throw std::runtime_error("time does not advance at t = " + std::to_string(time) +
@@ -214,6 +215,7 @@ namespace ContactStefan
         const unsigned int corrections    = block ? block->n_corrections() : 0;
         const unsigned int factorisations = block ? block->n_factorisations() : 0;
         const unsigned int guesses        = block ? mechanical->n_guesses_accepted() : 0;
+        coupling_report.births            = births;
         coupled_step(thermal_report, contact_report, coupling_report);
         if (block)
           {
@@ -501,6 +503,23 @@ namespace ContactStefan
 
 
 
+  // Births after a step, before the next begins (doc/solidification.md): the
+  // last step's two time levels of u and h are still there (u_old, h_old),
+  // and in a checkpoint, so a resumed run finds the same births. Lagged like
+  // the stiffness: they apply from the next step on. None before the first
+  // step (the initial classes were set with the initial state).
+  template <int dim>
+  unsigned int CoupledProblem<dim>::update_births()
+  {
+    if (!prm.solidification_history_active() || step_number == 0)
+      return 0;
+    CellVertexValues solid, crossing;
+    thermal->cell_solid_fractions(solid, &crossing);
+    return mechanical->update_references(solid, crossing, time, time_step);
+  }
+
+
+
   template <int dim>
   void CoupledProblem<dim>::exchange_temperature()
   {
@@ -574,15 +593,10 @@ namespace ContactStefan
         thermal->cell_phase_weights(weights);
         coupling_report.reassembled_cells = mechanical->set_phase_weights(weights);
       }
-    // Births, lagged like the stiffness: the points whose node changed class
-    // over the last step are born from its displacement, at its end time.
+    // The references born after the last step (update_births()), with the
+    // moduli just set.
     if (prm.solidification_history_active())
-      {
-        CellVertexValues solid;
-        thermal->cell_solid_fractions(solid);
-        coupling_report.births = mechanical->update_references(solid, time - time_step);
-        mechanical->apply_references();
-      }
+      mechanical->apply_references();
     // One-way coupling needs no iterations: with the heating off, Theta does not
     // depend on u, and the fully coupled step is the enthalpy step followed by
     // the contact step with Theta^(k+1); with the thermal stress off, u does not

@@ -12,10 +12,11 @@
 // whatever the mesh.
 //
 // When. The stiffness of a cell is lagged at the phases of the last step's
-// end (coupled_problem.cc); births are lagged the same way: at the start of
-// step n+1, a point whose node changed class during step n (the enthalpy
-// step's phase state, exactly, with Materials/Body N/Phase change/Solid
-// fraction at birth) is born from u_n, at t_n, at the transition temperature.
+// end (coupled_problem.cc); births are lagged the same way: before step n+1,
+// a point whose node changed class during step n (the enthalpy step's phase
+// state, exactly, with Materials/Body N/Phase change/Solid fraction at birth)
+// is born at the transition temperature, with the strain of the moment within
+// step n at which its enthalpy passed the birth value (u linear in time).
 #include <deal.II/base/quadrature_lib.h>
 
 #include <deal.II/fe/fe_values.h>
@@ -83,16 +84,18 @@ namespace ContactStefan
 
   template <int dim>
   unsigned int MechanicalField<dim>::update_references(const CellVertexValues &solid_fraction,
-                                                       const double            t)
+                                                       const CellVertexValues &crossing,
+                                                       const double            t,
+                                                       const double            tau)
   {
     if (!history)
       return 0;
     TimerOutput::Scope         timer_scope(timer, "coupling: solidification references");
     const hp::QCollection<dim> gauss(QGauss<dim>(2));
     hp::FEValues<dim>          gauss_values(fe, gauss, update_gradients);
-    Vector                     u_old(owned, relevant, mpi_communicator);
-    u_old = old_displacement;
-    std::vector<SymmetricTensor<2, dim>> strain(4);
+    Vector                     u_before(owned, relevant, mpi_communicator);
+    u_before = old_displacement;
+    std::vector<SymmetricTensor<2, dim>> strain_before(4), strain_after(4);
     unsigned int                         born = 0;
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned() && keeps_history(cell))
@@ -108,16 +111,27 @@ namespace ContactStefan
                 continue;
               if (!have_strain)
                 {
-                  // The strains of u_old at the four Gauss points (Gauss
-                  // point v lies in the quadrant of vertex v).
+                  // The strains at the step's start and end at the four Gauss
+                  // points (Gauss point v lies in the quadrant of vertex v).
                   gauss_values.reinit(cell);
                   const FEValues<dim>             &fv = gauss_values.get_present_fe_values();
                   const FEValuesExtractors::Vector u(slot_of_body.at(cell->material_id()) * dim);
-                  fv[u].get_function_symmetric_gradients(u_old, strain);
+                  fv[u].get_function_symmetric_gradients(u_before, strain_before);
+                  fv[u].get_function_symmetric_gradients(displacement_ghosted, strain_after);
                   have_strain = true;
                 }
-              born +=
-                update_corner(corner, solid_now, strain[v], body.transition_temperatures.back(), t);
+              // Born when the node's enthalpy passed the birth value, a
+              // fraction s of the step (linear in time): the strain and the
+              // time interpolated to that moment, at which the node was at
+              // the transition temperature. (At the step's end the node may
+              // already be colder; taking that strain with Theta_ref =
+              // Theta_m would count the cooling in between twice.)
+              const double s = crossing[c][v];
+              born += update_corner(corner,
+                                    solid_now,
+                                    (1. - s) * strain_before[v] + s * strain_after[v],
+                                    body.transition_temperatures.back(),
+                                    t - (1. - s) * tau);
             }
         }
     return Utilities::MPI::sum(born, mpi_communicator);
@@ -202,6 +216,8 @@ namespace ContactStefan
                                                                 const unsigned int) const;
   template void MechanicalField<2>::initialize_references(const CellVertexValues &, const double);
   template unsigned int MechanicalField<2>::update_references(const CellVertexValues &,
+                                                              const CellVertexValues &,
+                                                              const double,
                                                               const double);
   template void         MechanicalField<2>::apply_references();
 } // namespace ContactStefan

@@ -371,10 +371,14 @@ namespace ContactStefan
 
 
   template <int dim>
-  void ThermalField<dim>::cell_solid_fractions(CellVertexValues &solid) const
+  void ThermalField<dim>::cell_solid_fractions(CellVertexValues &solid,
+                                               CellVertexValues *crossing) const
   {
     solid.assign(triangulation.n_active_cells(), {{1., 1., 1., 1.}});
-    Vector h_old(owned, relevant, mpi_communicator);
+    if (crossing)
+      crossing->assign(triangulation.n_active_cells(), {{1., 1., 1., 1.}});
+    Vector h(owned, relevant, mpi_communicator), h_old(owned, relevant, mpi_communicator);
+    h     = enthalpy;
     h_old = old_enthalpy;
     std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
     for (const auto &cell : dof_handler.active_cell_iterators())
@@ -384,10 +388,27 @@ namespace ContactStefan
           if (body_law.n_transitions() == 0)
             continue;
           const double melting = body_law.transition_temperature(body_law.n_transitions() - 1);
+          const double threshold = prm.materials.at(cell->material_id()).birth_solid_fraction;
           cell->get_dof_indices(dofs);
           for (unsigned int v = 0; v < 4; ++v)
-            solid[cell->active_cell_index()][v] =
-              1. - law(dofs[v]).fraction_through_temperature(melting, h_old[dofs[v]]);
+            {
+              const EnthalpyLaw &nodal = law(dofs[v]);
+              const double       now   = h[dofs[v]];
+              solid[cell->active_cell_index()][v] =
+                1. - nodal.fraction_through_temperature(melting, now);
+              if (!crossing)
+                continue;
+              // H* where the solid fraction is the threshold (the node's
+              // plateau at the melting temperature, a point without one),
+              // and when within the step h (linear in time) passed it.
+              const auto [lower, upper] = nodal.enthalpy_range(melting);
+              const double target       = lower + (1. - threshold) * (upper - lower);
+              const double before       = h_old[dofs[v]];
+              double       s            = 1.;
+              if (before != now)
+                s = std::min(1., std::max(0., (before - target) / (before - now)));
+              (*crossing)[cell->active_cell_index()][v] = s;
+            }
         }
   }
 
