@@ -12,8 +12,10 @@ writes to doc/figures/scenes/:
   <scene>_interface.png  contact pressure along the contact interface at those times
   <scene>_series.png     active contact nodes, melt area, largest contact pressure
                          and energy residual against time
-  casting_birth.png      the casting's residual stress after it has frozen (t =
-                         200 s) with and without 'Stress free at solidification'
+  casting_birth.png, crustal_intrusion_stress_birth.png
+                         the residual stress of the frozen casting (t = 200 s)
+                         and of the refrozen crust (prm/crustal_intrusion_stress.prm,
+                         400 kyr) with and without 'Stress free at solidification'
                          (doc/solidification.md): sigma_zz and von Mises
 
     /usr/bin/python3 doc/make_pictures.py [--binary build/contact-stefan]
@@ -118,66 +120,90 @@ def series_figure(name, scene, statistics, path):
     plt.close(fig)
 
 
-def birth_figure(binary, work, path, t_end=200.0):
-    """The casting (body 0) frozen and cooling, at t_end, run with the seed's
-    global reference (Theta_0 = the pouring temperature) and with every point
-    born stress-free at 660 degC: sigma_zz and von Mises of the cell centres."""
-    text = open(os.path.join(ROOT, "prm", "casting.prm")).read()
-    text = set_path(text, "Time stepping/End time", repr(t_end))
+# The two comparisons of doc/scenes.md: each scene run twice, with the seed's one
+# reference and with every point born stress-free at solidification
+# (doc/solidification.md), and its cell-centre stresses compared at the end.
+BIRTH_COMPARISONS = {
+    "casting": dict(
+        prm="prm/casting.prm", bodies=[0], end=200.0, body_only=0, length=(1e3, "mm"),
+        limits=((0, 52), (0, 52)), figsize=(9.5, 8.4), time="t = 200 s",
+        off="one reference (pouring, 700 degC)", on="born stress-free at 660 degC",
+        title="Casting: residual stress of the frozen casting (cell centres)"),
+    "crustal_intrusion_stress": dict(
+        prm="prm/crustal_intrusion_stress.prm", bodies=[0, 1], end=None, body_only=None,
+        length=(1e-3, "km"), limits=None, figsize=(11, 6.4), time="t = 400 kyr",
+        off="one reference (the initial geotherm)", on="born stress-free at solidification",
+        title="Crust after the intrusion: residual stress of the refrozen crust (cell centres)"),
+}
+
+
+def birth_figure(binary, work, name, path):
+    """Runs the comparison `name` of BIRTH_COMPARISONS; sigma_zz and von Mises
+    of the cell centres at the end, one row per model."""
+    c = BIRTH_COMPARISONS[name]
+    text = open(os.path.join(ROOT, c["prm"])).read()
+    # (Included files are named relative to the scene's directory.)
+    text = text.replace("include include/", "include %s/prm/include/" % ROOT)
+    if c["end"] is not None:
+        text = set_path(text, "Time stepping/End time", repr(c["end"]))
     text = set_path(text, "Output/VTU interval", "100000")
+    text = set_path(text, "Output/Directory", "output")
     rows, summary = [], []
     for switch in ("false", "true"):
-        directory = os.path.join(work, "casting-birth-" + switch)
+        directory = os.path.join(work, "%s-birth-%s" % (name, switch))
         os.makedirs(directory, exist_ok=True)
-        scene = set_path(text, "Materials/Body 0/Phase change/Stress free at solidification",
-                         switch)
-        scene = set_path(scene, "Output/Directory", "output")
+        scene = text
+        for body in c["bodies"]:
+            scene = set_path(scene, "Materials/Body %d/Phase change/Stress free at "
+                             "solidification" % body, switch)
         with open(os.path.join(directory, "scene.prm"), "w") as f:
             f.write(scene)
         run = subprocess.run([binary, "scene.prm"], cwd=directory, capture_output=True, text=True)
         if run.returncode != 0:
-            sys.exit("casting (birth %s) failed: %s" % (switch, run.stderr.strip()[-300:]))
+            sys.exit("%s (birth %s) failed: %s" % (name, switch, run.stderr.strip()[-300:]))
         out = os.path.join(directory, "output")
         t, last = read_pvd(os.path.join(out, "solution.pvd"))[-1]
         points, quads, data = read_pieces(out, last)
-        casting = data["body_id"][quads[:, 0]] == 0
-        rows.append((switch, points, quads[casting], data))
-        vm = data["cell_von_mises"][quads[casting, 0]] / 1e6
-        szz = data["cell_stress_zz"][quads[casting, 0]] / 1e6
+        if c["body_only"] is not None:
+            quads = quads[data["body_id"][quads[:, 0]] == c["body_only"]]
+        rows.append((switch, points, quads, data))
+        vm = data["cell_von_mises"][quads[:, 0]] / 1e6
+        szz = data["cell_stress_zz"][quads[:, 0]] / 1e6
         summary.append((switch, vm.max(), vm.mean(), szz.min(), szz.max()))
     zz_lo = min(r[3]["cell_stress_zz"][r[2][:, 0]].min() for r in rows) / 1e6
     zz_hi = max(r[3]["cell_stress_zz"][r[2][:, 0]].max() for r in rows) / 1e6
+    zz_abs = max(abs(zz_lo), abs(zz_hi))
     vm_hi = max(r[3]["cell_von_mises"][r[2][:, 0]].max() for r in rows) / 1e6
-    fig, axes = plt.subplots(2, 2, figsize=(9.5, 8.4))
-    titles = {"false": "one reference (pouring, 700 degC)",
-              "true": "born stress-free at 660 degC"}
+    fig, axes = plt.subplots(2, 2, figsize=c["figsize"])
+    scale, unit = c["length"]
     for row, (switch, points, quads, data) in enumerate(rows):
-        tri = triangulation(points * 1e3, quads)
+        tri = triangulation(points * scale, quads)
         for col, (field, lo, hi, cmap) in enumerate(
-                (("cell_stress_zz", zz_lo, zz_hi, "coolwarm"), ("cell_von_mises", 0, vm_hi,
-                                                                "viridis"))):
+                (("cell_stress_zz", -zz_abs, zz_abs, "coolwarm"),
+                 ("cell_von_mises", 0, vm_hi, "viridis"))):
             ax = axes[row][col]
             # Cell data: constant on each cell's own copies of its vertices;
             # the triangulation holds each cell's first triangles, then its second.
             values = data[field][quads[:, 0]] / 1e6
-            c = ax.tripcolor(tri, facecolors=np.concatenate([values, values]),
-                             vmin=lo, vmax=hi, cmap=cmap)
-            fig.colorbar(c, ax=ax, shrink=0.85, label="MPa")
-            ax.set_title("%s, t = %g s: %s" % (titles[switch], t_end,
-                                                "sigma_zz" if col == 0 else "von Mises"),
-                         fontsize=9)
+            cells = ax.tripcolor(tri, facecolors=np.concatenate([values, values]),
+                                 vmin=lo, vmax=hi, cmap=cmap)
+            fig.colorbar(cells, ax=ax, shrink=0.85, label="MPa")
+            ax.set_title("%s, %s: %s" % (c["on" if switch == "true" else "off"], c["time"],
+                                         "sigma_zz" if col == 0 else "von Mises"), fontsize=9)
             ax.set_aspect("equal")
-            ax.set_xlim(0, 52)
-            ax.set_ylim(0, 52)
-            ax.set_xlabel("x (mm)", fontsize=8)
+            if c["limits"]:
+                ax.set_xlim(*c["limits"][0])
+                ax.set_ylim(*c["limits"][1])
+            ax.set_xlabel("x (%s)" % unit, fontsize=8)
             ax.tick_params(labelsize=7)
-    fig.suptitle("Casting: residual stress of the frozen casting (cell centres)", fontsize=12)
+    fig.suptitle(c["title"], fontsize=12)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
     for switch, vm_max, vm_mean, zz_min, zz_max in summary:
-        print("casting, stress free at solidification = %s: von Mises max %.1f MPa, mean "
-              "%.1f MPa; sigma_zz %.1f .. %.1f MPa" % (switch, vm_max, vm_mean, zz_min, zz_max))
+        print("%s, stress free at solidification = %s: von Mises max %.1f MPa, mean "
+              "%.1f MPa; sigma_zz %.1f .. %.1f MPa" % (name, switch, vm_max, vm_mean, zz_min,
+                                                       zz_max))
 
 
 def main():
@@ -210,9 +236,10 @@ def main():
                       os.path.join(args.output, name + "_series.png"))
         print("wrote %s/%s_{fields,interface,series}.png" % (args.output, name))
         if name == "casting":
-            birth_figure(os.path.abspath(args.binary), work,
-                         os.path.join(args.output, "casting_birth.png"))
-            print("wrote %s/casting_birth.png" % args.output)
+            for comparison in BIRTH_COMPARISONS:
+                birth_figure(os.path.abspath(args.binary), work, comparison,
+                             os.path.join(args.output, comparison + "_birth.png"))
+                print("wrote %s/%s_birth.png" % (args.output, comparison))
 
 
 if __name__ == "__main__":

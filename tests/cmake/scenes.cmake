@@ -37,6 +37,13 @@ scene(scenes/casting-birth 1 ${CMAKE_SOURCE_DIR}/prm/casting.prm casting-birth
   "SET:Time stepping/End time=200" "SET:Output/VTU interval=0"
   "RESULT melt area<1e-12" "RESULT material points born>767.5"
   "RESULT material points born<768.5" "RESULT max energy-balance residual<1e-8")
+# The crust melted by an intrusion that then refreezes, born stress-free at
+# solidification (doc/scenes.md section 3): the lens above the intrusion melts
+# and refreezes (740 births), the melt is gone at 400 kyr.
+scene(scenes/crustal-intrusion-stress 1 ${CMAKE_SOURCE_DIR}/prm/crustal_intrusion_stress.prm
+  crustal_intrusion_stress "SET:Output/VTU interval=0"
+  "RESULT melt area<1e-6" "RESULT material points born>700"
+  "RESULT max energy-balance residual<1e-8")
 # The tutorial's scene (doc/tutorial.md), so that the tutorial cannot rot: ice
 # on a heated granite slab. Equilibrium fixes the contact force (the ice's
 # weight, 917 * 9.81 * 0.2 * 0.1 = 179.9154 N/m) and the vertical force across
