@@ -331,7 +331,8 @@ namespace ContactStefan
 
 
 
-  ElasticModuli elastic_moduli(const Parameters::BodyMaterial &m, const unsigned int p)
+  ElasticModuli
+  elastic_moduli(const Parameters::BodyMaterial &m, const unsigned int p, const bool plane_stress)
   {
     ElasticModuli         moduli;
     SymmetricTensor<2, 2> alpha; // in-plane expansion tensor
@@ -371,6 +372,21 @@ namespace ContactStefan
         moduli.beta[0][1] = m.stress_tensor[1];
         moduli.beta[1][1] = m.stress_tensor[3];
         moduli.beta_zz    = m.stress_tensor[4];
+      }
+    if (plane_stress)
+      {
+        // sigma_zz = lambda (tr e + e_zz) + 2 mu e_zz - beta_zz dT = 0 gives
+        // e_zz = (beta_zz dT - lambda tr e) / (lambda + 2 mu); put into the
+        // in-plane stress: lambda* tr e and beta - lambda beta_zz / (lambda + 2 mu).
+        AssertThrow(m.elasticity != Elasticity::anisotropic,
+                    ExcMessage("plane stress needs isotropic elasticity"));
+        const auto [lambda, mu] = lame_constants(m, p);
+        const double ratio      = lambda / (lambda + 2 * mu);
+        moduli.C                = isotropic_tensor(2 * lambda * mu / (lambda + 2 * mu), mu);
+        moduli.beta[0][0] -= ratio * moduli.beta_zz;
+        moduli.beta[1][1] -= ratio * moduli.beta_zz;
+        moduli.lambda_zz = 0;
+        moduli.beta_zz   = 0;
       }
     return moduli;
   }
@@ -414,16 +430,17 @@ namespace ContactStefan
 
 
 
-  double plane_strain_modulus(const Parameters::BodyMaterial &m)
+  double plane_strain_modulus(const Parameters::BodyMaterial &m, const bool plane_stress)
   {
     if (m.elasticity == Elasticity::isotropic)
-      return m.youngs_moduli[0] / (1 - m.poisson_ratios[0] * m.poisson_ratios[0]);
+      return plane_stress ? m.youngs_moduli[0] :
+                            m.youngs_moduli[0] / (1 - m.poisson_ratios[0] * m.poisson_ratios[0]);
     if (m.elasticity == Elasticity::lame)
       {
         const double l = m.lame_lambda, mu = m.lame_mu;
         const double E  = mu * (3 * l + 2 * mu) / (l + mu);
         const double nu = l / (2 * (l + mu));
-        return E / (1 - nu * nu);
+        return plane_stress ? E : E / (1 - nu * nu);
       }
     return m.voigt[3] - m.voigt[1] * m.voigt[1] / m.voigt[0];
   }
@@ -449,10 +466,11 @@ namespace ContactStefan
 
 
 
-  Material::Material(const Parameters::BodyMaterial &m)
-    : elasticity(elasticity_tensor(m))
-    , plane_strain_modulus(ContactStefan::plane_strain_modulus(m))
-    , out_of_plane_lambda(m.elasticity == Elasticity::anisotropic ? 0. : elasticity[0][0][1][1])
+  Material::Material(const Parameters::BodyMaterial &m, const bool plane_stress)
+    : elasticity(plane_stress ? elastic_moduli(m, 0, true).C : elasticity_tensor(m))
+    , plane_strain_modulus(ContactStefan::plane_strain_modulus(m, plane_stress))
+    , out_of_plane_lambda(
+        m.elasticity == Elasticity::anisotropic || plane_stress ? 0. : elasticity[0][0][1][1])
     , enthalpy_law(ContactStefan::enthalpy_law(m))
   {
     conductivity_shape[0][0] = m.anisotropy[0];
@@ -464,7 +482,8 @@ namespace ContactStefan
                                     std::vector<double>(n_phases, m.conductivities[0]) :
                                     m.conductivities;
     for (unsigned int p = 0; p < n_phases; ++p)
-      phase_moduli.push_back(elastic_moduli(m, m.elasticity_depends_on_phase() ? p : 0));
+      phase_moduli.push_back(
+        elastic_moduli(m, m.elasticity_depends_on_phase() ? p : 0, plane_stress));
   }
 
 
@@ -517,7 +536,7 @@ namespace ContactStefan
         std::unique_ptr<Material> material;
         try
           {
-            material = std::make_unique<Material>(m);
+            material = std::make_unique<Material>(m, prm.physics.plane_stress);
           }
         catch (const std::exception &e)
           {

@@ -352,6 +352,15 @@ namespace ContactStefan
                         "false",
                         Patterns::Bool(),
                         "Solve the elasticity/contact problem. Off: no displacement DoFs at all.");
+      prm.declare_entry("Plane constraint",
+                        "plane strain",
+                        Patterns::Selection("plane strain|plane stress"),
+                        "The out-of-plane direction of the 2D model: 'plane strain' (e_zz = 0: "
+                        "a long body; sigma_zz is reported) or 'plane stress' (sigma_zz = 0: "
+                        "a thin plate; the moduli are condensed, lambda* = 2 lambda mu / "
+                        "(lambda + 2 mu), beta* = beta - lambda beta_zz / (lambda + 2 mu)). Plane "
+                        "stress needs isotropic (or Lame) elasticity in every body and no "
+                        "thermoelastic heating (doc/model.md).");
       prm.leave_subsection();
     }
 
@@ -359,7 +368,8 @@ namespace ContactStefan
     {
       prm.enter_subsection("Physics");
       thermal   = prm.get_bool("Thermal");
-      mechanics = prm.get_bool("Mechanics");
+      mechanics    = prm.get_bool("Mechanics");
+      plane_stress = prm.get("Plane constraint") == "plane stress";
       prm.leave_subsection();
       require(thermal || mechanics,
               "Physics/Thermal",
@@ -649,6 +659,24 @@ namespace ContactStefan
                 " layer interfaces has bodies 0.." +
                 std::to_string(geometry.layer_interfaces.size()));
     // The coupling: what it needs of the temperature unit and of the phases.
+    if (physics.plane_stress)
+      {
+        require(physics.mechanics,
+                "Physics/Plane constraint",
+                "plane stress needs Physics/Mechanics = true");
+        // With sigma_zz = 0 the out-of-plane strain rate follows Theta too and
+        // heats: a term the enthalpy step does not have.
+        require(!thermoelastic_heating_active(),
+                "Physics/Plane constraint",
+                "plane stress is not coupled to the thermoelastic heating (the "
+                "out-of-plane strain rate would heat as well): set Coupling/"
+                "Thermoelastic heating = false or use plane strain");
+        for (const auto &[id, m] : materials)
+          require(m.elasticity != Parameters::BodyMaterial::Elasticity::anisotropic,
+                  "Materials/Body " + std::to_string(id) + "/Elasticity",
+                  "plane stress needs isotropic or lame elasticity (an anisotropic 2D "
+                  "tensor does not give C_xxzz, which the condensation needs)");
+      }
     if (thermoelastic_heating_active())
       require(coupling.temperature_scale != Parameters::Coupling::TemperatureScale::unspecified,
               "Coupling/Temperature scale",

@@ -27,6 +27,22 @@ scene(coupling/T1-free 1 ${P}/uniform_heating_T1_free.prm T1_free ${T1_BOUNDS}
   ${T1_FREE_VON_MISES})
 scene(coupling/T1-free-mpi2 2 ${P}/uniform_heating_T1_free.prm T1_free ${T1_BOUNDS}
   ${T1_FREE_VON_MISES})
+# T1 in plane stress (Physics/Plane constraint, doc/model.md): sigma_zz = 0 and the
+# condensed moduli. Clamped: sigma_xx = sigma_yy = -E alpha dT / (1 - nu) = -4e8;
+# rollers (x held, y free): sigma_xx = -E alpha dT = -3e8; free: no stress at all.
+set(PLANE_STRESS "SET:Physics/Plane constraint=plane stress")
+scene(coupling/T1-clamped-plane-stress 1 ${P}/uniform_heating_T1.prm T1_clamped-plane-stress
+  ${PLANE_STRESS} "SET:Exact solution/Stress=-4e8<semicolon> -4e8<semicolon> 0<semicolon> 0"
+  ${T1_BOUNDS} "RESULT max von Mises stress (cell centres)>399999999.99"
+  "RESULT max von Mises stress (cell centres)<400000000.01")
+scene(coupling/T1-rollers-plane-stress 1 ${P}/uniform_heating_T1_rollers.prm
+  T1_rollers-plane-stress ${PLANE_STRESS}
+  "SET:Exact solution/Stress=-3e8<semicolon> 0<semicolon> 0<semicolon> 0" ${T1_BOUNDS}
+  "RESULT max von Mises stress (cell centres)>299999999.99"
+  "RESULT max von Mises stress (cell centres)<300000000.01")
+scene(coupling/T1-free-plane-stress 1 ${P}/uniform_heating_T1_free.prm T1_free-plane-stress
+  ${PLANE_STRESS} "SET:Exact solution/Stress=0<semicolon> 0<semicolon> 0<semicolon> 0"
+  ${T1_BOUNDS} "RESULT max von Mises stress (cell centres)<1e-3")
 # T2, adiabatic compression: the heating term alone, exact to round-off, and on
 # a plateau the liquid fraction rises exactly as stated.
 scene(coupling/T2 1 ${P}/adiabatic_compression_T2.prm T2

@@ -46,6 +46,11 @@ scene(birth/layer-stretched 1 ${T}/scenes/birth_layer.prm birth_layer-stretched
   "SET:Boundary conditions/Mechanical boundary 1/Components=x"
   "SET:Boundary conditions/Mechanical boundary 1/Value=if(t < 100, 0.001, 0.0005)<semicolon> 0"
   "SET:Exact solution/Stress=-0.8<semicolon> 0<semicolon> 0<semicolon> 0.8" ${BIRTH_EXACT})
+# In plane stress (a thin plate: sigma_zz = 0) the frozen layer, held in x and
+# free in y, is uniaxial: sigma_xx = E alpha dT = 1, everything else 0.
+scene(birth/layer-plane-stress 1 ${T}/scenes/birth_layer.prm birth_layer-plane-stress
+  "SET:Physics/Plane constraint=plane stress"
+  "SET:Exact solution/Stress=1<semicolon> 0<semicolon> 0<semicolon> 0" ${BIRTH_EXACT})
 # The switch off (the seed's model) with Theta_0 = 50: the stress of the
 # global reference, E alpha (Theta_0 - Theta_f) / (1 - nu) = 8, to round-off.
 scene(birth/layer-switch-off 1 ${T}/scenes/birth_layer.prm birth_layer-switch-off

@@ -25,10 +25,11 @@ namespace ContactStefan
   SymmetricTensor<4, 2> elasticity_tensor(const Parameters::BodyMaterial &m);
 
   /**
-   * E* = E / (1 - nu^2) for isotropic data; for an anisotropic tensor the uniaxial
-   * plane-strain stiffness in y with x free, C22 - C12^2 / C11.
+   * The uniaxial in-plane stiffness in y with x free: E* = E / (1 - nu^2) for
+   * isotropic data in plane strain, E in plane stress; for an anisotropic
+   * tensor (plane strain only) C22 - C12^2 / C11.
    */
-  double plane_strain_modulus(const Parameters::BodyMaterial &m);
+  double plane_strain_modulus(const Parameters::BodyMaterial &m, const bool plane_stress = false);
 
   /** The volumetric enthalpy law H(Theta) (density times the per-mass data). */
   EnthalpyLaw enthalpy_law(const Parameters::BodyMaterial &m);
@@ -52,13 +53,20 @@ namespace ContactStefan
     bool   operator==(const ElasticModuli &other) const;
   };
 
-  /** The moduli of phase p of a body (p < number of phases). */
-  ElasticModuli elastic_moduli(const Parameters::BodyMaterial &m, const unsigned int phase);
+  /**
+   * The moduli of phase p of a body (p < number of phases). In plane stress
+   * (isotropic data) sigma_zz = 0 is condensed out: lambda* = 2 lambda mu /
+   * (lambda + 2 mu), beta* = beta - lambda beta_zz / (lambda + 2 mu) I, and
+   * lambda_zz = beta_zz = 0.
+   */
+  ElasticModuli elastic_moduli(const Parameters::BodyMaterial &m,
+                               const unsigned int              phase,
+                               const bool                      plane_stress = false);
 
   /** One body's material, derived once. */
   struct Material
   {
-    explicit Material(const Parameters::BodyMaterial &parameters);
+    explicit Material(const Parameters::BodyMaterial &parameters, const bool plane_stress = false);
 
     SymmetricTensor<4, 2> elasticity;
     double                plane_strain_modulus;

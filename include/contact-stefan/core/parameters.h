@@ -189,6 +189,9 @@ namespace ContactStefan
     struct Physics
     {
       bool thermal, mechanics;
+      // The 2D model of the out-of-plane direction: plane strain (e_zz = 0,
+      // the default) or plane stress (sigma_zz = 0).
+      bool plane_stress = false;
 
       static void declare(ParameterHandler &prm);
       void        parse(ParameterHandler &prm);
