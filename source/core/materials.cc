@@ -79,8 +79,9 @@ namespace ContactStefan
                         "",
                         Patterns::Anything(),
                         "Empty, or beta_xx, beta_xy, beta_yx, beta_yy, beta_zz (Pa/K), "
-                        "symmetric: the thermal stress tensor itself (beta_zz only enters "
-                        "sigma_zz). Excludes the other two thermal expansion entries.");
+                        "symmetric: the thermal stress tensor itself (beta_zz enters sigma_zz, "
+                        "and in plane stress the condensed beta). Excludes the other two "
+                        "thermal expansion entries.");
 
       prm.enter_subsection("Phase change");
       prm.declare_entry("Transition temperatures",

@@ -168,7 +168,7 @@ namespace ContactStefan
   } // namespace Fingerprint
 
   /**
-   * The code is two-dimensional (plane strain): the contact normals, the
+   * The code is two-dimensional (plane strain or plane stress): the contact normals, the
    * rigid-body modes (2 translations, 1 rotation), the Voigt form of C, the
    * muparser variables "x,y,t" and the Gmsh reader's line/surface tags are
    * written for 2D. The classes keep deal.II's dim template parameter for its

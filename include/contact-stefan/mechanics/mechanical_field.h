@@ -309,14 +309,17 @@ namespace ContactStefan
      * with the phases of its end: every point of a stress-free body whose node
      * changed class is born anew, with the strain interpolated between u_old
      * and u to the fraction of the step at which its node's enthalpy passed
-     * the birth value (crossing, ThermalField::cell_solid_fractions()).
+     * the birth value (crossing, ThermalField::cell_solid_fractions()); with
+     * lagged_displacement (the staggered scheme: u is the equilibrium with the
+     * temperature at the step's start) extrapolated from them instead.
      * Applies from the next step on (apply_references()). Returns the number
      * of points born (over all ranks).
      */
     unsigned int update_references(const CellVertexValues &solid_fraction,
                                    const CellVertexValues &crossing,
                                    const double            t,
-                                   const double            tau);
+                                   const double            tau,
+                                   const bool              lagged_displacement);
     /**
      * Theta_ref at the vertices and the load of e_ref, from the history and
      * the cells' moduli: after the references or the moduli changed, and

@@ -515,7 +515,11 @@ namespace ContactStefan
       return 0;
     CellVertexValues solid, crossing;
     thermal->cell_solid_fractions(solid, &crossing);
-    return mechanical->update_references(solid, crossing, time, time_step);
+    // The staggered step solves the contact step with the temperature of the
+    // step's start; the fixed point (and its one-way form, enthalpy step
+    // first) with the step's own.
+    const bool lagged = prm.coupling.scheme != Parameters::Coupling::Scheme::fixed_point;
+    return mechanical->update_references(solid, crossing, time, time_step, lagged);
   }
 
 

@@ -86,7 +86,8 @@ namespace ContactStefan
   unsigned int MechanicalField<dim>::update_references(const CellVertexValues &solid_fraction,
                                                        const CellVertexValues &crossing,
                                                        const double            t,
-                                                       const double            tau)
+                                                       const double            tau,
+                                                       const bool              lagged_displacement)
   {
     if (!history)
       return 0;
@@ -126,12 +127,16 @@ namespace ContactStefan
               // the transition temperature. (At the step's end the node may
               // already be colder; taking that strain with Theta_ref =
               // Theta_m would count the cooling in between twice.)
+              // With the staggered scheme u_n is the equilibrium with the
+              // temperature of t_(n-1) (the contact step comes first), so the
+              // strain of the moment t_(n-1) + s tau is extrapolated from
+              // u_(n-1), u_n: u_n + s (u_n - u_(n-1)).
               const double s = crossing[c][v];
-              born += update_corner(corner,
-                                    solid_now,
-                                    (1. - s) * strain_before[v] + s * strain_after[v],
-                                    body.transition_temperatures.back(),
-                                    t - (1. - s) * tau);
+              const SymmetricTensor<2, dim> strain =
+                lagged_displacement ? strain_after[v] + s * (strain_after[v] - strain_before[v]) :
+                                      (1. - s) * strain_before[v] + s * strain_after[v];
+              born += update_corner(
+                corner, solid_now, strain, body.transition_temperatures.back(), t - (1. - s) * tau);
             }
         }
     return Utilities::MPI::sum(born, mpi_communicator);
@@ -218,6 +223,7 @@ namespace ContactStefan
   template unsigned int MechanicalField<2>::update_references(const CellVertexValues &,
                                                               const CellVertexValues &,
                                                               const double,
-                                                              const double);
+                                                              const double,
+                                                              const bool);
   template void         MechanicalField<2>::apply_references();
 } // namespace ContactStefan

@@ -475,8 +475,19 @@ namespace ContactStefan
             laws.push_back(EnthalpyLaw::weighted_sum(terms));
             law_of_node[k] = laws.size() - 1;
           }
-        // A node without mass is a hanging node: constrained, its law unused.
       }
+    // A node without mass is a hanging node: constrained, its enthalpy is
+    // interpolated, but its phase (the cell's phase weights, the classes of the
+    // solidification history) is read through its law. It lies inside one
+    // body (interfaces are kept conforming): that body's law.
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (!cell->is_artificial())
+        {
+          cell->get_dof_indices(dofs);
+          for (const auto dof : dofs)
+            if (relevant.is_element(dof) && hanging_node_constraints.is_constrained(dof))
+              law_of_node[relevant.index_within_set(dof)] = law_of_body.at(cell->material_id());
+        }
   }
 
 
