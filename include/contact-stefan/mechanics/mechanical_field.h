@@ -325,7 +325,7 @@ namespace ContactStefan
      * the cells' moduli: after the references or the moduli changed, and
      * after a mesh change. Call before set_cell_temperatures().
      */
-    void apply_references();
+    void apply_references(const bool all_cells);
     /** The reference of corner v of an owned cell (a default one without a history). */
     CornerReference corner_reference(const unsigned int cell_index, const unsigned int v) const;
 
@@ -593,6 +593,11 @@ namespace ContactStefan
      * cell has no reference load.
      */
     std::vector<std::array<SymmetricTensor<2, dim>, 4>> cell_vertex_reference_strain;
+    /**
+     * Per active cell: its references or moduli changed since the last
+     * apply_references() (set by update_references() and set_phase_weights()).
+     */
+    std::vector<bool> references_changed;
     /** Whether the body of the cell keeps a history (stress-free at solidification). */
     bool keeps_history(const typename DoFHandler<dim>::active_cell_iterator &cell) const;
 

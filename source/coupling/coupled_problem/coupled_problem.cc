@@ -79,7 +79,7 @@ namespace ContactStefan
         CellVertexValues solid;
         thermal->cell_solid_fractions(solid);
         mechanical->initialize_references(solid, time);
-        mechanical->apply_references();
+        mechanical->apply_references(true);
       }
     if (thermal && mechanical)
       exchange_temperature();
@@ -420,7 +420,7 @@ namespace ContactStefan
       }
     // (The references themselves were moved with the mesh.)
     if (prm.solidification_history_active())
-      mechanical->apply_references();
+      mechanical->apply_references(true);
     if (thermal && mechanical)
       exchange_temperature();
     if (mechanical)
@@ -600,7 +600,7 @@ namespace ContactStefan
     // The references born after the last step (update_births()), with the
     // moduli just set.
     if (prm.solidification_history_active())
-      mechanical->apply_references();
+      mechanical->apply_references(false);
     // One-way coupling needs no iterations: with the heating off, Theta does not
     // depend on u, and the fully coupled step is the enthalpy step followed by
     // the contact step with Theta^(k+1); with the thermal stress off, u does not

@@ -48,6 +48,11 @@ namespace ContactStefan
             continue;
           cell_moduli[c] = moduli;
           assemble_cell_operators(cell, gauss_values, vertex_values);
+          if (history)
+            {
+              references_changed.resize(triangulation.n_active_cells(), false);
+              references_changed[c] = true;
+            }
           ++changed;
         }
     changed = Utilities::MPI::sum(changed, mpi_communicator);

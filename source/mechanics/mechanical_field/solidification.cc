@@ -98,6 +98,7 @@ namespace ContactStefan
     u_before = old_displacement;
     std::vector<SymmetricTensor<2, dim>> strain_before(4), strain_after(4);
     unsigned int                         born = 0;
+    references_changed.resize(triangulation.n_active_cells(), false);
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned() && keeps_history(cell))
         {
@@ -137,6 +138,7 @@ namespace ContactStefan
                                       (1. - s) * strain_before[v] + s * strain_after[v];
               born += update_corner(
                 corner, solid_now, strain, body.transition_temperatures.back(), t - (1. - s) * tau);
+              references_changed[c] = true;
             }
         }
     return Utilities::MPI::sum(born, mpi_communicator);
@@ -145,22 +147,34 @@ namespace ContactStefan
 
 
   template <int dim>
-  void MechanicalField<dim>::apply_references()
+  void MechanicalField<dim>::apply_references(const bool all_cells)
   {
     if (!history)
       return;
     TimerOutput::Scope         timer_scope(timer, "coupling: solidification references");
+    // Only the cells whose references (a birth) or moduli (a new phase
+    // mixture) changed since the last call, unless asked for all of them (a
+    // new mesh, the initial state, a resume): the load and its projection
+    // depend on nothing else.
+    const bool all = all_cells || cell_reference_load.size() != triangulation.n_active_cells();
+    if (all)
+      {
+        cell_reference_load.assign(triangulation.n_active_cells(), dealii::Vector<double>());
+        cell_vertex_reference_strain.assign(triangulation.n_active_cells(), {});
+      }
+    references_changed.resize(triangulation.n_active_cells(), false);
     const hp::QCollection<dim> gauss(QGauss<dim>(2));
     hp::FEValues<dim>          gauss_values(fe, gauss, update_gradients | update_JxW_values);
     const hp::QCollection<dim> vertex_rule(QTrapezoid<dim>{});
     hp::FEValues<dim>          vertex_values(fe, vertex_rule, update_gradients);
-    cell_reference_load.assign(triangulation.n_active_cells(), dealii::Vector<double>());
-    cell_vertex_reference_strain.assign(triangulation.n_active_cells(), {});
     for (const auto &cell : dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned() && keeps_history(cell))
+      if (cell->is_locally_owned() && keeps_history(cell) &&
+          (all || references_changed[cell->active_cell_index()]))
         {
-          const unsigned int c          = cell->active_cell_index();
-          bool               any_strain = false;
+          const unsigned int c  = cell->active_cell_index();
+          references_changed[c] = false;
+          cell_reference_load[c].reinit(0);
+          bool any_strain = false;
           for (unsigned int v = 0; v < 4; ++v)
             {
               const CornerReference &corner = (*history)[c][v];
@@ -225,5 +239,5 @@ namespace ContactStefan
                                                               const double,
                                                               const double,
                                                               const bool);
-  template void         MechanicalField<2>::apply_references();
+  template void         MechanicalField<2>::apply_references(const bool);
 } // namespace ContactStefan
