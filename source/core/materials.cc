@@ -360,6 +360,7 @@ namespace ContactStefan
         const auto [lambda, mu] = lame_constants(m, p);
         moduli.C                = isotropic_tensor(lambda, mu);
         moduli.lambda_zz        = lambda;
+        moduli.modulus_zz       = lambda + 2 * mu;
         // beta = C_3D : alpha_3D restricted to the plane, and its zz entry.
         const double trace = alpha[0][0] + alpha[1][1] + alpha_zz;
         moduli.beta        = 2 * mu * alpha;
@@ -386,17 +387,26 @@ namespace ContactStefan
         moduli.C                = isotropic_tensor(2 * lambda * mu / (lambda + 2 * mu), mu);
         moduli.beta[0][0] -= ratio * moduli.beta_zz;
         moduli.beta[1][1] -= ratio * moduli.beta_zz;
-        moduli.lambda_zz = 0;
-        moduli.beta_zz   = 0;
+        moduli.lambda_zz  = 0;
+        moduli.beta_zz    = 0;
+        moduli.modulus_zz = 0;
       }
     return moduli;
   }
 
 
 
-  double ElasticModuli::free_expansion_capacity() const
+  double ElasticModuli::free_expansion_capacity(const bool out_of_plane_free) const
   {
-    return beta * (invert(C) * beta);
+    if (!out_of_plane_free || modulus_zz <= 0)
+      return beta * (invert(C) * beta);
+    // The body free out of plane too (generalized plane strain): beta_3D :
+    // C_3D^-1 : beta_3D by the Schur complement of C_zzzz.
+    const SymmetricTensor<2, 2> I = unit_symmetric_tensor<2>();
+    const SymmetricTensor<2, 2> b = beta - lambda_zz / modulus_zz * beta_zz * I;
+    const SymmetricTensor<4, 2> C_condensed =
+      C - lambda_zz * lambda_zz / modulus_zz * outer_product(I, I);
+    return b * (invert(C_condensed) * b) + beta_zz * beta_zz / modulus_zz;
   }
 
 
@@ -404,7 +414,7 @@ namespace ContactStefan
   bool ElasticModuli::operator==(const ElasticModuli &other) const
   {
     return C == other.C && beta == other.beta && lambda_zz == other.lambda_zz &&
-           beta_zz == other.beta_zz;
+           beta_zz == other.beta_zz && modulus_zz == other.modulus_zz;
   }
 
 
@@ -510,6 +520,7 @@ namespace ContactStefan
         mixture.beta += weights[p] * phase_moduli[p].beta;
         mixture.lambda_zz += weights[p] * phase_moduli[p].lambda_zz;
         mixture.beta_zz += weights[p] * phase_moduli[p].beta_zz;
+        mixture.modulus_zz += weights[p] * phase_moduli[p].modulus_zz;
       }
     return mixture;
   }

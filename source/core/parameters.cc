@@ -354,13 +354,17 @@ namespace ContactStefan
                         "Solve the elasticity/contact problem. Off: no displacement DoFs at all.");
       prm.declare_entry("Plane constraint",
                         "plane strain",
-                        Patterns::Selection("plane strain|plane stress"),
+                        Patterns::Selection("plane strain|plane stress|generalized plane strain"),
                         "The out-of-plane direction of the 2D model: 'plane strain' (e_zz = 0: "
-                        "a long body; sigma_zz is reported) or 'plane stress' (sigma_zz = 0: "
-                        "a thin plate; the moduli are condensed, lambda* = 2 lambda mu / "
-                        "(lambda + 2 mu), beta* = beta - lambda beta_zz / (lambda + 2 mu)). Plane "
-                        "stress needs isotropic (or Lame) elasticity in every body and no "
-                        "thermoelastic heating (doc/model.md).");
+                        "a long body held at its ends; sigma_zz is reported), 'plane stress' "
+                        "(sigma_zz = 0: a thin plate; the moduli are condensed, lambda* = 2 "
+                        "lambda mu / (lambda + 2 mu), beta* = beta - lambda beta_zz / (lambda + "
+                        "2 mu)) or 'generalized plane strain' (a long body free at its ends: "
+                        "e_zz is one unknown per body, uniform over it, such that the net "
+                        "out-of-plane force of the body, the integral of sigma_zz, is zero). "
+                        "Plane stress and generalized plane strain need isotropic (or Lame) "
+                        "elasticity in every body; plane stress also needs the thermoelastic "
+                        "heating off (doc/model.md).");
       prm.leave_subsection();
     }
 
@@ -369,7 +373,8 @@ namespace ContactStefan
       prm.enter_subsection("Physics");
       thermal   = prm.get_bool("Thermal");
       mechanics    = prm.get_bool("Mechanics");
-      plane_stress = prm.get("Plane constraint") == "plane stress";
+      plane_stress             = prm.get("Plane constraint") == "plane stress";
+      generalized_plane_strain = prm.get("Plane constraint") == "generalized plane strain";
       prm.leave_subsection();
       require(thermal || mechanics,
               "Physics/Thermal",
@@ -659,23 +664,28 @@ namespace ContactStefan
                 " layer interfaces has bodies 0.." +
                 std::to_string(geometry.layer_interfaces.size()));
     // The coupling: what it needs of the temperature unit and of the phases.
-    if (physics.plane_stress)
+    if (physics.plane_stress || physics.generalized_plane_strain)
       {
+        const std::string constraint =
+          physics.plane_stress ? "plane stress" : "generalized plane strain";
         require(physics.mechanics,
                 "Physics/Plane constraint",
-                "plane stress needs Physics/Mechanics = true");
-        // With sigma_zz = 0 the out-of-plane strain rate follows Theta too and
-        // heats: a term the enthalpy step does not have.
-        require(!thermoelastic_heating_active(),
-                "Physics/Plane constraint",
-                "plane stress is not coupled to the thermoelastic heating (the "
-                "out-of-plane strain rate would heat as well): set Coupling/"
-                "Thermoelastic heating = false or use plane strain");
+                constraint + " needs Physics/Mechanics = true");
+        // With sigma_zz = 0 the out-of-plane strain rate follows Theta at
+        // every point and heats: a term the enthalpy step does not have. (The
+        // uniform e_zz of generalized plane strain heats through the field's
+        // heating operator.)
+        if (physics.plane_stress)
+          require(!thermoelastic_heating_active(),
+                  "Physics/Plane constraint",
+                  "plane stress is not coupled to the thermoelastic heating (the "
+                  "out-of-plane strain rate would heat as well): set Coupling/"
+                  "Thermoelastic heating = false or use plane strain");
         for (const auto &[id, m] : materials)
           require(m.elasticity != Parameters::BodyMaterial::Elasticity::anisotropic,
                   "Materials/Body " + std::to_string(id) + "/Elasticity",
-                  "plane stress needs isotropic or lame elasticity (an anisotropic 2D "
-                  "tensor does not give C_xxzz, which the condensation needs)");
+                  constraint + " needs isotropic or lame elasticity (an anisotropic 2D "
+                               "tensor does not give C_xxzz and C_zzzz, which it needs)");
       }
     if (thermoelastic_heating_active())
       require(coupling.temperature_scale != Parameters::Coupling::TemperatureScale::unspecified,

@@ -20,7 +20,8 @@ namespace ContactStefan
                      const bool                   solid_now,
                      const SymmetricTensor<2, 2> &strain,
                      const double                 theta_transition,
-                     const double                 t)
+                     const double                 t,
+                     const double                 strain_zz)
   {
     if ((corner.solid != 0) == solid_now)
       return false;
@@ -36,6 +37,7 @@ namespace ContactStefan
     corner.strain[0] = strain[0][0];
     corner.strain[1] = strain[1][1];
     corner.strain[2] = strain[0][1];
+    corner.strain[3] = strain_zz;
     return true;
   }
 
@@ -61,7 +63,7 @@ namespace ContactStefan
     for (unsigned int k = 0; k < 4; ++k)
       {
         parent[k] = children[k][k];
-        for (unsigned int s = 0; s < 3; ++s)
+        for (unsigned int s = 0; s < 4; ++s)
           // The mean, summed in pairs in a fixed order: the same bits on any
           // partition, and four equal values give that value exactly (a + a
           // and 2a + 2a are exact; a + a + a need not be).

@@ -37,19 +37,24 @@ namespace ContactStefan
   /**
    * The elastic and thermal-stress moduli of one phase, or of a cell's mixture of
    * phases: sigma = C : e - beta (Theta - Theta_0) in the plane, and
-   * sigma_zz = lambda_zz tr(e) - beta_zz (Theta - Theta_0) (plane strain).
+   * sigma_zz = lambda_zz tr(e) + modulus_zz e_zz - beta_zz (Theta - Theta_0)
+   * (e_zz = 0 in plane strain, the body's uniform e_zz in generalized plane
+   * strain, which also adds lambda_zz e_zz to sigma_xx and sigma_yy).
+   * modulus_zz = C_zzzz (lambda + 2 mu; zero for anisotropic data and in
+   * plane stress).
    */
   struct ElasticModuli
   {
     SymmetricTensor<4, 2> C;
     SymmetricTensor<2, 2> beta;
-    double                lambda_zz = 0, beta_zz = 0;
+    double                lambda_zz = 0, beta_zz = 0, modulus_zz = 0;
 
     /**
      * Theta_0 beta : C^{-1} : beta per unit Theta_0: the heat capacity that the
-     * heating term adds to a body free to expand (doc/benchmarks.md T3's gamma).
+     * heating term adds to a body free to expand (doc/benchmarks.md T3's gamma);
+     * out_of_plane_free: free in z as well (generalized plane strain).
      */
-    double free_expansion_capacity() const;
+    double free_expansion_capacity(const bool out_of_plane_free = false) const;
     bool   operator==(const ElasticModuli &other) const;
   };
 

@@ -190,8 +190,10 @@ namespace ContactStefan
     {
       bool thermal, mechanics;
       // The 2D model of the out-of-plane direction: plane strain (e_zz = 0,
-      // the default) or plane stress (sigma_zz = 0).
-      bool plane_stress = false;
+      // the default), plane stress (sigma_zz = 0) or generalized plane strain
+      // (e_zz uniform in each body, its sigma_zz free of net force).
+      bool plane_stress             = false;
+      bool generalized_plane_strain = false;
 
       static void declare(ParameterHandler &prm);
       void        parse(ParameterHandler &prm);

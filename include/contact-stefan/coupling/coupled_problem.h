@@ -100,7 +100,7 @@ namespace ContactStefan
     {
       std::string         directory, id;
       unsigned int        step = 0;
-      std::vector<double> thermal_scalars;
+      std::vector<double> thermal_scalars, mechanical_scalars;
       double              wall    = 0;
       unsigned int        n_ranks = 0;
     };

@@ -32,6 +32,9 @@
 
 #include <deal.II/dofs/dof_handler.h>
 
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/fe/fe_values_extractors.h>
+
 #include <deal.II/hp/fe_collection.h>
 
 #include <deal.II/lac/affine_constraints.h>
@@ -329,6 +332,33 @@ namespace ContactStefan
     /** The reference of corner v of an owned cell (a default one without a history). */
     CornerReference corner_reference(const unsigned int cell_index, const unsigned int v) const;
 
+    // --- generalized plane strain (mechanical_field/out_of_plane.cc) ------------
+    // With Physics/Plane constraint = generalized plane strain each body b has
+    // one more unknown, its uniform out-of-plane strain e_b, fixed by a zero
+    // net out-of-plane force, int_b sigma_zz = 0. It is condensed out of
+    // every linear solve of the contact step exactly (doc/model.md).
+    bool out_of_plane_free() const
+    {
+      return generalized_plane_strain;
+    }
+    /** e_zz of the body in slot s (0 unless generalized plane strain). */
+    double out_of_plane_strain(const unsigned int slot) const
+    {
+      return generalized_plane_strain ? ezz[slot] : 0.;
+    }
+    /**
+     * The net out-of-plane force int sigma_zz of each body (by slot), with the
+     * quadrature rules of the equilibrium (Gauss for the strains, the vertex
+     * rule for the thermal part), relative to the sum of the magnitudes of
+     * its parts per cell (strain, uniform e_zz, thermal, reference): zero to
+     * the solver's tolerance after a solve in generalized plane strain, 0 in
+     * the other constraints. Collective.
+     */
+    std::vector<double> out_of_plane_forces() const;
+    /** e_zz and its value at the step's start, per slot, for a checkpoint. */
+    std::vector<double> restart_state() const;
+    void                set_restart_state(const std::vector<double> &state);
+
     // --- adaptivity (doc/adaptivity.md) ----------------------------------------
     // Positions of the owned obstacle and interface nodes in contact.
     // --- the block correction of the coupling (coupled_block.h) ---------------
@@ -600,6 +630,39 @@ namespace ContactStefan
     std::vector<bool> references_changed;
     /** Whether the body of the cell keeps a history (stress-free at solidification). */
     bool keeps_history(const typename DoFHandler<dim>::active_cell_iterator &cell) const;
+
+    /**
+     * Generalized plane strain (out_of_plane.cc): e_zz per body slot and at
+     * the step's start; per active cell g_K (g_i = int lambda_zz tr e(phi_i),
+     * Gauss rule), a_K = int C_zzzz, the vertex weights of the thermal part
+     * w_v beta_zz, and the out-of-plane force of the reference strains
+     * (sum_q w_q (lambda_zz tr e_ref,q + C_zzzz e_ref,zz,q)); the response
+     * W_b (K W_b = g_b, homogeneous constraints) of each body's unit e_zz
+     * for the current matrix.
+     */
+    const bool                          generalized_plane_strain;
+    std::vector<double>                 ezz, old_ezz;
+    std::vector<dealii::Vector<double>> cell_ezz_coupling;
+    std::vector<double>                 cell_ezz_stiffness, cell_ezz_reference;
+    std::vector<std::array<double, 4>>  cell_ezz_thermal;
+    std::vector<Vector>                 ezz_response;
+    /** g_K and a_K of one cell from the Gauss-point values of its element. */
+    void assemble_out_of_plane_operators(const unsigned int                c,
+                                         const FEValues<dim>              &fe_values,
+                                         const FEValuesExtractors::Vector &u);
+    /**
+     * After a linear solve for the current e_zz: the e_zz of every body that
+     * makes its net out-of-plane force zero, and u moved to it (u - sum_b W_b
+     * de_b, exact for the current matrix and constraints; W recomputed when
+     * the matrix is new).
+     */
+    void balance_out_of_plane(const bool new_matrix);
+    /**
+     * The local (this rank's cells) net out-of-plane force per slot for u;
+     * with scale, also the sum of the magnitudes of its parts per cell.
+     */
+    std::vector<double> local_out_of_plane_forces(const Vector        &u_ghosted,
+                                                  std::vector<double> *scale = nullptr) const;
 
     /**
      * Work skipped when its inputs did not change: the matrix (stiffness

@@ -45,20 +45,24 @@ namespace ContactStefan
   struct CornerReference
   {
     /** 1 if the point counted as solid at the last update, 0 if not. */
-    double solid = 1;
+    float solid = 1;
     /**
      * 1 once the point has its own reference (born anew, or melt at the
      * start: e_ref = 0 at the transition temperature); 0 while it keeps the
      * scene's (e_ref = 0, Theta_ref = Theta_0 at its vertex, evaluated where
      * the vertex is: a refined point keeps Theta_0(x) exactly).
      */
-    double born = 0;
+    float born = 0;
     /** Theta_ref at the corner's vertex (when born). */
     double theta = 0;
     /** When the reference was set (the start time for the initial one). */
     double time = 0;
-    /** e_ref at the corner's Gauss point: xx, yy, xy (tensor component). */
-    std::array<double, 3> strain = {{0., 0., 0.}};
+    /**
+     * e_ref at the corner's Gauss point: xx, yy, xy (tensor component), and
+     * zz (the body's uniform e_zz at the birth, generalized plane strain;
+     * zero otherwise).
+     */
+    std::array<double, 4> strain = {{0., 0., 0., 0.}};
 
     /**
      * (The transfer copies the bytes; deal.II's packing also instantiates the
@@ -67,7 +71,7 @@ namespace ContactStefan
     template <class Archive>
     void serialize(Archive &ar, const unsigned int)
     {
-      ar &solid &born &theta &time &strain[0] & strain[1] & strain[2];
+      ar &solid &born &theta &time &strain[0] & strain[1] & strain[2] & strain[3];
     }
 
     SymmetricTensor<2, 2> reference_strain() const
@@ -87,13 +91,15 @@ namespace ContactStefan
    * node's class (solid or not) differs from the one it had at the last
    * update, the point is born anew, stress-free in the configuration it has
    * now and at the transition temperature: e_ref = strain, Theta_ref =
-   * theta_transition, time = t. Returns whether it was reset.
+   * theta_transition, time = t (and e_ref,zz = strain_zz, the body's e_zz in
+   * generalized plane strain). Returns whether it was reset.
    */
   bool update_corner(CornerReference             &corner,
                      const bool                   solid_now,
                      const SymmetricTensor<2, 2> &strain,
                      const double                 theta_transition,
-                     const double                 t);
+                     const double                 t,
+                     const double                 strain_zz = 0);
 
   /**
    * The transfer rules (pure). Refinement: each child (child k sits in

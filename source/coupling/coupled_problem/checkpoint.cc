@@ -69,7 +69,7 @@ namespace ContactStefan
   // of the solidification history are attached to the mesh after the fields'
   // state), so
   // that an older checkpoint is refused by name, not misread.
-  const std::string checkpoint_format = "contact-stefan checkpoint 9";
+  const std::string checkpoint_format = "contact-stefan checkpoint 10";
 
   namespace
   {
@@ -659,10 +659,13 @@ namespace ContactStefan
         const unsigned int            n_ranks = Utilities::MPI::n_mpi_processes(comm);
         std::vector<double>           thermal_scalars =
           thermal ? thermal->restart_state() : std::vector<double>();
+        std::vector<double> mechanical_scalars =
+          mechanical ? mechanical->restart_state() : std::vector<double>();
         // (The parameter text after the numbers of the state: a test forges
         // the first number in scientific notation, the time.)
         archive << format << id << fields_fingerprint() << n_ranks << time << time_step
-                << step_number << thermal_scalars << wall << prm.solution_parameters;
+                << step_number << thermal_scalars << mechanical_scalars << wall
+                << prm.solution_parameters;
         archive << *postprocessor;
         out.flush();
         if (!out)
@@ -796,7 +799,7 @@ namespace ContactStefan
           throw std::runtime_error("it was written by a scene with " + fields + ", this one has " +
                                    fields_fingerprint());
         archive >> point.n_ranks >> time >> time_step >> step_number >> point.thermal_scalars >>
-          point.wall;
+          point.mechanical_scalars >> point.wall;
         archive >> parameters;
         differences = parameter_differences(parameters, prm.solution_parameters);
         if (differences.empty())
@@ -871,6 +874,12 @@ namespace ContactStefan
                  return !std::isfinite(x);
                }))
         problem = "the thermal field's restart values are not valid";
+      else if (point.mechanical_scalars.size() !=
+                 (mechanical ? mechanical->restart_state().size() : 0) ||
+               std::any_of(point.mechanical_scalars.begin(),
+                           point.mechanical_scalars.end(),
+                           [](const double x) { return !std::isfinite(x); }))
+        problem = "the mechanical field's restart values are not valid";
       if (!problem.empty())
         throw InputError("Checkpoint/Resume",
                          "'" + directory + "/state.txt' does not hold a valid state: " + problem);
@@ -926,7 +935,10 @@ namespace ContactStefan
         thermal->set_restart_state(point.thermal_scalars);
       }
     if (mechanical)
-      restore(mechanical->get_dof_handler(), mechanical->primary_state());
+      {
+        restore(mechanical->get_dof_handler(), mechanical->primary_state());
+        mechanical->set_restart_state(point.mechanical_scalars);
+      }
     if (mechanical && mechanical->solidification_history())
       mechanical->solidification_history()->deserialize();
     after_mesh_change();

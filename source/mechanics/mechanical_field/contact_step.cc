@@ -277,8 +277,8 @@ namespace ContactStefan
       if (cell->is_locally_owned())
         {
           const unsigned int index = cell->active_cell_index();
-          if (!loaded && !thermal_stress && !cell_near_contact[index] &&
-              !cell_fixed_constrained[index])
+          if (!loaded && !thermal_stress && !generalized_plane_strain &&
+              !cell_near_contact[index] && !cell_fixed_constrained[index])
             continue;
           const unsigned int n = cell->get_fe().n_dofs_per_cell();
           dofs.resize(n);
@@ -288,6 +288,9 @@ namespace ContactStefan
             rhs = cell_load[index];
           if (thermal_stress)
             rhs += cell_thermal_load[index];
+          // The in-plane stress of the body's e_zz (out_of_plane.cc).
+          if (generalized_plane_strain)
+            rhs.add(-ezz[slot_of_body.at(cell->material_id())], cell_ezz_coupling[index]);
           constraints.distribute_local_to_global(rhs, dofs, system_rhs, cell_stiffness[index]);
         }
     system_rhs.compress(VectorOperation::add);
@@ -354,6 +357,7 @@ namespace ContactStefan
             ++guesses_accepted;
             constraints.distribute(displacement);
             displacement_ghosted = displacement;
+            balance_out_of_plane(factorise);
             return;
           }
       }
@@ -362,6 +366,7 @@ namespace ContactStefan
                         settled ? linear_prm.cg_tolerance : contact_prm.cg_contact_set_tolerance);
     constraints.distribute(displacement);
     displacement_ghosted = displacement;
+    balance_out_of_plane(factorise);
   }
 
 
@@ -412,6 +417,10 @@ namespace ContactStefan
               h = Fingerprint::mix(h ^ Fingerprint::bits(f));
           local += h;
         }
+    // (The same e_zz on every rank: added once, on the first.)
+    if (generalized_plane_strain && Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
+      for (const double e : ezz)
+        local = Fingerprint::mix(local + Fingerprint::bits(e));
     return Utilities::MPI::sum(local, mpi_communicator);
   }
 
@@ -452,6 +461,9 @@ namespace ContactStefan
             r -= cell_load[cell->active_cell_index()];
           if (with_load && thermal_stress)
             r -= cell_thermal_load[cell->active_cell_index()];
+          if (with_load && generalized_plane_strain)
+            r.add(ezz[slot_of_body.at(cell->material_id())],
+                  cell_ezz_coupling[cell->active_cell_index()]);
           hanging_node_constraints.distribute_local_to_global(r, dofs, result);
         }
     result.compress(VectorOperation::add);

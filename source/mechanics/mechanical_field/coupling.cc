@@ -149,6 +149,14 @@ namespace ContactStefan
               for (unsigned int v = 0; v < 4; ++v)
                 work[c][v] += B(i, v) * d;
             }
+          // Generalized plane strain: the out-of-plane strain rate heats by the
+          // transpose of the thermal part of the out-of-plane force.
+          if (generalized_plane_strain)
+            {
+              const unsigned int slot = slot_of_body.at(cell->material_id());
+              for (unsigned int v = 0; v < 4; ++v)
+                work[c][v] += cell_ezz_thermal[c][v] * (ezz[slot] - old_ezz[slot]);
+            }
         }
   }
 
@@ -169,8 +177,17 @@ namespace ContactStefan
     SymmetricTensor<2, dim> elastic = strain;
     if (history && cell_reference_load[c].size() > 0)
       elastic -= cell_vertex_reference_strain[c][vertex];
-    const SymmetricTensor<2, dim> sigma = moduli.C * elastic - excess * moduli.beta;
-    return {sigma, moduli.lambda_zz * trace(elastic) - moduli.beta_zz * excess};
+    SymmetricTensor<2, dim> sigma    = moduli.C * elastic - excess * moduli.beta;
+    double                  sigma_zz = moduli.lambda_zz * trace(elastic) - moduli.beta_zz * excess;
+    if (generalized_plane_strain)
+      {
+        // The body's e_zz less the point's reference e_zz (out_of_plane.cc).
+        const double e_zz =
+          ezz[slot_of_body.at(cell->material_id())] - corner_reference(c, vertex).strain[3];
+        sigma += moduli.lambda_zz * e_zz * unit_symmetric_tensor<dim>();
+        sigma_zz += moduli.modulus_zz * e_zz;
+      }
+    return {sigma, sigma_zz};
   }
 
 
@@ -246,22 +263,39 @@ namespace ContactStefan
     TimerOutput::Scope t(timer, "statistics: elastic energy");
     ElasticStatistics  result;
     // C^-1 of the last moduli seen (the cells of a body share theirs, so one
-    // inversion per body and phase mixture instead of one per vertex).
+    // inversion per body and phase mixture instead of one per vertex). In
+    // generalized plane strain the energy is that of the 3D stress (sigma,
+    // sigma_zz): with lambda = lambda_zz and M = C_zzzz the in-plane strain is
+    // (C - lambda^2/M I x I)^-1 (sigma - lambda/M sigma_zz I), e_zz = (sigma_zz -
+    // lambda tr e)/M, and the energy 1/2 (sigma : e + sigma_zz e_zz).
     const ElasticModuli    *last_moduli = nullptr;
     SymmetricTensor<4, dim> compliance;
+    const bool              with_zz = generalized_plane_strain;
     for_each_vertex_stress([&](const Point<dim> &,
                                const double                   w,
                                const SymmetricTensor<2, dim> &sigma,
-                               const double,
+                               const double                   sigma_zz,
                                const SymmetricTensor<2, dim> &,
                                const ElasticModuli           &moduli,
                                const SymmetricTensor<2, dim> &strain) {
       if (last_moduli == nullptr || !(moduli == *last_moduli))
         {
-          compliance  = invert(moduli.C);
+          const SymmetricTensor<2, dim> I = unit_symmetric_tensor<dim>();
+          compliance  = with_zz ? invert(moduli.C - moduli.lambda_zz * moduli.lambda_zz /
+                                                     moduli.modulus_zz * outer_product(I, I)) :
+                                  invert(moduli.C);
           last_moduli = &moduli;
         }
-      result.energy += 0.5 * sigma * (compliance * sigma) * w;
+      if (with_zz)
+        {
+          const double                  ratio = moduli.lambda_zz / moduli.modulus_zz;
+          const SymmetricTensor<2, dim> e =
+            compliance * (sigma - ratio * sigma_zz * unit_symmetric_tensor<dim>());
+          const double e_zz = (sigma_zz - moduli.lambda_zz * trace(e)) / moduli.modulus_zz;
+          result.energy += 0.5 * (sigma * e + sigma_zz * e_zz) * w;
+        }
+      else
+        result.energy += 0.5 * sigma * (compliance * sigma) * w;
       result.max_strain = std::max(result.max_strain, strain.norm());
     });
     result.energy     = Utilities::MPI::sum(result.energy, mpi_communicator);

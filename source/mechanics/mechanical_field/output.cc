@@ -156,14 +156,23 @@ namespace ContactStefan
           if (history)
             for (unsigned int v = 0; v < 4; ++v)
               reference_strain += 0.25 * corner_reference(c, v).reference_strain();
-          CellStress &s  = result[c];
-          s.strain       = strain[0];
-          s.thermal      = -excess * moduli.beta;
-          s.reference    = -(moduli.C * reference_strain);
-          s.sigma        = moduli.C * strain[0] + s.thermal + s.reference;
+          double reference_zz = 0;
+          if (history)
+            for (unsigned int v = 0; v < 4; ++v)
+              reference_zz += 0.25 * corner_reference(c, v).strain[3];
+          // The body's e_zz in generalized plane strain (zero otherwise).
+          const double e_zz = out_of_plane_strain(slot_of_body.at(cell->material_id()));
+          const SymmetricTensor<2, dim> I = unit_symmetric_tensor<dim>();
+          CellStress                   &s = result[c];
+          s.strain                        = strain[0];
+          s.thermal                       = -excess * moduli.beta;
+          s.reference = -(moduli.C * reference_strain) - moduli.lambda_zz * reference_zz * I;
+          s.sigma = moduli.C * strain[0] + moduli.lambda_zz * e_zz * I + s.thermal + s.reference;
           s.thermal_zz   = -excess * moduli.beta_zz;
-          s.reference_zz = -moduli.lambda_zz * trace(reference_strain);
-          s.sigma_zz     = moduli.lambda_zz * trace(strain[0]) + s.thermal_zz + s.reference_zz;
+          s.reference_zz =
+            -moduli.lambda_zz * trace(reference_strain) - moduli.modulus_zz * reference_zz;
+          s.sigma_zz = moduli.lambda_zz * trace(strain[0]) + moduli.modulus_zz * e_zz +
+                       s.thermal_zz + s.reference_zz;
         }
     return result;
   }

@@ -70,11 +70,14 @@ namespace ContactStefan
                     contact_prm.elasticity_amg_reuse_limit)
     , coupled(prm.coupling_active())
     , thermal_stress(prm.thermal_stress_active())
+    , generalized_plane_strain(prm.physics.generalized_plane_strain)
     , time(prm.time.start_time)
   {
     assert_two_dimensional<dim>();
     // Element b: FE_Q(1)^dim in slot b, FE_Nothing^dim in every other slot.
     const unsigned int n_slots = prm.body_ids.size();
+    ezz.assign(n_slots, 0.);
+    old_ezz.assign(n_slots, 0.);
     for (unsigned int s = 0; s < n_slots; ++s)
       slot_of_body[prm.body_ids[s]] = s;
     const FE_Q<dim>       q1(1);
@@ -449,6 +452,8 @@ namespace ContactStefan
     displacement         = 0;
     old_displacement     = 0;
     displacement_ghosted = 0;
+    std::fill(ezz.begin(), ezz.end(), 0.);
+    std::fill(old_ezz.begin(), old_ezz.end(), 0.);
     // The data at t0 (checked for finite values below, before any output).
     assemble_load();
     make_fixed_constraints();
@@ -505,6 +510,7 @@ namespace ContactStefan
   {
     time             = t;
     old_displacement = displacement;
+    old_ezz          = ezz;
     assemble_load();
     make_fixed_constraints();
     update_condition_gaps();
@@ -545,6 +551,11 @@ namespace ContactStefan
     cell_stiffness.assign(triangulation.n_active_cells(), LocalMatrix());
     cell_thermal_operator.assign(coupled ? triangulation.n_active_cells() : 0, LocalMatrix());
     cell_reference.assign(coupled ? triangulation.n_active_cells() : 0, {{0., 0., 0., 0.}});
+    const unsigned int n_ezz_cells = generalized_plane_strain ? triangulation.n_active_cells() : 0;
+    cell_ezz_coupling.assign(n_ezz_cells, dealii::Vector<double>());
+    cell_ezz_stiffness.assign(n_ezz_cells, 0.);
+    cell_ezz_thermal.assign(n_ezz_cells, {{0., 0., 0., 0.}});
+    ezz_response.clear();
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
@@ -588,6 +599,8 @@ namespace ContactStefan
               K(i, j) += sigma_i * strain[j] * fe_values.JxW(q);
           }
       }
+    if (generalized_plane_strain)
+      assemble_out_of_plane_operators(c, fe_values, u);
     if (!coupled)
       return;
     // B_K(i, v) = w_v beta_K : e(phi_i)(x_v), the trapezoidal rule: the same
@@ -604,6 +617,9 @@ namespace ContactStefan
                ExcInternalError());
         for (unsigned int i = 0; i < n; ++i)
           B(i, v) = moduli.beta * fv[u].symmetric_gradient(i, v) * fv.JxW(v);
+        // The thermal part of the cell's out-of-plane force by the same rule.
+        if (generalized_plane_strain)
+          cell_ezz_thermal[c][v] = moduli.beta_zz * fv.JxW(v);
       }
   }
 

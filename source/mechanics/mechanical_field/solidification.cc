@@ -136,8 +136,18 @@ namespace ContactStefan
               const SymmetricTensor<2, dim> strain =
                 lagged_displacement ? strain_after[v] + s * (strain_after[v] - strain_before[v]) :
                                       (1. - s) * strain_before[v] + s * strain_after[v];
-              born += update_corner(
-                corner, solid_now, strain, body.transition_temperatures.back(), t - (1. - s) * tau);
+              // The body's e_zz likewise (generalized plane strain; zero otherwise).
+              const unsigned int slot   = slot_of_body.at(cell->material_id());
+              const double       e_zz   = out_of_plane_strain(slot);
+              const double       e_zz_0 = generalized_plane_strain ? old_ezz[slot] : 0.;
+              const double       strain_zz =
+                lagged_displacement ? e_zz + s * (e_zz - e_zz_0) : (1. - s) * e_zz_0 + s * e_zz;
+              born += update_corner(corner,
+                                    solid_now,
+                                    strain,
+                                    body.transition_temperatures.back(),
+                                    t - (1. - s) * tau,
+                                    strain_zz);
               references_changed[c] = true;
             }
         }
@@ -161,6 +171,8 @@ namespace ContactStefan
       {
         cell_reference_load.assign(triangulation.n_active_cells(), dealii::Vector<double>());
         cell_vertex_reference_strain.assign(triangulation.n_active_cells(), {});
+        if (generalized_plane_strain)
+          cell_ezz_reference.assign(triangulation.n_active_cells(), 0.);
       }
     references_changed.resize(triangulation.n_active_cells(), false);
     const hp::QCollection<dim> gauss(QGauss<dim>(2));
@@ -174,6 +186,8 @@ namespace ContactStefan
           const unsigned int c  = cell->active_cell_index();
           references_changed[c] = false;
           cell_reference_load[c].reinit(0);
+          if (generalized_plane_strain)
+            cell_ezz_reference[c] = 0;
           bool any_strain = false;
           for (unsigned int v = 0; v < 4; ++v)
             {
@@ -182,7 +196,8 @@ namespace ContactStefan
               // the scene at the vertex otherwise (set with the cell operators).
               if (corner.born != 0)
                 cell_reference[c][v] = corner.theta;
-              any_strain = any_strain || corner.reference_strain().norm() != 0;
+              any_strain =
+                any_strain || corner.reference_strain().norm() != 0 || corner.strain[3] != 0;
             }
           if (!any_strain)
             continue;
@@ -224,6 +239,23 @@ namespace ContactStefan
               for (unsigned int i = 0; i < n; ++i)
                 e[v] += u_ref(i) * fw[u].symmetric_gradient(i, v);
             }
+          // Generalized plane strain: the reference e_zz of each point loads
+          // the plane through lambda_zz and adds to the body's out-of-plane
+          // force (out_of_plane.cc); the point values read it per corner, it
+          // needs no projection (e_zz is not a field of the element).
+          if (generalized_plane_strain)
+            for (unsigned int q = 0; q < fv.n_quadrature_points; ++q)
+              {
+                const CornerReference &corner = (*history)[c][q];
+                const double           e_zz   = corner.strain[3];
+                for (unsigned int i = 0; i < n; ++i)
+                  f(i) += cell_moduli[c].lambda_zz * e_zz * trace(fv[u].symmetric_gradient(i, q)) *
+                          fv.JxW(q);
+                cell_ezz_reference[c] +=
+                  (cell_moduli[c].lambda_zz * trace(corner.reference_strain()) +
+                   cell_moduli[c].modulus_zz * e_zz) *
+                  fv.JxW(q);
+              }
         }
   }
 

@@ -203,9 +203,18 @@ namespace ContactStefan
                contact_report.max_pressure);
       row.real("max_von_mises",
                "Pa",
-               "largest von Mises stress at the cell centres (sigma_zz of plane strain included)",
+               "largest von Mises stress at the cell centres (sigma_zz included)",
                "%.10e",
                s.max_von_mises);
+      // Generalized plane strain: each body's uniform e_zz.
+      if (mechanical.out_of_plane_free())
+        for (const unsigned int body : this->run.scene.body_ids)
+          row.real("e_zz_body_" + std::to_string(body),
+                   "1",
+                   "uniform out-of-plane strain of body " + std::to_string(body) +
+                     " (generalized plane strain)",
+                   "%.10e",
+                   mechanical.out_of_plane_strain(mechanical.body_slot(body)));
       row.real("elastic_energy",
                "J/m",
                "stored elastic energy, thermal part included, per unit thickness",
@@ -262,6 +271,20 @@ namespace ContactStefan
               double(linear.cg_iterations) / linear.cg_solves);
           add("elasticity solver: AMG builds", linear.amg_builds);
           add("elasticity solver: AMG recomputations", linear.amg_recomputations);
+        }
+      // Generalized plane strain: each body's e_zz at the end and its net
+      // out-of-plane force int sigma_zz relative to its parts (zero to the
+      // solver's tolerance).
+      if (mechanical.out_of_plane_free())
+        {
+          const std::vector<double> forces = mechanical.out_of_plane_forces();
+          for (const unsigned int body : this->run.scene.body_ids)
+            {
+              const unsigned int slot = mechanical.body_slot(body);
+              add("out-of-plane strain body " + std::to_string(body),
+                  mechanical.out_of_plane_strain(slot));
+              add("relative out-of-plane force body " + std::to_string(body), forces[slot]);
+            }
         }
       add("elastic energy", s.elastic_energy);
       add("total contact work", s.total_contact_work);

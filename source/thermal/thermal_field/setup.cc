@@ -242,7 +242,8 @@ namespace ContactStefan
           const Material &m = materials[cell->material_id()];
           for (unsigned int p = 0; p < m.phase_moduli.size(); ++p)
             {
-              const double gamma = theta_max * m.phase_moduli[p].free_expansion_capacity();
+              const double gamma = theta_max * m.phase_moduli[p].free_expansion_capacity(
+                                                 prm.physics.generalized_plane_strain);
               const double ratio = gamma / m.enthalpy_law.heat_capacity(p);
               strength           = std::max(strength, ratio);
               // Without the thermal stress nothing feeds back: no instability.
