@@ -45,6 +45,11 @@ namespace ContactStefan
       return "contact conditions or tied interfaces (solved by the contact step's active set)";
     if (thermal.phase_change_present())
       return "phase change (the plateau set may change within a step)";
+    // The block system has no row or column for the bodies' e_zz (its heating
+    // and its thermal force): as an accelerator it would still converge, but
+    // not in the two passes it promises.
+    if (mechanical.out_of_plane_free())
+      return "generalized plane strain (the block system has no e_zz)";
     if (prm.enthalpy_step.enthalpy_solver == Parameters::EnthalpyStep::EnthalpySolver::relaxation)
       return "the relaxation enthalpy solver (its matrix is not the enthalpy step's)";
     if (n_ranks != 1)

@@ -102,6 +102,18 @@ scene(coupling/T3-fixed-point-plain 1 ${P}/free_expansion_T3.prm T3_fixed_point_
   "SET:Coupling/Fixed-point acceleration=none" ${T3_PLAIN_BOUNDS})
 scene(coupling/T3-fixed-point-mpi2 2 ${P}/free_expansion_T3.prm T3_fixed_point_plain
   ${T3_PLAIN_BOUNDS})
+# T3 in generalized plane strain: free in z as well, the body expands freely in
+# 3D (sigma = 0, e_zz = alpha (Theta - Theta_0)) and the heating term adds the 3D
+# capacity Theta_0 beta^2 / K = 0.24 (lambda = mu = 0.4, beta = 0.4) instead of
+# the plane-strain 0.2: Theta = 1 + t / 1.24, exact to round-off, with plain
+# passes (the block correction has no e_zz row).
+set(T3_GPS ${GPS} "SET:Exact solution/Function=1 + t / 1.24"
+  "SET:Exact solution/Stress=0<semicolon> 0<semicolon> 0<semicolon> 0")
+scene(coupling/T3-fixed-point-gps 1 ${P}/free_expansion_T3.prm T3_fixed_point_gps ${T3_GPS}
+  ${T3_PLAIN_BOUNDS} "RESULT max energy-balance residual<1e-12"
+  "RESULT out-of-plane strain body 0>0.1612903225" "RESULT out-of-plane strain body 0<0.1612903227")
+scene(coupling/T3-fixed-point-gps-mpi2 2 ${P}/free_expansion_T3.prm T3_fixed_point_gps
+  ${T3_GPS} ${T3_PLAIN_BOUNDS} "RESULT max energy-balance residual<1e-12")
 # The block correction against plain passes on a strongly coupled plate with
 # hanging nodes (adapted every 2 steps), a reference temperature that varies
 # in space and prescribed values that change in time on both fields: the same

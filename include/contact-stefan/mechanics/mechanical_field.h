@@ -156,6 +156,8 @@ namespace ContactStefan
       ++stiffness_version; // the preconditioner is rebuilt for it
       have_matrix = have_factorisation = have_solution = false;
       linear_solver.clear();
+      // (The e_zz responses too: CG starts from them, and a resumed run has none.)
+      ezz_response.clear();
     }
     /**
      * Adds the displacement, the stresses and strains (doc/output.md: cell-centre
