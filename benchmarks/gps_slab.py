@@ -44,22 +44,13 @@ import tempfile
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 SCENE = os.path.join(ROOT, "tests", "scenes", "birth_freezing_slab_gps.prm")
+sys.path.insert(0, HERE)
+# The slab's data and the mirrored case A's lambda, as in the plane-strain B1.
+from birth_slab import ALPHA, E_L, E_S, NU, neumann_lambda  # noqa: E402
 
-E_S, E_L, NU, ALPHA, Y = 1000.0, 10.0, 0.25, 1e-4, 8.0
+Y = 8.0  # the slab's length (the far end held at Theta = 1)
 K = (1 + NU) * ALPHA
 DEGREE = 24
-
-
-def neumann_lambda():
-    def f(l):
-        return l * math.sqrt(math.pi) - math.exp(-l * l) * (1 / math.erf(l) - 1 / math.erfc(l))
-    a, b = 1e-6, 2.0
-    for _ in range(200):
-        m = 0.5 * (a + b)
-        a, b = (m, b) if f(m) < 0 else (a, m)
-    return 0.5 * (a + b)
-
-
 LAMBDA = neumann_lambda()
 
 
