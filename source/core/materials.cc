@@ -115,6 +115,15 @@ namespace ContactStefan
                         "its solid fraction (1 minus its fraction through the last "
                         "transition) reaches this value, in (0, 1]; 1: fully solid, "
                         "the node on the solid branch of the enthalpy law.");
+      prm.declare_entry("Solid fraction at melting",
+                        "",
+                        Patterns::Anything(),
+                        "With Stress free at solidification: a solid node counts as molten "
+                        "again (its points are born anew as melt) once its solid fraction falls "
+                        "below this value, in (0, Solid fraction at birth]. Empty: the birth "
+                        "value, one threshold both ways. A lower value is a hysteresis: a "
+                        "solid whose node only touches the plateau (warmed to the melting "
+                        "temperature, partly molten) keeps its reference.");
       prm.leave_subsection();
     }
 
@@ -130,10 +139,23 @@ namespace ContactStefan
       heat_capacities = parse_doubles(prm.get("Heat capacities"), pc + "Heat capacities");
       stress_free_at_solidification = prm.get_bool("Stress free at solidification");
       birth_solid_fraction          = get_finite(prm, pc, "Solid fraction at birth");
+      const std::string         melting_text = prm.get("Solid fraction at melting");
+      const std::vector<double> melting =
+        melting_text.find_first_not_of(" \t") == std::string::npos ?
+          std::vector<double>() :
+          parse_doubles(melting_text, pc + "Solid fraction at melting");
       prm.leave_subsection();
       require(birth_solid_fraction > 0 && birth_solid_fraction <= 1,
               pc + "Solid fraction at birth",
               "must lie in (0, 1], got " + str(birth_solid_fraction));
+      require(melting.size() <= 1,
+              pc + "Solid fraction at melting",
+              "one value or empty (the birth value)");
+      melting_solid_fraction = melting.empty() ? birth_solid_fraction : melting[0];
+      require(melting_solid_fraction > 0 && melting_solid_fraction <= birth_solid_fraction,
+              pc + "Solid fraction at melting",
+              "must lie in (0, Solid fraction at birth = " + str(birth_solid_fraction) + "], got " +
+                str(melting_solid_fraction));
 
       const unsigned int n = transition_temperatures.size();
       for (unsigned int j = 1; j < n; ++j)

@@ -92,6 +92,33 @@ scene(birth/layer-gps-uniform-stretched 1 ${T}/scenes/birth_layer.prm
   "SET:Boundary conditions/Mechanical boundary 1/Components=x"
   "SET:Boundary conditions/Mechanical boundary 1/Value=if(t < 100, 0.001, 0.0005)<semicolon> 0"
   "SET:Exact solution/Stress=-1<semicolon> 0<semicolon> 0<semicolon> 0" ${BIRTH_GPS_EXACT})
+# The melting threshold (Materials/Body N/Phase change/Solid fraction at
+# melting). The layer (plane strain) frozen all at once as above, then stretched
+# while solid (the right face to u_x = 0.001 from t = 3: e_xx = 0.004), warmed to
+# the middle of its plateau (solid fraction 0.5, t in (4, 5.5]) and frozen again
+# (t in (6, 7.5]) to Theta_m - 10. With one threshold (the default, 1) every
+# point re-melts at 0.5 and is born again stretched: sigma_xx = sigma_zz = E alpha
+# dT / (1 - nu) = 4/3. With 'Solid fraction at melting = 0.1' no point re-melts,
+# each keeps its first birth (unstretched): sigma_xx = E / (1 - nu^2) 0.004 + 4/3
+# = 5.6, sigma_zz = nu sigma_xx + E alpha dT = 2.4.
+set(BIRTH_TOUCH ${BIRTH_UNIFORM} "SET:Physics/Plane constraint=plane strain"
+  "SET:Materials/Body 0/Heat source=if(t < 2.025, -10.5, if(t > 4.025 && t < 5.525, 10, if(t > 6.025 && t < 7.525, -10, 0)))"
+  "SET:Boundary conditions/Mechanical boundary 1/Type=displacement"
+  "SET:Boundary conditions/Mechanical boundary 1/Components=x"
+  "SET:Boundary conditions/Mechanical boundary 1/Value=if(t < 3, 0, 0.001)<semicolon> 0"
+  "SET:Time stepping/Time step function=if(t < 8, tau, 100)")
+set(BIRTH_TOUCH_EXACT
+  "RESULT max relative stress L2 error (cell centres)<1e-10"
+  "RESULT max relative stress L2 error (recovered)<1e-10"
+  "RESULT max energy-balance residual<1e-12")
+scene(birth/layer-touch-plateau 1 ${T}/scenes/birth_layer.prm birth_layer-touch-plateau
+  ${BIRTH_TOUCH} "SET:Exact solution/Stress=4 / 3<semicolon> 0<semicolon> 0<semicolon> 4 / 3"
+  ${BIRTH_TOUCH_EXACT} "RESULT material points born>767.5" "RESULT material points born<768.5")
+scene(birth/layer-touch-plateau-hysteresis 1 ${T}/scenes/birth_layer.prm
+  birth_layer-touch-plateau-hysteresis ${BIRTH_TOUCH}
+  "SET:Materials/Body 0/Phase change/Solid fraction at melting=0.1"
+  "SET:Exact solution/Stress=5.6<semicolon> 0<semicolon> 0<semicolon> 2.4" ${BIRTH_TOUCH_EXACT}
+  "RESULT material points born>255.5" "RESULT material points born<256.5")
 # The switch off (the seed's model) with Theta_0 = 50: the stress of the
 # global reference, E alpha (Theta_0 - Theta_f) / (1 - nu) = 8, to round-off.
 scene(birth/layer-switch-off 1 ${T}/scenes/birth_layer.prm birth_layer-switch-off

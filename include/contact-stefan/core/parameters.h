@@ -76,9 +76,11 @@ namespace ContactStefan
       // Solidification stress (doc/solidification.md): whether a point of this
       // body is stress-free in the configuration and at the temperature at
       // which it changes phase (solid <-> not solid, at the last transition),
-      // and the solid fraction from which a node counts as solid.
+      // and the solid fraction from which a node counts as solid, and below
+      // which a solid node counts as molten again (<= the birth value).
       bool                stress_free_at_solidification = false;
       double              birth_solid_fraction          = 1;
+      double              melting_solid_fraction        = 1;
       std::vector<double> conductivities;          // n+1 (or 1: the same in all phases)
       double              anisotropy[3];           // k_xx, k_xy, k_yy of the shape tensor
       std::string         heat_source;             // W/m^3, function of x, y, t

@@ -108,7 +108,11 @@ namespace ContactStefan
           for (unsigned int v = 0; v < 4; ++v)
             {
               CornerReference &corner    = (*history)[c][v];
-              const bool       solid_now = solid_fraction[c][v] >= body.birth_solid_fraction;
+              // A melt point freezes at the birth threshold, a solid point
+              // melts below the melting threshold (a hysteresis when lower).
+              const bool solid_now =
+                solid_fraction[c][v] >=
+                (corner.solid != 0 ? body.melting_solid_fraction : body.birth_solid_fraction);
               if ((corner.solid != 0) == solid_now)
                 continue;
               if (!have_strain)

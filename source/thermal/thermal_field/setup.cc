@@ -389,7 +389,7 @@ namespace ContactStefan
           if (body_law.n_transitions() == 0)
             continue;
           const double melting = body_law.transition_temperature(body_law.n_transitions() - 1);
-          const double threshold = prm.materials.at(cell->material_id()).birth_solid_fraction;
+          const auto  &material = prm.materials.at(cell->material_id());
           cell->get_dof_indices(dofs);
           for (unsigned int v = 0; v < 4; ++v)
             {
@@ -401,10 +401,14 @@ namespace ContactStefan
                 continue;
               // H* where the solid fraction is the threshold (the node's
               // plateau at the melting temperature, a point without one),
-              // and when within the step h (linear in time) passed it.
+              // and when within the step h (linear in time) passed it: the
+              // birth threshold when h fell (freezing), the melting threshold
+              // when it rose (only a rise can melt a solid point).
+              const double before = h_old[dofs[v]];
+              const double threshold =
+                now > before ? material.melting_solid_fraction : material.birth_solid_fraction;
               const auto [lower, upper] = nodal.enthalpy_range(melting);
               const double target       = lower + (1. - threshold) * (upper - lower);
-              const double before       = h_old[dofs[v]];
               double       s            = 1.;
               if (before != now)
                 s = std::min(1., std::max(0., (before - target) / (before - now)));
