@@ -41,6 +41,22 @@ namespace ContactStefan
       Utilities::MPI::sum(make_array_view(local), comm, make_array_view(global));
       return global;
     }
+
+    // g_K . x_K: the out-of-plane force of a cell's strain for the nodal
+    // values x (ghosted), or its part of g_b . W_c.
+    template <class CellIterator, class GhostedVector>
+    double coupling_product(const dealii::Vector<double>         &g,
+                            const CellIterator                   &cell,
+                            const GhostedVector                  &x,
+                            std::vector<types::global_dof_index> &dofs)
+    {
+      dofs.resize(g.size());
+      cell->get_dof_indices(dofs);
+      double sum = 0;
+      for (unsigned int i = 0; i < g.size(); ++i)
+        sum += g(i) * x[dofs[i]];
+      return sum;
+    }
   } // namespace
 
 
@@ -81,12 +97,8 @@ namespace ContactStefan
         {
           const unsigned int c    = cell->active_cell_index();
           const unsigned int slot = slot_of_body.at(cell->material_id());
-          const auto        &g    = cell_ezz_coupling[c];
-          dofs.resize(g.size());
-          cell->get_dof_indices(dofs);
-          double strain = 0, thermal = 0;
-          for (unsigned int i = 0; i < g.size(); ++i)
-            strain += g(i) * u_ghosted[dofs[i]];
+          const double       strain = coupling_product(cell_ezz_coupling[c], cell, u_ghosted, dofs);
+          double             thermal = 0;
           if (thermal_stress)
             for (unsigned int v = 0; v < 4; ++v)
               thermal += cell_ezz_thermal[c][v] * cell_theta_excess[c][v];
@@ -172,15 +184,8 @@ namespace ContactStefan
         std::vector<double> gw(n_slots, 0.);
         for (const auto &cell : dof_handler.active_cell_iterators())
           if (cell->is_locally_owned())
-            {
-              const auto &g = cell_ezz_coupling[cell->active_cell_index()];
-              dofs.resize(g.size());
-              cell->get_dof_indices(dofs);
-              double sum = 0;
-              for (unsigned int i = 0; i < g.size(); ++i)
-                sum += g(i) * w[dofs[i]];
-              gw[slot_of_body.at(cell->material_id())] += sum;
-            }
+            gw[slot_of_body.at(cell->material_id())] +=
+              coupling_product(cell_ezz_coupling[cell->active_cell_index()], cell, w, dofs);
         gw = sum_over_ranks(gw, mpi_communicator);
         for (unsigned int b = 0; b < n_slots; ++b)
           M(b, c) = (b == c ? a[b] : 0.) - gw[b];
