@@ -687,6 +687,28 @@ namespace ContactStefan
                   constraint + " needs isotropic or lame elasticity (an anisotropic 2D "
                                "tensor does not give C_xxzz and C_zzzz, which it needs)");
       }
+    // Conductance interfaces (doc/interface_heat.md): what each law needs.
+    for (const auto &[pair, law] : interface_pairs)
+      if (law.thermal_contact == Parameters::InterfacePair::ThermalContact::conductance)
+        {
+          const std::string path =
+            "Contact/" + Parameters::InterfacePair::section(pair.first, pair.second) + "/";
+          require(physics.thermal,
+                  path + "Thermal contact",
+                  "'conductance' needs Physics/Thermal = true");
+          const auto &c = law.conductance;
+          if (c.radiation)
+            require(coupling.temperature_scale == Parameters::Coupling::TemperatureScale::kelvin ||
+                      coupling.temperature_scale == Parameters::Coupling::TemperatureScale::celsius,
+                    path + "Conductance/Radiation",
+                    "radiation needs absolute temperatures: set 'Coupling/Temperature scale' = "
+                    "kelvin or celsius");
+          if (c.pressure_coefficient > 0)
+            require(physics.mechanics,
+                    path + "Conductance/Pressure coefficient",
+                    "the contact pressure comes from the contact step: it needs "
+                    "Physics/Mechanics = true");
+        }
     if (thermoelastic_heating_active())
       require(coupling.temperature_scale != Parameters::Coupling::TemperatureScale::unspecified,
               "Coupling/Temperature scale",

@@ -1,6 +1,7 @@
 // The errors against an exact temperature (verification/temperature_errors.h).
 #include <deal.II/base/quadrature_lib.h>
 
+#include <deal.II/fe/fe_q.h>
 #include <deal.II/fe/fe_values.h>
 
 #include <contact-stefan/verification/temperature_errors.h>
@@ -98,7 +99,8 @@ namespace ContactStefan
     Geometry                &g           = geometry;
     if (g.mesh_generation == thermal.mesh_generation())
       return;
-    const auto       &fe = dof_handler.get_fe();
+    // (Q1 in every slot: DoF v of a cell is the shape function of vertex v.)
+    const FE_Q<dim>   fe(1);
     const QGauss<dim> quadrature(fe.degree + 2);
     FEValues<dim>     fe_values(fe,
                             quadrature,
@@ -113,7 +115,7 @@ namespace ContactStefan
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
-          fe_values.reinit(cell);
+          fe_values.reinit(typename Triangulation<dim>::cell_iterator(cell));
           cell->get_dof_indices(dofs);
           for (const auto dof : dofs)
             g.local_dofs.push_back(map.LID(static_cast<int>(dof)));

@@ -3,7 +3,8 @@
 # or in the files included before this one).
 
 # --- unit tests of the pure pieces --------------------------------------------
-foreach(unit enthalpy_law neumann_solution contact adaptation q1_kernels solidification_history)
+foreach(unit enthalpy_law neumann_solution contact adaptation q1_kernels solidification_history
+    interface_conductance)
   add_executable(unit_${unit} unit_${unit}.cc)
   target_link_libraries(unit_${unit} contact_stefan)
   deal_ii_setup_target(unit_${unit})

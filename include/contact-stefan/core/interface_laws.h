@@ -1,9 +1,12 @@
 // The laws of the interfaces where bodies meet, declared, parsed and
 // documented in this one header: the global defaults (subsection 'Contact':
 // Interfaces, Interface gap) and the laws of each pair of bodies ('Contact/
-// Interface k-l': Kind, Gap, Thermal contact). A new law of an interface (a
-// friction law, a thermal conductance) is its entry here and the field that
-// applies it, walking the interface's vertices (interfaces/body_interface.h).
+// Interface k-l': Kind, Gap, Thermal contact, and the coefficients of a
+// thermal conductance in 'Interface k-l/Conductance'). A new law of an
+// interface (a friction law) is its entry here and the field that applies it,
+// walking the interface's vertices (interfaces/body_interface.h); the
+// conductance is evaluated by core/interface_conductance.h and applied by the
+// thermal field (doc/interface_heat.md).
 #ifndef contact_stefan_interface_laws_h
 #define contact_stefan_interface_laws_h
 
@@ -36,6 +39,31 @@ namespace ContactStefan
     };
 
     /**
+     * The heat transfer coefficient h of an interface whose 'Thermal contact' is
+     * 'conductance' (subsection 'Contact/Interface k-l/Conductance'): the flux
+     * from side k to side l is q = h (Theta_k - Theta_l), h the sum of the terms
+     * below, each >= 0 (doc/interface_heat.md). Units W/(m^2 K) unless stated.
+     */
+    struct Conductance
+    {
+      double      constant             = 0;    // h_0, everywhere and always
+      double      contact              = 0;    // h_c0 where the interface is closed
+      double      pressure_coefficient = 0;    // C of C (p/H)^m where closed
+      double      pressure_exponent    = 0.95; // m
+      double      hardness             = 1;    // H (Pa)
+      double      liquid_contact       = -1;   // h_L where closed and liquid; < 0: none
+      std::string gas_conductivity     = "0";  // k_gas(T) (W/(m K)), T the mean temperature
+      double      gap_roughness        = 1e-6; // g_min (m) of k_gas / (g + g_min)
+      bool        radiation            = false;
+      double      emissivity_k = 1, emissivity_l = 1;
+      std::string function = "0"; // h(g, p, T1, T2, f1, f2, x, y, t)
+
+      static void declare(ParameterHandler &prm);
+      /** path: 'Contact/Interface k-l/Conductance/'. */
+      void parse(ParameterHandler &prm, const std::string &path);
+    };
+
+    /**
      * The laws of one interface, between bodies k < l (subsection 'Contact/
      * Interface k-l', declared for every pair of listed bodies; a pair whose
      * bodies do not touch has no interface and its entries are unused). Each
@@ -46,12 +74,15 @@ namespace ContactStefan
       Contact::Interfaces kind;    // contact (Signorini) or tied
       std::string         gap;     // g(x, y, t)
       bool                own_gap; // set here (else 'Contact/Interface gap')
-      // The thermal law across it: perfect contact (a continuous temperature)
-      // is the only one today.
+      // The thermal law across it: perfect contact (one continuous
+      // temperature) or a conductance (a temperature on each side, the flux
+      // q = h (Theta_k - Theta_l) between them).
       enum class ThermalContact
       {
-        perfect
+        perfect,
+        conductance
       } thermal_contact;
+      Conductance conductance; // with ThermalContact::conductance
 
       static std::string section(const unsigned int k, const unsigned int l);
       static void        declare(ParameterHandler &prm);
@@ -79,6 +110,82 @@ namespace ContactStefan
 
 
 
+    inline void Conductance::declare(ParameterHandler &prm)
+    {
+      prm.declare_entry("Constant",
+                        "0",
+                        Patterns::Double(0),
+                        "h_0 (W/(m^2 K)): a conductance everywhere on the interface, open or "
+                        "closed.");
+      prm.declare_entry("Contact",
+                        "0",
+                        Patterns::Double(0),
+                        "h_c0 (W/(m^2 K)): the solid contact conductance where the interface is "
+                        "closed (in the contact step's active set; tied interfaces are always "
+                        "closed; without mechanics, where the Gap is <= 0).");
+      prm.declare_entry("Pressure coefficient",
+                        "0",
+                        Patterns::Double(0),
+                        "C (W/(m^2 K)) of the pressure-dependent contact conductance "
+                        "C (p/H)^m where the interface is closed (Cooper-Mikic-Yovanovich "
+                        "form; p the contact pressure of the contact step, 0 on tied "
+                        "interfaces).");
+      prm.declare_entry("Pressure exponent",
+                        "0.95",
+                        Patterns::Double(0),
+                        "m of C (p/H)^m (> 0; 0.95 for Cooper-Mikic-Yovanovich).");
+      prm.declare_entry("Hardness",
+                        "1",
+                        Patterns::Double(0),
+                        "H (Pa) of C (p/H)^m: the microhardness of the softer surface (> 0).");
+      prm.declare_entry("Liquid contact",
+                        "",
+                        Patterns::Anything(),
+                        "h_L (W/(m^2 K)): the phase-aware contact conductance of a wetted "
+                        "interface. Where the interface is closed and a side is (partly) "
+                        "liquid, the contact term is (1 - f) (h_c0 + C (p/H)^m) + f h_L with f "
+                        "the larger liquid fraction of the two sides' nodes (through the last "
+                        "transition of each body). Empty: the contact term ignores the phase.");
+      prm.declare_entry("Gas conductivity",
+                        "0",
+                        Patterns::Anything(),
+                        "k_gas(T) (W/(m K)) of the gas in the gap, an expression in T (the mean "
+                        "of the two sides' temperatures, in the scene's unit); the gas term "
+                        "k_gas / (max(g, 0) + g_min) acts open or closed, g the normal gap of "
+                        "the contact step (without mechanics: the interface's Gap).");
+      prm.declare_entry("Gap roughness",
+                        "1e-6",
+                        Patterns::Double(0),
+                        "g_min (m) of the gas term: the roughness length that bounds it where "
+                        "the gap closes (> 0).");
+      prm.declare_entry("Radiation",
+                        "false",
+                        Patterns::Bool(),
+                        "Radiation across the interface: sigma (T_k^4 - T_l^4) / (1/eps_k + "
+                        "1/eps_l - 1) in absolute temperature (needs 'Coupling/Temperature "
+                        "scale' = kelvin or celsius), as the secant conductance of the "
+                        "temperatures of the last iterate (doc/interface_heat.md).");
+      prm.declare_entry("Emissivity k",
+                        "1",
+                        Patterns::Double(0),
+                        "eps_k in (0, 1]: the emissivity of the surface of body k (the "
+                        "lower id).");
+      prm.declare_entry("Emissivity l",
+                        "1",
+                        Patterns::Double(0),
+                        "eps_l in (0, 1]: the emissivity of the surface of body l.");
+      prm.declare_entry("Function",
+                        "0",
+                        Patterns::Anything(),
+                        "A conductance h(g, p, T1, T2, f1, f2, x, y, t) (W/(m^2 K)) added to the "
+                        "terms above, the general case: g the gap (m), p the contact pressure "
+                        "(Pa), T1, T2 the temperatures of sides k and l, f1, f2 their liquid "
+                        "fractions, x, y the position, t the time. Must be finite and >= 0 "
+                        "wherever it is evaluated.");
+    }
+
+
+
     inline std::string InterfacePair::section(const unsigned int k, const unsigned int l)
     {
       return "Interface " + std::to_string(k) + "-" + std::to_string(l);
@@ -98,9 +205,14 @@ namespace ContactStefan
                         "'Contact/Interface gap'.");
       prm.declare_entry("Thermal contact",
                         "perfect",
-                        Patterns::Selection("perfect"),
+                        Patterns::Selection("perfect|conductance"),
                         "The thermal law across this interface: 'perfect' (one continuous "
-                        "temperature) is the only one so far.");
+                        "temperature) or 'conductance' (each side its own temperature, the "
+                        "flux q = h (Theta_k - Theta_l) with h from the subsection "
+                        "'Conductance'; doc/interface_heat.md).");
+      prm.enter_subsection("Conductance");
+      Conductance::declare(prm);
+      prm.leave_subsection();
     }
 
     inline void
@@ -116,7 +228,11 @@ namespace ContactStefan
         gap = defaults.interface_gap;
       else
         Input::check_function(gap, path + "/Gap", false);
-      thermal_contact = ThermalContact::perfect;
+      thermal_contact = prm.get("Thermal contact") == "conductance" ? ThermalContact::conductance :
+                                                                      ThermalContact::perfect;
+      prm.enter_subsection("Conductance");
+      conductance.parse(prm, path + "/Conductance/");
+      prm.leave_subsection();
     }
 
     inline void Contact::parse(ParameterHandler &prm)

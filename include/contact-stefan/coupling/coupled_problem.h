@@ -121,6 +121,17 @@ namespace ContactStefan
     /** Births after a step (doc/solidification.md); returns how many. */
     unsigned int update_births();
     void exchange_thermoelastic_work();
+    void         exchange_contact_state();
+    /** A conductance interface reads the contact step's gap or pressure. */
+    bool contact_feedback() const
+    {
+      return thermal && mechanical && thermal->conductance_depends_on_contact();
+    }
+    /** Interfaces whose two sides' nodes are paired (contact, ties, conductances). */
+    bool interfaces_paired() const
+    {
+      return mechanical || (thermal && thermal->has_conductance_interfaces());
+    }
     /** A one-line summary of what the scene couples and what it skips. */
     std::string describe_coupling() const;
     void        print_step_line(const EnthalpyStepReport &thermal_report,

@@ -19,7 +19,9 @@
 #include <deal.II/grid/tria.h>
 
 #include <array>
+#include <map>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace ContactStefan
@@ -63,6 +65,21 @@ namespace ContactStefan
     /** The vertices of locally owned cells, by vertex index. */
     std::vector<Vertex> vertices;
   };
+
+  /**
+   * What the contact step tells the thermal field about an interface vertex
+   * (MechanicalField::interface_contact_states, doc/interface_heat.md): the
+   * normal gap (m, > 0 open), the contact pressure (Pa) and whether the vertex
+   * is closed (in the active set; a tied interface is closed with gap and
+   * pressure 0). Keyed by (body k, body l, vertex index).
+   */
+  struct InterfaceContactState
+  {
+    double gap = 0, pressure = 0;
+    bool   closed = false;
+  };
+  using InterfaceContactStates =
+    std::map<std::tuple<unsigned int, unsigned int, unsigned int>, InterfaceContactState>;
 
   /**
    * The interfaces of a mesh, ordered by (k, l). corner_angle (degrees): the

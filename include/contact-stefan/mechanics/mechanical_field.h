@@ -54,6 +54,7 @@
 #include <contact-stefan/core/parameters.h>
 #include <contact-stefan/core/scene_context.h>
 #include <contact-stefan/core/scene_functions.h>
+#include <contact-stefan/interfaces/body_interface.h>
 #include <contact-stefan/linear_algebra/linear_solver.h>
 #include <contact-stefan/mechanics/contact_step_parameters.h>
 #include <contact-stefan/mechanics/solidification_history.h>
@@ -114,6 +115,7 @@ namespace ContactStefan
     bool                         tied = false;           // interfaces: 'Kind' = tied
     unsigned int                 boundary_id; // roller and obstacle nodes
     Point<2>                     position;
+    unsigned int                 vertex = 0; // the triangulation's vertex index
     std::array<std::uint64_t, 2> dofs_k, dofs_l;
     bool                         has_partner;
     std::array<double, 2>        normal;
@@ -410,6 +412,12 @@ namespace ContactStefan
                              Vector                 &change) const;
 
     void contact_points(std::vector<Point<dim>> &points) const;
+    /**
+     * The gap, contact pressure and closed flag of the last contact step at
+     * every interface vertex of the locally owned cells (what a conductance
+     * interface of the thermal field reads). Collective.
+     */
+    void interface_contact_states(InterfaceContactStates &states) const;
     /**
      * The Kelly jump indicator of the displacement, per active cell (zero on
      * cells that are not owned). The jump across a contact interface is not

@@ -152,6 +152,7 @@ namespace ContactStefan
       thermal,              // thermal statistics: steps, iterations, energy, melt area
       liquid_fraction,      // check 'liquid fraction'
       thermal_consistency,  // thermal statistics: nodes with h outside H(Theta)
+      interface_heat,       // interface heat: heat through each conductance interface
       temperature,          // checks 'function', 'neumann': temperature errors
       equilibrium,          // check 'equilibrium'
       fronts,               // check 'neumann': front positions

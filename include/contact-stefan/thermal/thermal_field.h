@@ -19,6 +19,14 @@
 // The enthalpy step itself (the primal-dual active-set method with its line
 // search, and the relaxation fallback) is in thermal_field/enthalpy_step.cc; the set-up in
 // thermal_field/setup.cc. doc/algorithms.md explains the method.
+//
+// Interfaces whose 'Thermal contact' is 'conductance' (doc/interface_heat.md,
+// thermal_field/interface_heat.cc) give each side its own temperature: the
+// DoFHandler is then an hp one whose element on a body is FE_Q(1) in the
+// body's slot of components and FE_Nothing in the others (step-46's device,
+// as the mechanical field does), with as few slots as the conductance
+// interfaces need; bodies in perfect contact share a slot and their nodes.
+// A scene without conductance interfaces has one slot: the plain FE_Q(1).
 #ifndef contact_stefan_thermal_field_h
 #define contact_stefan_thermal_field_h
 
@@ -32,25 +40,32 @@
 
 #include <deal.II/fe/fe_q.h>
 
+#include <deal.II/hp/fe_collection.h>
+
 #include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/lac/vector.h>
 
 #include <deal.II/numerics/data_out.h>
+#include <deal.II/numerics/data_postprocessor.h>
 
 #include <contact-stefan/core/common.h>
 #include <contact-stefan/core/enthalpy_law.h>
+#include <contact-stefan/core/interface_conductance.h>
 #include <contact-stefan/core/materials.h>
 #include <contact-stefan/core/parameters.h>
 #include <contact-stefan/core/scene_context.h>
 #include <contact-stefan/core/scene_functions.h>
+#include <contact-stefan/interfaces/body_interface.h>
 #include <contact-stefan/linear_algebra/linear_solver.h>
 #include <contact-stefan/thermal/enthalpy_step_parameters.h>
 
 #include <array>
 #include <functional>
 #include <map>
+#include <memory>
 #include <vector>
 
 #include <Epetra_Vector.h>
@@ -70,6 +85,18 @@ namespace ContactStefan
     unsigned int factorisations        = 0;     // matrices factorised (reused otherwise)
     double       thermoelastic_heat    = 0;     // -sum_i G_i, J per unit thickness
     bool         truncated_newton      = false; // solved by it (it converged)
+  };
+
+  /**
+   * The heat through one conductance interface at the end of a solve: the
+   * rate from side k to side l (W per m of thickness) in total and by term,
+   * and the mean of h over the interface (W/(m^2 K)), weighted by length.
+   */
+  struct InterfaceHeat
+  {
+    std::string      name; // "interface k-l"
+    double           rate = 0, mean_conductance = 0;
+    ConductanceTerms rates; // the rate of each term (W/m)
   };
 
   template <int dim>
@@ -184,6 +211,26 @@ namespace ContactStefan
      * vertices of each owned cell.
      */
     void cell_values(const Vector &theta, CellVertexValues &values) const;
+
+    // --- conductance interfaces (thermal_field/interface_heat.cc) ---------------
+    bool has_conductance_interfaces() const
+    {
+      return !conductance_interfaces.empty();
+    }
+    /** Whether a conductance changes with the gap or pressure of the contact step. */
+    bool conductance_depends_on_contact() const;
+    /**
+     * The contact step's state at the interface vertices (gap, pressure,
+     * closed), read by the conductances of the next solve(). Without it (no
+     * mechanics) the interface's Gap function stands in: closed where <= 0.
+     */
+    void set_interface_contact(const InterfaceContactStates &states)
+    {
+      interface_contact      = states;
+      have_interface_contact = true;
+    }
+    /** The heat through each conductance interface. Collective. */
+    std::vector<InterfaceHeat> interface_heat() const;
 
     // --- queries ----------------------------------------------------------------
     // Incremented by every setup_dofs(): caches of mesh data compare it.
@@ -336,6 +383,16 @@ namespace ContactStefan
     unsigned int relaxation_fallback();
     double       compute_energy_balance(unsigned int &inconsistent_nodes) const;
 
+    /** thermal_field/interface_heat.cc */
+    void setup_slots();
+    void setup_conductance_nodes();
+    void add_conductance_sparsity(DynamicSparsityPattern &dsp) const;
+    /** h at every node from the current state; moves conductivity_version if it changed. */
+    void update_conductances();
+    /** Adds the interface terms to A (assembled) or to result = A theta (theta ghosted). */
+    void add_conductance_matrix(TrilinosWrappers::SparseMatrix &matrix) const;
+    void add_conductance_product(const Vector &theta, Vector &result) const;
+
     const SceneParameters                           &prm;
     const Parameters::EnthalpyStep                  &step_prm;
     const unsigned int                               verbosity;
@@ -346,8 +403,43 @@ namespace ContactStefan
     TimerOutput                                     &timer;
     const ConditionalOStream                        &pcout;
 
-    const FE_Q<dim> fe;
-    DoFHandler<dim> dof_handler;
+    const FE_Q<dim> fe; // the element of every slot (FEValues are built on it)
+    /**
+     * The element of each slot (one slot: fe itself), the slot of each body,
+     * and which slot each cell's active FE index names.
+     */
+    hp::FECollection<dim>                fe_collection;
+    std::map<unsigned int, unsigned int> slot_of_body;
+    unsigned int                         n_slots = 1;
+    DoFHandler<dim>                      dof_handler;
+
+    /**
+     * The conductance interfaces: their bodies and laws; and one node per
+     * interface vertex of the owned cells, with the two sides' DoFs, the
+     * lumped weight (half its faces' length), which of the DoFs this rank owns
+     * (it writes their rows; the node's heat is counted by the owner of
+     * dof_k) and the terms of h of the last update.
+     */
+    struct ConductanceInterface
+    {
+      unsigned int                    body_k, body_l;
+      std::string                     name;
+      std::unique_ptr<ConductanceLaw> law;
+    };
+    struct ConductanceNode
+    {
+      unsigned int            interface, vertex;
+      Point<dim>              position, centre_k, centre_l; // and the two sides' cell centres
+      types::global_dof_index dof_k, dof_l;
+      double                  weight;
+      bool                    owned_k, owned_l; // this rank owns the DoF
+
+      ConductanceTerms h;
+    };
+    std::vector<ConductanceInterface> conductance_interfaces;
+    std::vector<ConductanceNode>      conductance_nodes;
+    InterfaceContactStates            interface_contact;
+    bool                              have_interface_contact = false;
     IndexSet        owned, relevant;
 
     /**
@@ -504,6 +596,8 @@ namespace ContactStefan
     /** Output fields, alive until the next add_output(). */
     mutable Vector                                output_phase_index, output_liquid_fraction;
     mutable std::array<dealii::Vector<double>, 2> output_heat_flux; // cell data
+    class SlotSum;
+    mutable std::vector<std::shared_ptr<DataPostprocessor<dim>>> output_slot_sums;
   };
 } // namespace ContactStefan
 

@@ -303,9 +303,10 @@ namespace ContactStefan
                                                indicator,
                                                FeatureCloud<dim>(front_points, comm),
                                                FeatureCloud<dim>(contact_points, comm));
-    // Node-to-node contact needs the same vertices on both sides of an
-    // interface; without mechanics there are no pairs to keep.
-    if (mechanical)
+    // Node-to-node contact and the nodes of a conductance interface need the
+    // same vertices on both sides of an interface; without them there are no
+    // pairs to keep.
+    if (interfaces_paired())
       make_interfaces_conforming(triangulation);
     else
       triangulation.prepare_coarsening_and_refinement();
@@ -392,7 +393,7 @@ namespace ContactStefan
   void CoupledProblem<dim>::execute_and_repair(const bool transfer)
   {
     execute_with_transfer(transfer);
-    if (!mechanical)
+    if (!interfaces_paired())
       return;
     for (unsigned int round = 0; flag_nonconforming_interface_cells(triangulation) > 0; ++round)
       {
@@ -536,6 +537,20 @@ namespace ContactStefan
 
 
 
+  // The contact step's gap, pressure and closed flags at the interface
+  // vertices, for the conductances of the next enthalpy step.
+  template <int dim>
+  void CoupledProblem<dim>::exchange_contact_state()
+  {
+    if (!contact_feedback())
+      return;
+    InterfaceContactStates states;
+    mechanical->interface_contact_states(states);
+    thermal->set_interface_contact(states);
+  }
+
+
+
   template <int dim>
   void CoupledProblem<dim>::exchange_thermoelastic_work()
   {
@@ -606,7 +621,9 @@ namespace ContactStefan
     // the contact step with Theta^(k+1); with the thermal stress off, u does not
     // depend on Theta and the staggered order is already exact.
     const bool fixed_point_asked = prm.coupling.scheme == Parameters::Coupling::Scheme::fixed_point;
-    if (fixed_point_asked && !prm.thermoelastic_heating_active())
+    // (Unless a conductance follows the contact step's gap or pressure: then
+    // Theta depends on u through it, and the contact step comes first.)
+    if (fixed_point_asked && !prm.thermoelastic_heating_active() && !contact_feedback())
       {
         thermal_report = thermal->solve();
         exchange_temperature();
@@ -637,6 +654,7 @@ namespace ContactStefan
           exchange_temperature();
         contact_report = mechanical->solve();
         exchange_thermoelastic_work();
+        exchange_contact_state();
         thermal_report = thermal->solve();
         contact_iterations += contact_report.iterations;
         active_set_iterations += thermal_report.active_set_iterations;

@@ -257,6 +257,7 @@ namespace ContactStefan
             c.group            = interface.name();
             c.boundary_id      = 0;
             c.position         = vertex.position;
+            c.vertex           = vertex.index;
             c.dofs_k           = {{dofs_k[0], dofs_k[1]}};
             c.dofs_l           = {{dofs_l[0], dofs_l[1]}};
             c.has_partner      = true;

@@ -329,6 +329,30 @@ namespace ContactStefan
 
 
 
+  // Ghosted copies of the last contact step's nodal pressure, gap and active
+  // flags, read at the interface vertices of the owned cells (whose DoFs
+  // another rank may own).
+  template <int dim>
+  void MechanicalField<dim>::interface_contact_states(InterfaceContactStates &states) const
+  {
+    states.clear();
+    Vector p(owned, relevant, mpi_communicator), g(owned, relevant, mpi_communicator),
+      active(owned, relevant, mpi_communicator);
+    p      = pressure;
+    g      = gap;
+    active = interface_active;
+    for (const auto &c : normal_conditions)
+      if (c.kind == NormalCondition::Kind::interface)
+        {
+          InterfaceContactState &s = states[{c.body_k, c.body_l, c.vertex}];
+          s.closed                 = c.tied || active[c.dofs_k[0]] > 0.5;
+          s.gap                    = c.tied ? 0. : g[c.dofs_k[0]];
+          s.pressure               = c.tied ? 0. : p[c.dofs_k[0]];
+        }
+  }
+
+
+
   template unsigned int
   MechanicalField<2>::set_phase_weights(const std::vector<std::vector<double>> &weights);
   template void MechanicalField<2>::set_cell_temperatures(const CellVertexValues &theta);
@@ -354,4 +378,5 @@ namespace ContactStefan
   template typename MechanicalField<2>::ElasticStatistics
                   MechanicalField<2>::elastic_statistics() const;
   template double MechanicalField<2>::contact_work() const;
+  template void   MechanicalField<2>::interface_contact_states(InterfaceContactStates &) const;
 } // namespace ContactStefan

@@ -147,6 +147,7 @@ namespace ContactStefan
           hanging_node_constraints.distribute_local_to_global(
             cell_conductivity[cell->active_cell_index()], dofs, conductivity_matrix);
         }
+    add_conductance_matrix(conductivity_matrix);
     conductivity_matrix.compress(VectorOperation::add);
     conductivity_matrix_version = conductivity_version;
   }
@@ -199,6 +200,7 @@ namespace ContactStefan
           cell_conductivity[cell->active_cell_index()].vmult(local_result, local_theta);
           hanging_node_constraints.distribute_local_to_global(local_result, dofs, result);
         }
+    add_conductance_product(theta, result);
     result.compress(VectorOperation::add);
   }
 
@@ -756,6 +758,9 @@ namespace ContactStefan
   {
     EnthalpyStepReport report;
     n_factorisations = 0;
+    // The conductances of the interfaces from the state of the last iterate
+    // (gap and pressure of the contact step, temperatures, phases).
+    update_conductances();
     assemble_conductivity_matrix();
     assemble_step_load();
     using EnthalpySolver = Parameters::EnthalpyStep::EnthalpySolver;

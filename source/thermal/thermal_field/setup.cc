@@ -47,6 +47,20 @@ namespace ContactStefan
     , time(prm.time.start_time)
   {
     assert_two_dimensional<dim>();
+    for (const auto &[pair, law] : prm.interface_pairs)
+      if (law.thermal_contact == Parameters::InterfacePair::ThermalContact::conductance)
+        {
+          ConductanceInterface c;
+          c.body_k = pair.first;
+          c.body_l = pair.second;
+          c.name   = "interface " + std::to_string(pair.first) + "-" + std::to_string(pair.second);
+          c.law    = std::make_unique<ConductanceLaw>(
+            law.conductance,
+            prm.coupling.absolute_offset(),
+            "Contact/" + Parameters::InterfacePair::section(pair.first, pair.second) +
+              "/Conductance/");
+          conductance_interfaces.push_back(std::move(c));
+        }
   }
 
 
@@ -60,7 +74,8 @@ namespace ContactStefan
   {
     TimerOutput::Scope t(timer, "setup: thermal field");
     ++n_setups;
-    dof_handler.distribute_dofs(fe);
+    setup_slots();
+    dof_handler.distribute_dofs(fe_collection);
     // A DoF order that depends on the mesh alone (depth-first through the
     // cell hierarchy), not on the cell indices, which record the history of
     // refinement and coarsening that a mesh reloaded from a checkpoint does not
@@ -74,12 +89,14 @@ namespace ContactStefan
     hanging_node_constraints.reinit(relevant);
     DoFTools::make_hanging_node_constraints(dof_handler, hanging_node_constraints);
     hanging_node_constraints.close();
+    setup_conductance_nodes();
 
     // The pattern keeps the rows and columns of constrained DoFs: the plateau
     // constraints change from one active-set iteration to the next, and the one
     // pattern must hold every system they produce.
     DynamicSparsityPattern dsp(relevant);
     DoFTools::make_sparsity_pattern(dof_handler, dsp, hanging_node_constraints, true);
+    add_conductance_sparsity(dsp);
     SparsityTools::distribute_sparsity_pattern(dsp, owned, mpi_communicator, relevant);
     linear_solver.clear();
     system_matrix.reinit(owned, owned, dsp, mpi_communicator);
@@ -141,6 +158,16 @@ namespace ContactStefan
     support_points.clear();
     for (const auto &[dof, point] : points)
       support_points.emplace_hint(support_points.end(), dof, point);
+    // A node on a conductance interface sits one ulp inside its own body: a
+    // function that jumps across the interface (an exact solution, a
+    // boundary value) is evaluated on the node's side. The move is below
+    // every tolerance.
+    for (const auto &node : conductance_nodes)
+      for (const auto &[dof, centre] :
+           {std::pair(node.dof_k, node.centre_k), std::pair(node.dof_l, node.centre_l)})
+        if (const auto it = support_points.find(dof); it != support_points.end())
+          for (unsigned int d = 0; d < dim; ++d)
+            it->second[d] = std::nextafter(it->second[d], centre[d]);
 
     setup_nodal_enthalpy_laws();
     index_local_entries();
@@ -532,8 +559,19 @@ namespace ContactStefan
     large_step_mode  = false;
     Function<dim> &f = functions.initial_condition();
     f.set_time(t0);
-    Vector values(owned, mpi_communicator);
-    VectorTools::interpolate(dof_handler, f, values);
+    // The Q1 interpolant: the function at each node (vertex v of a cell is
+    // its v-th DoF, in every slot).
+    Vector                               values(owned, mpi_communicator);
+    std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          cell->get_dof_indices(dofs);
+          for (unsigned int v = 0; v < dofs.size(); ++v)
+            if (owned.is_element(dofs[v]))
+              values[dofs[v]] = f.value(cell->vertex(v));
+        }
+    values.compress(VectorOperation::insert);
     const bool from_temperature =
       prm.initial_condition.variable == Parameters::InitialCondition::Variable::temperature;
     for (const auto dof : owned)
@@ -726,7 +764,10 @@ namespace ContactStefan
         {
           dealii::Vector<double> &F = cell_load[cell->active_cell_index()];
           F.reinit(n);
-          fe_values.reinit(cell);
+          // (On the cell of the triangulation: with several slots the DoF
+          // cell's element is a system of fe and FE_Nothing, whose DoF v is
+          // still fe's shape function v.)
+          fe_values.reinit(typename Triangulation<dim>::cell_iterator(cell));
           const Function<dim> &source = functions.heat_source(cell->material_id());
           for (unsigned int q = 0; q < quadrature.size(); ++q)
             {
@@ -741,7 +782,7 @@ namespace ContactStefan
                 if (bc == prm.thermal_boundaries.end() ||
                     bc->second.type != Parameters::ThermalBoundary::Type::flux)
                   continue;
-                fe_face_values.reinit(cell, face);
+                fe_face_values.reinit(typename Triangulation<dim>::cell_iterator(cell), face);
                 const Function<dim> &flux = functions.thermal_boundary(face->boundary_id());
                 for (unsigned int q = 0; q < face_quadrature.size(); ++q)
                   {
@@ -850,11 +891,17 @@ namespace ContactStefan
           std::set<types::global_dof_index> seen;
           for (const auto &cell : dof_handler.active_cell_iterators())
             if (!cell->is_artificial())
-              for (const auto &face : cell->face_iterators())
-                if (face->at_boundary() && face->boundary_id() == id)
-                  for (unsigned int v = 0; v < face->n_vertices(); ++v)
-                    if (const auto dof = face->vertex_dof_index(v, 0); seen.insert(dof).second)
-                      nodes.emplace_back(dof, face->vertex(v));
+              for (const unsigned int f : cell->face_indices())
+                if (cell->face(f)->at_boundary() && cell->face(f)->boundary_id() == id)
+                  {
+                    cell->get_dof_indices(dofs);
+                    for (unsigned int v = 0; v < GeometryInfo<dim>::vertices_per_face; ++v)
+                      {
+                        const unsigned int cv = GeometryInfo<dim>::face_to_cell_vertices(f, v);
+                        if (seen.insert(dofs[cv]).second)
+                          nodes.emplace_back(dofs[cv], cell->vertex(cv));
+                      }
+                  }
         }
     const Epetra_Map &rows   = conductivity_matrix.trilinos_matrix().RowMap();
     const Epetra_Map &domain = conductivity_matrix.trilinos_matrix().DomainMap();
@@ -937,52 +984,6 @@ namespace ContactStefan
           area +=
             w[k] * laws[law_of_node[k]].fraction_through_temperature(melting, h[relevant_entry[k]]);
     return Utilities::MPI::sum(area, mpi_communicator);
-  }
-
-
-
-  template <int dim>
-  void ThermalField<dim>::add_output(DataOut<dim> &data_out) const
-  {
-    Vector phase_index(owned, mpi_communicator), liquid(owned, mpi_communicator);
-    for (const auto dof : owned)
-      {
-        phase_index[dof] = law(dof).phase_index(enthalpy[dof]);
-        liquid[dof]      = law(dof).liquid_fraction(enthalpy[dof]);
-      }
-    phase_index.compress(VectorOperation::insert);
-    liquid.compress(VectorOperation::insert);
-    output_phase_index.reinit(owned, relevant, mpi_communicator);
-    output_liquid_fraction.reinit(owned, relevant, mpi_communicator);
-    output_phase_index     = phase_index;
-    output_liquid_fraction = liquid;
-    data_out.add_data_vector(dof_handler, temperature_ghosted, "temperature");
-    data_out.add_data_vector(dof_handler, enthalpy_ghosted, "enthalpy");
-    data_out.add_data_vector(dof_handler, output_phase_index, "phase_index");
-    data_out.add_data_vector(dof_handler, output_liquid_fraction, "liquid_fraction");
-
-    // The heat flux -k K grad(Theta) at the cell centres (cell data; where the
-    // gradient of Q1 is accurate, doc/output.md), with the cell's conductivity
-    // as the step used it (the lagged phase mixture).
-    const QMidpoint<dim>        centre;
-    FEValues<dim>               values(fe, centre, update_gradients);
-    std::vector<Tensor<1, dim>> gradient(1);
-    for (auto &f : output_heat_flux)
-      f.reinit(triangulation.n_active_cells());
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned())
-        {
-          values.reinit(cell);
-          values.get_function_gradients(temperature_ghosted, gradient);
-          const unsigned int   c = cell->active_cell_index();
-          const Tensor<1, dim> q =
-            -cell_conductivity_factor[c] *
-            (materials[cell->material_id()].conductivity_shape * gradient[0]);
-          for (unsigned int d = 0; d < dim; ++d)
-            output_heat_flux[d](c) = q[d];
-        }
-    data_out.add_data_vector(output_heat_flux[0], "cell_heat_flux_x", DataOut<dim>::type_cell_data);
-    data_out.add_data_vector(output_heat_flux[1], "cell_heat_flux_y", DataOut<dim>::type_cell_data);
   }
 
 

@@ -1,0 +1,107 @@
+// ThermalField: the fields it writes (doc/output.md): temperature, enthalpy,
+// phase index and liquid fraction at the nodes (with several slots, each cell
+// shows its own side of a conductance interface), and the heat flux at the
+// cell centres.
+#include <deal.II/base/quadrature_lib.h>
+
+#include <deal.II/fe/fe_values.h>
+
+#include <contact-stefan/thermal/thermal_field.h>
+
+namespace ContactStefan
+{
+  // A nodal field of several slots as one scalar: the sum of the slots (all
+  // but the cell's own are FE_Nothing, zero).
+  template <int dim>
+  class ThermalField<dim>::SlotSum : public DataPostprocessorScalar<dim>
+  {
+  public:
+    SlotSum(const std::string &name, const unsigned int n_slots)
+      : DataPostprocessorScalar<dim>(name, update_values)
+      , n_slots(n_slots)
+    {}
+    void evaluate_vector_field(const DataPostprocessorInputs::Vector<dim> &inputs,
+                               std::vector<dealii::Vector<double>>        &computed) const override
+    {
+      for (unsigned int q = 0; q < computed.size(); ++q)
+        {
+          computed[q](0) = 0;
+          for (unsigned int s = 0; s < n_slots; ++s)
+            computed[q](0) += inputs.solution_values[q][s];
+        }
+    }
+
+  private:
+    const unsigned int n_slots;
+  };
+
+
+
+  template <int dim>
+  void ThermalField<dim>::add_output(DataOut<dim> &data_out) const
+  {
+    Vector phase_index(owned, mpi_communicator), liquid(owned, mpi_communicator);
+    for (const auto dof : owned)
+      {
+        phase_index[dof] = law(dof).phase_index(enthalpy[dof]);
+        liquid[dof]      = law(dof).liquid_fraction(enthalpy[dof]);
+      }
+    phase_index.compress(VectorOperation::insert);
+    liquid.compress(VectorOperation::insert);
+    output_phase_index.reinit(owned, relevant, mpi_communicator);
+    output_liquid_fraction.reinit(owned, relevant, mpi_communicator);
+    output_phase_index     = phase_index;
+    output_liquid_fraction = liquid;
+    if (n_slots == 1)
+      {
+        data_out.add_data_vector(dof_handler, temperature_ghosted, "temperature");
+        data_out.add_data_vector(dof_handler, enthalpy_ghosted, "enthalpy");
+        data_out.add_data_vector(dof_handler, output_phase_index, "phase_index");
+        data_out.add_data_vector(dof_handler, output_liquid_fraction, "liquid_fraction");
+      }
+    else
+      {
+        // Each cell shows its own slot (the others are FE_Nothing there): the
+        // two sides of a conductance interface keep their own values.
+        output_slot_sums.clear();
+        using Named = std::pair<const Vector *, const char *>;
+        for (const auto &[vector, name] : {Named(&temperature_ghosted, "temperature"),
+                                           Named(&enthalpy_ghosted, "enthalpy"),
+                                           Named(&output_phase_index, "phase_index"),
+                                           Named(&output_liquid_fraction, "liquid_fraction")})
+          {
+            output_slot_sums.push_back(std::make_shared<SlotSum>(name, n_slots));
+            data_out.add_data_vector(dof_handler, *vector, *output_slot_sums.back());
+          }
+      }
+
+    // The heat flux -k K grad(Theta) at the cell centres (cell data; where the
+    // gradient of Q1 is accurate, doc/output.md), with the cell's conductivity
+    // as the step used it (the lagged phase mixture).
+    const QMidpoint<dim>                 centre;
+    FEValues<dim>                        values(fe, centre, update_gradients);
+    std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+    for (auto &f : output_heat_flux)
+      f.reinit(triangulation.n_active_cells());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          values.reinit(typename Triangulation<dim>::cell_iterator(cell));
+          cell->get_dof_indices(dofs);
+          Tensor<1, dim> gradient;
+          for (unsigned int i = 0; i < dofs.size(); ++i)
+            gradient += temperature_ghosted[dofs[i]] * values.shape_grad(i, 0);
+          const unsigned int   c = cell->active_cell_index();
+          const Tensor<1, dim> q = -cell_conductivity_factor[c] *
+                                   (materials[cell->material_id()].conductivity_shape * gradient);
+          for (unsigned int d = 0; d < dim; ++d)
+            output_heat_flux[d](c) = q[d];
+        }
+    data_out.add_data_vector(output_heat_flux[0], "cell_heat_flux_x", DataOut<dim>::type_cell_data);
+    data_out.add_data_vector(output_heat_flux[1], "cell_heat_flux_y", DataOut<dim>::type_cell_data);
+  }
+
+
+
+  template void ThermalField<2>::add_output(DataOut<2> &) const;
+} // namespace ContactStefan
