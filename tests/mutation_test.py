@@ -66,6 +66,7 @@ BASES = {
     "equi": "tests/scenes/two_body_equilibrium.prm",
     "kink": "tests/scenes/kinked_roller.prm",
     "gmsh": "tests/scenes/two_blocks_gmsh.prm",
+    "cond": "tests/scenes/conductance_gap.prm",
 }
 # Generated meshes (tests/make_two_blocks_msh.cmake) the Gmsh scenes need.
 MESHES = {"kink": ("kink.msh", True), "gmsh": ("two_blocks.msh", False)}
@@ -235,6 +236,16 @@ POSITIVE_ENTRIES = [
     ("hertz", "Geometry/Upper right corner", [("nan", "2, nan"), ("inf", "inf, 0"),
                                              ("flat", "-2, 0")]),
     ("patch", "Geometry/Layer interfaces", [("nan", "nan"), ("outside", "5")]),
+    # The conductance of an interface (doc/interface_heat.md).
+    ("cond", "Contact/Interface 0-1/Conductance/Gap roughness", SHORT_BAD_NUMBERS),
+    ("cond", "Contact/Interface 0-1/Conductance/Emissivity k",
+     [("nan", "nan"), ("zero", "0"), ("above", "1.5"), ("neg", "-0.5")]),
+    ("cond", "Contact/Interface 0-1/Conductance/Constant",
+     [("nan", "nan"), ("inf", "inf"), ("neg", "-1"), ("text", "abc")]),
+    ("cond", "Contact/Interface 0-1/Conductance/Gas conductivity",
+     [("neg", "-0.05"), ("negT", "0.05 - 1e-3 * T"), ("text", "abc"), ("nan", "nan")]),
+    ("cond", "Contact/Interface 0-1/Conductance/Function",
+     [("neg", "-1"), ("negT", "T2 - T1"), ("pole", "1 / (T1 - T2)")]),
     ("neu", "Exact solution/Hot temperature", [("nan", "nan"), ("inf", "inf")]),
     ("block", "Contact/Complementarity constant", [("nan", "nan"), ("zero", "0")]),
     ("block", "Contact/Tolerance", [("nan", "nan"), ("neg", "-1")]),

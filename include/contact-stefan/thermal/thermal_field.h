@@ -387,8 +387,14 @@ namespace ContactStefan
     void setup_slots();
     void setup_conductance_nodes();
     void add_conductance_sparsity(DynamicSparsityPattern &dsp) const;
-    /** h at every node from the current state; moves conductivity_version if it changed. */
-    void update_conductances();
+    /**
+     * h at every node from the current state; moves conductivity_version if
+     * it changed. Returns the largest change of h relative to the largest h
+     * (collective).
+     */
+    double update_conductances();
+    /** One enthalpy step with the conductances as they are (solve() above it). */
+    EnthalpyStepReport solve_enthalpy_step();
     /** Adds the interface terms to A (assembled) or to result = A theta (theta ghosted). */
     void add_conductance_matrix(TrilinosWrappers::SparseMatrix &matrix) const;
     void add_conductance_product(const Vector &theta, Vector &result) const;
@@ -438,8 +444,21 @@ namespace ContactStefan
     };
     std::vector<ConductanceInterface> conductance_interfaces;
     std::vector<ConductanceNode>      conductance_nodes;
+    /**
+     * Where a function is evaluated for a node: the vertex, or for a node on a
+     * conductance interface the vertex moved one ulp towards the centre of a
+     * cell of its side (interface_point; per mesh).
+     */
+    std::map<types::global_dof_index, Point<dim>> interface_point;
+    Point<dim> node_point(const types::global_dof_index dof, const Point<dim> &vertex) const
+    {
+      const auto it = interface_point.find(dof);
+      return it == interface_point.end() ? vertex : it->second;
+    }
     InterfaceContactStates            interface_contact;
     bool                              have_interface_contact = false;
+    /** Scheme = fixed point and an h that depends on temperatures or phases. */
+    bool            iterate_conductances = false;
     IndexSet        owned, relevant;
 
     /**

@@ -20,6 +20,7 @@
 #include <contact-stefan/thermal/thermal_field.h>
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <numeric>
 #include <set>
@@ -27,11 +28,13 @@
 namespace ContactStefan
 {
   // Slots: bodies joined by interfaces in perfect thermal contact form a
-  // group (they share nodes); groups that meet at a conductance interface
-  // must have different slots. Groups are coloured greedily in the order of
-  // their first body, so a casting and its mould take two slots however many
-  // bodies each has. A conductance interface inside a group (its bodies also
-  // joined through perfect contacts) has no consistent meaning and is refused.
+  // group (they share nodes); groups that meet -- at a conductance interface,
+  // or only at a vertex -- must have different slots. Groups are coloured
+  // greedily in the order of their first body, so a casting and its mould
+  // take two slots however many bodies each has. A conductance interface
+  // inside a group (its bodies also joined through perfect contacts) has no
+  // consistent meaning and is refused, and so is one whose bodies share no
+  // face (a mistyped pair would act nowhere).
   template <int dim>
   void ThermalField<dim>::setup_slots()
   {
@@ -55,6 +58,13 @@ namespace ContactStefan
       return prm.interface_pair(k, l).thermal_contact ==
              Parameters::InterfacePair::ThermalContact::conductance;
     };
+    for (const auto &[pair, law] : prm.interface_pairs)
+      if (conductance(pair.first, pair.second) && touching.count(pair) == 0)
+        throw InputError("Contact/" + Parameters::InterfacePair::section(pair.first, pair.second) +
+                           "/Thermal contact",
+                         "bodies " + std::to_string(pair.first) + " and " +
+                           std::to_string(pair.second) +
+                           " share no face on the mesh, so the conductance would act nowhere");
     std::map<unsigned int, unsigned int> group;
     for (const unsigned int id : prm.body_ids)
       group[id] = id;
@@ -71,6 +81,30 @@ namespace ContactStefan
                            " are also joined through interfaces in perfect thermal contact, so "
                            "they share a temperature; make those interfaces conductances too, "
                            "or this one perfect");
+    // Groups that meet anywhere, at a face or only at a vertex, need different
+    // slots: one slot would give them a shared node there, a path for heat
+    // around the conductance (a point has no area: it carries none).
+    std::vector<std::pair<unsigned int, unsigned int>> meeting;
+    {
+      std::map<unsigned int, std::set<unsigned int>> bodies_at;
+      for (const auto &cell : triangulation.active_cell_iterators())
+        if (!cell->is_artificial())
+          for (const unsigned int v : cell->vertex_indices())
+            bodies_at[cell->vertex_index(v)].insert(cell->material_id());
+      std::set<std::pair<unsigned int, unsigned int>> local_meeting;
+      for (const auto &[vertex, bodies] : bodies_at)
+        for (const unsigned int a : bodies)
+          for (const unsigned int b : bodies)
+            if (a < b)
+              local_meeting.emplace(a, b);
+      std::set<std::pair<unsigned int, unsigned int>> all;
+      for (const auto &pairs :
+           Utilities::MPI::all_gather(mpi_communicator,
+                                      std::vector<std::pair<unsigned int, unsigned int>>(
+                                        local_meeting.begin(), local_meeting.end())))
+        all.insert(pairs.begin(), pairs.end());
+      meeting.assign(all.begin(), all.end());
+    }
     std::map<unsigned int, unsigned int> colour; // of each group
     for (const unsigned int id : prm.body_ids)
       {
@@ -78,8 +112,8 @@ namespace ContactStefan
         if (colour.count(g))
           continue;
         std::set<unsigned int> used;
-        for (const auto &[k, l] : touching)
-          if (conductance(k, l) && (find(k) == g || find(l) == g))
+        for (const auto &[k, l] : meeting)
+          if (find(k) != find(l) && (find(k) == g || find(l) == g))
             {
               const unsigned int other = find(k) == g ? find(l) : find(k);
               if (colour.count(other))
@@ -135,6 +169,11 @@ namespace ContactStefan
   void ThermalField<dim>::setup_conductance_nodes()
   {
     conductance_nodes.clear();
+    interface_point.clear();
+    // The contact step's state belongs to the old mesh's vertices: until the
+    // next contact step, the interface's Gap stands in.
+    interface_contact.clear();
+    have_interface_contact = false;
     if (conductance_interfaces.empty())
       return;
     std::string problem;
@@ -171,6 +210,16 @@ namespace ContactStefan
                 throw std::logic_error("a conductance interface node has no two free sides");
               conductance_nodes.push_back(node);
             }
+    interface_point.clear();
+    for (const auto &node : conductance_nodes)
+      for (const auto &[dof, centre] :
+           {std::pair(node.dof_k, node.centre_k), std::pair(node.dof_l, node.centre_l)})
+        {
+          Point<dim> p = node.position;
+          for (unsigned int d = 0; d < dim; ++d)
+            p[d] = std::nextafter(p[d], centre[d]);
+          interface_point.emplace(dof, p);
+        }
   }
 
 
@@ -204,11 +253,12 @@ namespace ContactStefan
   // the position and the time. A law that cannot be evaluated (a negative or
   // non-finite expression) stops the run on every rank with its reason.
   template <int dim>
-  void ThermalField<dim>::update_conductances()
+  double ThermalField<dim>::update_conductances()
   {
     if (conductance_interfaces.empty())
-      return;
+      return 0;
     bool        changed = false;
+    double      change = 0, largest = 0;
     std::string problem;
     try
       {
@@ -242,6 +292,8 @@ namespace ContactStefan
             state.time               = time;
             const ConductanceTerms h = interface.law->evaluate(state);
             changed                  = changed || h.total() != node.h.total();
+            change                   = std::max(change, std::abs(h.total() - node.h.total()));
+            largest                  = std::max(largest, h.total());
             node.h                   = h;
           }
       }
@@ -252,6 +304,9 @@ namespace ContactStefan
     throw_collectively<std::runtime_error>(problem, mpi_communicator);
     if (Utilities::MPI::max(changed ? 1u : 0u, mpi_communicator) > 0)
       ++conductivity_version;
+    change  = Utilities::MPI::max(change, mpi_communicator);
+    largest = Utilities::MPI::max(largest, mpi_communicator);
+    return largest > 0 ? change / largest : 0.;
   }
 
 
@@ -336,7 +391,7 @@ namespace ContactStefan
   template void ThermalField<2>::setup_conductance_nodes();
   template void ThermalField<2>::add_conductance_sparsity(DynamicSparsityPattern &) const;
   template bool ThermalField<2>::conductance_depends_on_contact() const;
-  template void ThermalField<2>::update_conductances();
+  template double ThermalField<2>::update_conductances();
   template void ThermalField<2>::add_conductance_matrix(TrilinosWrappers::SparseMatrix &) const;
   template void ThermalField<2>::add_conductance_product(const Vector &, Vector &) const;
   template std::vector<InterfaceHeat> ThermalField<2>::interface_heat() const;

@@ -59,6 +59,10 @@ namespace ContactStefan
             prm.coupling.absolute_offset(),
             "Contact/" + Parameters::InterfacePair::section(pair.first, pair.second) +
               "/Conductance/");
+          iterate_conductances =
+            iterate_conductances ||
+            (prm.coupling.scheme == Parameters::Coupling::Scheme::fixed_point &&
+             c.law->depends_on_temperature());
           conductance_interfaces.push_back(std::move(c));
         }
   }
@@ -158,16 +162,12 @@ namespace ContactStefan
     support_points.clear();
     for (const auto &[dof, point] : points)
       support_points.emplace_hint(support_points.end(), dof, point);
-    // A node on a conductance interface sits one ulp inside its own body: a
-    // function that jumps across the interface (an exact solution, a
-    // boundary value) is evaluated on the node's side. The move is below
-    // every tolerance.
-    for (const auto &node : conductance_nodes)
-      for (const auto &[dof, centre] :
-           {std::pair(node.dof_k, node.centre_k), std::pair(node.dof_l, node.centre_l)})
-        if (const auto it = support_points.find(dof); it != support_points.end())
-          for (unsigned int d = 0; d < dim; ++d)
-            it->second[d] = std::nextafter(it->second[d], centre[d]);
+    // A node on a conductance interface sits one ulp inside its own body
+    // (node_point()): a function that jumps across the interface (the initial
+    // condition, a boundary value, an exact solution) is evaluated on the
+    // node's side. The move is below every tolerance.
+    for (auto &[dof, point] : support_points)
+      point = node_point(dof, point);
 
     setup_nodal_enthalpy_laws();
     index_local_entries();
@@ -569,7 +569,7 @@ namespace ContactStefan
           cell->get_dof_indices(dofs);
           for (unsigned int v = 0; v < dofs.size(); ++v)
             if (owned.is_element(dofs[v]))
-              values[dofs[v]] = f.value(cell->vertex(v));
+              values[dofs[v]] = f.value(node_point(dofs[v], cell->vertex(v)));
         }
     values.compress(VectorOperation::insert);
     const bool from_temperature =
@@ -602,6 +602,10 @@ namespace ContactStefan
             }
         throw_collectively<InputError>(message, mpi_communicator);
       }
+    // The conductances of the initial state (the interfaces' Gap functions
+    // until a contact step has run): the report at t0 shows them, and a law
+    // that cannot be evaluated there stops the run before any step.
+    update_conductances();
   }
 
 
@@ -899,7 +903,7 @@ namespace ContactStefan
                       {
                         const unsigned int cv = GeometryInfo<dim>::face_to_cell_vertices(f, v);
                         if (seen.insert(dofs[cv]).second)
-                          nodes.emplace_back(dofs[cv], cell->vertex(cv));
+                          nodes.emplace_back(dofs[cv], node_point(dofs[cv], cell->vertex(cv)));
                       }
                   }
         }

@@ -1,0 +1,93 @@
+#!/usr/bin/python3
+"""The casting with perfect thermal contact and with the gap conductance
+(doc/scenes.md, doc/interface_heat.md): runs prm/casting.prm both ways (the
+conductance settings are the test's, read from tests/cmake/interface_heat.cmake),
+prints the melt area, the mean conductance and the heat rate over time, and
+plots them to doc/figures/casting_conductance.png.
+
+    benchmarks/casting_conductance.py BUILD_DIR [OUTPUT.png]
+"""
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def settings():
+    text = open(os.path.join(ROOT, "tests/cmake/interface_heat.cmake")).read()
+    block = re.search(r"set\(CASTING_CONDUCTANCE\n(.*?)\)\n", text, re.S).group(1)
+    return re.findall(r'"(SET:[^"]*)"', block)
+
+
+def run(binary, work, name, extra):
+    scene = os.path.join(work, name + ".prm")
+    shutil.copy(os.path.join(ROOT, "prm/casting.prm"), scene)
+    subprocess.run([os.path.join(ROOT, "tests/apply_settings.sh"), scene,
+                    "SET:Output/Directory=" + name, "SET:Output/VTU interval=0"] + extra,
+                   check=True, stdout=subprocess.DEVNULL)
+    start = time.time()
+    subprocess.run([binary, scene], cwd=work, check=True, stdout=subprocess.DEVNULL)
+    elapsed = time.time() - start
+    rows, names = [], []
+    for line in open(os.path.join(work, name, "statistics.txt")):
+        if line.startswith("#"):
+            continue
+        if not names:
+            names = line.split()
+            continue
+        rows.append(dict(zip(names, map(float, line.split()))))
+    return rows, elapsed
+
+
+def main():
+    build = sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "build")
+    png = sys.argv[2] if len(sys.argv) > 2 else os.path.join(ROOT, "doc/figures/casting_conductance.png")
+    binary = os.path.abspath(os.path.join(build, "contact-stefan"))
+    with tempfile.TemporaryDirectory() as work:
+        perfect, t_perfect = run(binary, work, "perfect", [])
+        gap, t_gap = run(binary, work, "conductance", settings())
+    area0 = perfect[0]["liquid_area"]
+    print(f"run time: perfect {t_perfect:.2f} s, conductance {t_gap:.2f} s "
+          f"(ratio {t_gap / t_perfect:.2f}, one run each)")
+    print(" t [s]  liquid perfect  liquid gap  mean h [W/(m^2 K)]  heat rate [W/m]  active nodes")
+    for p, g in zip(perfect, gap):
+        if int(p["step"]) % 10 == 0:
+            print(f"{p['time']:6.0f}  {p['liquid_area'] / area0:14.3f}  {g['liquid_area'] / area0:10.3f}"
+                  f"  {g['mean_h_interface_0_1']:18.0f}  {g['heat_rate_interface_0_1']:15.0f}"
+                  f"  {int(g['active_nodes']):12d}")
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        print("no matplotlib (use Debian's /usr/bin/python3): no picture")
+        return 0
+    fig, ax = plt.subplots(1, 2, figsize=(10, 3.8))
+    t = [r["time"] for r in perfect]
+    ax[0].plot(t, [r["liquid_area"] / area0 for r in perfect], label="perfect contact")
+    ax[0].plot(t, [r["liquid_area"] / area0 for r in gap], label="gap conductance")
+    ax[0].set_xlabel("t [s]")
+    ax[0].set_ylabel("liquid fraction of the casting")
+    ax[0].legend()
+    ax[0].set_title("solidification")
+    # (From step 1: h is first evaluated by the first enthalpy step.)
+    ax[1].plot(t[1:], [r["mean_h_interface_0_1"] for r in gap[1:]], "C1", label="mean h")
+    ax[1].set_xlabel("t [s]")
+    ax[1].set_ylabel("mean h [W/(m² K)]", color="C1")
+    twin = ax[1].twinx()
+    twin.plot(t, [r["active_nodes"] for r in gap], "C2--", label="closed nodes")
+    twin.set_ylabel("interface nodes in contact", color="C2")
+    ax[1].set_title("the gap opens, h falls")
+    fig.tight_layout()
+    fig.savefig(png, dpi=110)
+    print("wrote", png)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
