@@ -97,7 +97,8 @@ int main()
           "phase-aware: mushy: (1 - f) h_c0 + f h_L with the larger f");
     s.closed = false;
     check(law.evaluate(s).total() == 0, "phase-aware: nothing where open");
-    check(law.depends_on_temperature(), "phase-aware: depends on the phases");
+    check(law.depends_on_phase() && !law.depends_on_temperature(),
+          "phase-aware: depends on the phases, not on the temperatures");
   }
 
   // Gas: k_gas(T) / (max(g, 0) + g_min), open or closed, T the mean temperature.
@@ -144,7 +145,8 @@ int main()
     s.liquid_fraction      = {{0.5, 0.25}};
     check(close(law.evaluate(s).function, 2 + 3 + 100 + 5 + 25 + 0.25 + 0.5 + 2),
           "function: h(g, p, T1, T2, f1, f2, x, y, t)");
-    check(law.depends_on_contact() && law.depends_on_temperature() && law.depends_on_time(),
+    check(law.depends_on_contact() && law.depends_on_temperature() && law.depends_on_phase() &&
+            law.depends_on_time(),
           "function: the dependencies of the variables it names");
     Parameters::Conductance negative;
     negative.function = "T2 - T1";

@@ -145,8 +145,8 @@ namespace ContactStefan
     const auto uses   = [&](const char *name) { return e.function.used.count(name) > 0; };
     contact_dependent = coefficients.contact > 0 || coefficients.pressure_coefficient > 0 ||
                         coefficients.liquid_contact >= 0 || gas || uses("g") || uses("p");
-    temperature_dependent = coefficients.radiation || coefficients.liquid_contact >= 0 ||
-                            !e.gas.constant || uses("T1") || uses("T2") || uses("f1") || uses("f2");
+    temperature_dependent = coefficients.radiation || !e.gas.constant || uses("T1") || uses("T2");
+    phase_dependent       = coefficients.liquid_contact >= 0 || uses("f1") || uses("f2");
     time_dependent = uses("t") || uses("x") || uses("y");
   }
 

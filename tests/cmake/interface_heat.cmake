@@ -4,9 +4,11 @@
 # or in the files included before this one).
 
 # I1: two slabs joined by a constant h, steady: exact for Q1 (round-off bounds).
+# (The nodal error includes the evaluation of the exact solution 1e-10 of the
+# way into each side at the interface nodes: |grad| 42 x 1e-10 x 0.18.)
 set(CONDUCTANCE_I1_BOUNDS
   "RESULT relative L2 error temperature<1e-13"
-  "RESULT max-norm error temperature<1e-11"
+  "RESULT max-norm error temperature<1e-8"
   "RESULT heat rate interface 0-1>21.05263157"
   "RESULT heat rate interface 0-1<21.05263159"
   "RESULT max energy-balance residual<1e-14")
@@ -65,14 +67,17 @@ resume_test(restart/conductance-transient-adaptive-mpi2 2 2 CONTACT_STEFAN_KILL_
   "SET:Checkpoint/Interval (steps)=7")
 
 # The casting (prm/casting.prm) with a conductance between casting and die
-# instead of perfect contact: solid contact 3000 W/(m^2 K) where closed,
+# instead of perfect contact (the die's side of the wall starts at its own
+# 400 degC, stress-free there): solid contact 3000 W/(m^2 K) where closed,
 # 6000 where the metal at the wall is liquid, air in the gap (k_gas(T),
 # roughness 0.1 mm) and radiation (aluminium 0.2, steel 0.8). The contact
-# opens (17 -> 10 active nodes) and the mean h falls from 4800 to 2300
-# W/(m^2 K): after 60 s 62 % of the casting is still liquid, against 37 %
+# opens (17 -> 7 active nodes) and the mean h falls from 6600 to 1716
+# W/(m^2 K): after 60 s 58 % of the casting is still liquid, against 37 %
 # with perfect contact (doc/scenes.md). Fully coupled: gap, pressure and
 # closed flags reach every enthalpy step.
 set(CASTING_CONDUCTANCE
+  "SET:Initial conditions/Function=if(x^2 + y^2 < 0.05^2, 700, 400)"
+  "SET:Coupling/Reference temperature=if(x^2 + y^2 < 0.05^2, 700, 400)"
   "SET:Contact/Interface 0-1/Thermal contact=conductance"
   "SET:Contact/Interface 0-1/Conductance/Contact=3000"
   "SET:Contact/Interface 0-1/Conductance/Liquid contact=6000"
@@ -84,7 +89,7 @@ set(CASTING_CONDUCTANCE
   "SET:Output/VTU interval=0")
 set(CASTING_CONDUCTANCE_BOUNDS
   "RESULT melt area>0.0011"
-  "RESULT active contact nodes<12.5"
+  "RESULT active contact nodes<9.5"
   "RESULT heat rate gas interface 0-1>1000"
   "RESULT heat rate radiation interface 0-1>100"
   "RESULT max energy-balance residual<1e-12"

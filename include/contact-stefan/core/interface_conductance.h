@@ -68,10 +68,21 @@ namespace ContactStefan
     {
       return contact_dependent;
     }
-    /** Whether h can change with the temperatures or phases (within a step's iterations). */
+    /**
+     * Whether h can change with the temperatures (radiation, k_gas(T), a
+     * function of T1 or T2): iterated within a fixed-point step.
+     */
     bool depends_on_temperature() const
     {
       return temperature_dependent;
+    }
+    /**
+     * Whether h can change with the phases ('Liquid contact', a function of f1
+     * or f2): read at the previous time level.
+     */
+    bool depends_on_phase() const
+    {
+      return phase_dependent;
     }
     /** Whether h changes with time or position alone (re-evaluated every step). */
     bool depends_on_time() const
@@ -86,7 +97,8 @@ namespace ContactStefan
     const Parameters::Conductance coefficients;
     const double                  absolute_offset;
     const std::string             path;
-    bool contact_dependent = false, temperature_dependent = false, time_dependent = false;
+    bool contact_dependent = false, temperature_dependent = false, phase_dependent = false,
+         time_dependent = false;
     struct Expressions; // the muparser objects and their variables
     std::unique_ptr<Expressions> expressions;
   };

@@ -67,6 +67,17 @@ namespace ContactStefan
   };
 
   /**
+   * Where a field evaluates a function for one side of an interface whose
+   * sides have their own temperatures (a conductance interface,
+   * doc/interface_heat.md): the vertex moved this fraction of the way to the
+   * centre of a cell of that side. Far enough inside for the rounding of an
+   * expression that jumps along a slanted or curved interface (one ulp was
+   * not), near enough that a smooth function changes by at most
+   * 1e-10 h |grad f|.
+   */
+  inline constexpr double interface_side_offset = 1e-10;
+
+  /**
    * What the contact step tells the thermal field about an interface vertex
    * (MechanicalField::interface_contact_states, doc/interface_heat.md): the
    * normal gap (m, > 0 open), the contact pressure (Pa) and whether the vertex

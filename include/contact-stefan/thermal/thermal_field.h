@@ -446,8 +446,9 @@ namespace ContactStefan
     std::vector<ConductanceNode>      conductance_nodes;
     /**
      * Where a function is evaluated for a node: the vertex, or for a node on a
-     * conductance interface the vertex moved one ulp towards the centre of a
-     * cell of its side (interface_point; per mesh).
+     * conductance interface the point interface_side_offset of the way from
+     * the vertex to the centre of a cell of its side (interface_point; per
+     * mesh; interfaces/body_interface.h).
      */
     std::map<types::global_dof_index, Point<dim>> interface_point;
     Point<dim> node_point(const types::global_dof_index dof, const Point<dim> &vertex) const

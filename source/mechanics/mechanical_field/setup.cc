@@ -25,6 +25,7 @@
 
 #include <deal.II/numerics/vector_tools.h>
 
+#include <contact-stefan/interfaces/body_interface.h>
 #include <contact-stefan/interfaces/contact.h>
 #include <contact-stefan/mechanics/mechanical_field.h>
 
@@ -556,6 +557,19 @@ namespace ContactStefan
     cell_ezz_stiffness.assign(n_ezz_cells, 0.);
     cell_ezz_thermal.assign(n_ezz_cells, {{0., 0., 0., 0.}});
     ezz_response.clear();
+    // Theta_0 on each side of a conductance interface is the side's own (a
+    // reference that jumps there, as a casting's does): evaluated inside the
+    // cell at the vertices of such interfaces, as the thermal field does.
+    std::set<unsigned int> two_sided;
+    if (coupled)
+      {
+        std::string problem; // (normals are not used here)
+        for (const auto &interface : find_body_interfaces(triangulation, 90., problem))
+          if (prm.interface_pair(interface.body_k, interface.body_l).thermal_contact ==
+              Parameters::InterfacePair::ThermalContact::conductance)
+            for (const auto &vertex : interface.vertices)
+              two_sided.insert(vertex.index);
+      }
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
@@ -563,7 +577,10 @@ namespace ContactStefan
           if (coupled)
             for (unsigned int v = 0; v < 4; ++v)
               cell_reference[cell->active_cell_index()][v] =
-                functions.reference_temperature().value(cell->vertex(v));
+                functions.reference_temperature().value(
+                  two_sided.count(cell->vertex_index(v)) ?
+                    cell->vertex(v) + interface_side_offset * (cell->center() - cell->vertex(v)) :
+                    cell->vertex(v));
         }
     functions.check_finite_values(mpi_communicator);
     update_stiffness_diagonal();

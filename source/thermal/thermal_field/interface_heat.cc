@@ -215,10 +215,8 @@ namespace ContactStefan
       for (const auto &[dof, centre] :
            {std::pair(node.dof_k, node.centre_k), std::pair(node.dof_l, node.centre_l)})
         {
-          Point<dim> p = node.position;
-          for (unsigned int d = 0; d < dim; ++d)
-            p[d] = std::nextafter(p[d], centre[d]);
-          interface_point.emplace(dof, p);
+          interface_point.emplace(dof,
+                                  node.position + interface_side_offset * (centre - node.position));
         }
   }
 
@@ -249,9 +247,13 @@ namespace ContactStefan
 
   // h at every node from the present state: the contact step's gap and
   // pressure (or the interface's Gap where there is no mechanics), the
-  // temperatures and liquid fractions of the two sides (the last iterate),
-  // the position and the time. A law that cannot be evaluated (a negative or
-  // non-finite expression) stops the run on every rank with its reason.
+  // temperatures of the two sides (the last iterate), their liquid fractions
+  // at the previous time level (lagged like a phase-dependent conductivity:
+  // the phase at a wall node is not a smooth function of h, and a fixed
+  // point on it need not converge), the position and the time. A law that
+  // cannot be evaluated (a negative or non-finite expression) stops the run
+  // on every rank with its reason. Returns the largest change of h relative
+  // to the larger of the old and new largest h.
   template <int dim>
   double ThermalField<dim>::update_conductances()
   {
@@ -260,6 +262,8 @@ namespace ContactStefan
     bool        changed = false;
     double      change = 0, largest = 0;
     std::string problem;
+    Vector      h_old(owned, relevant, mpi_communicator);
+    h_old = old_enthalpy;
     try
       {
         for (auto &node : conductance_nodes)
@@ -285,15 +289,14 @@ namespace ContactStefan
               }
             state.temperature = {
               {temperature_ghosted[node.dof_k], temperature_ghosted[node.dof_l]}};
-            state.liquid_fraction = {
-              {law(node.dof_k).liquid_fraction(enthalpy_ghosted[node.dof_k]),
-               law(node.dof_l).liquid_fraction(enthalpy_ghosted[node.dof_l])}};
+            state.liquid_fraction    = {{law(node.dof_k).liquid_fraction(h_old[node.dof_k]),
+                                         law(node.dof_l).liquid_fraction(h_old[node.dof_l])}};
             state.position           = {{node.position[0], node.position[1]}};
             state.time               = time;
             const ConductanceTerms h = interface.law->evaluate(state);
             changed                  = changed || h.total() != node.h.total();
             change                   = std::max(change, std::abs(h.total() - node.h.total()));
-            largest                  = std::max(largest, h.total());
+            largest                  = std::max({largest, h.total(), node.h.total()});
             node.h                   = h;
           }
       }

@@ -246,18 +246,21 @@ namespace ContactStefan
     max_coupling_strength = 0;
     if (!heating)
       return;
-    const double offset = prm.coupling.absolute_offset();
-    std::string  bad_reference, bad_strength;
+    const double                         offset = prm.coupling.absolute_offset();
+    std::vector<types::global_dof_index> cell_dofs(fe.n_dofs_per_cell());
+    std::string                          bad_reference, bad_strength;
     double       strength = 0;
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
           const unsigned int c = cell->active_cell_index();
           cell_heating[c].reinit(fe.n_dofs_per_cell());
+          cell->get_dof_indices(cell_dofs);
           double theta_max = 0;
           for (unsigned int v = 0; v < 4; ++v)
             {
-              const double theta0 = functions.reference_temperature().value(cell->vertex(v));
+              const double theta0 =
+                functions.reference_temperature().value(node_point(cell_dofs[v], cell->vertex(v)));
               cell_absolute_reference[c][v] = theta0 + offset;
               theta_max                     = std::max(theta_max, theta0 + offset);
               if (!(theta0 + offset > 0) && bad_reference.empty())
