@@ -133,7 +133,8 @@ scene(conductance/closing-gap-closed-mpi2 2 ${T}/scenes/conductance_closing_gap.
 
 # Bodies that touch only at a point get their own temperatures there: the
 # checkerboard with insulating interfaces keeps body 1 at 100 and the others at
-# 0 exactly (a shared corner node carried 1.6 W/m around the interfaces).
+# 0 exactly (a reviewer measured 1.6 W/m carried around the interfaces by
+# the shared corner node of the code before).
 add_custom_command(OUTPUT ${CMAKE_CURRENT_BINARY_DIR}/checkerboard.msh
   COMMAND ${CMAKE_COMMAND} -DOUTPUT=${CMAKE_CURRENT_BINARY_DIR}/checkerboard.msh
           -P ${T}/make_checkerboard_msh.cmake

@@ -384,8 +384,9 @@ namespace ContactStefan
     double       compute_energy_balance(unsigned int &inconsistent_nodes) const;
 
     /** thermal_field/interface_heat.cc */
-    void setup_slots();
-    void setup_conductance_nodes();
+    /** interfaces: the mesh's (find_body_interfaces), found once per set-up. */
+    void setup_slots(const std::vector<BodyInterface<dim>> &interfaces);
+    void setup_conductance_nodes(const std::vector<BodyInterface<dim>> &interfaces);
     void add_conductance_sparsity(DynamicSparsityPattern &dsp) const;
     /**
      * h at every node from the current state; moves conductivity_version if
@@ -616,8 +617,7 @@ namespace ContactStefan
     /** Output fields, alive until the next add_output(). */
     mutable Vector                                output_phase_index, output_liquid_fraction;
     mutable std::array<dealii::Vector<double>, 2> output_heat_flux; // cell data
-    class SlotSum;
-    mutable std::vector<std::shared_ptr<DataPostprocessor<dim>>> output_slot_sums;
+    mutable std::vector<std::shared_ptr<DataPostprocessor<dim>>> output_slot_sums; // SlotSum
   };
 } // namespace ContactStefan
 

@@ -6,6 +6,7 @@
 #include <deal.II/numerics/data_postprocessor.h>
 
 #include <contact-stefan/core/q1_kernels.h>
+#include <contact-stefan/core/slot_sum.h>
 #include <contact-stefan/mechanics/mechanical_field.h>
 
 #include <cmath>
@@ -77,31 +78,6 @@ namespace ContactStefan
     private:
       const std::map<unsigned int, unsigned int> &slot_of_body;
       const std::vector<std::string>              names;
-    };
-
-    // A nodal quantity stored at the x DoF of each body's slot (contact pressure,
-    // gap), summed over the slots into one scalar field.
-    template <int dim>
-    class SlotSum : public DataPostprocessorScalar<dim>
-    {
-    public:
-      SlotSum(const std::string &name, const unsigned int n_slots)
-        : DataPostprocessorScalar<dim>(name, update_values)
-        , n_slots(n_slots)
-      {}
-      void evaluate_vector_field(const DataPostprocessorInputs::Vector<dim> &inputs,
-                                 std::vector<dealii::Vector<double>> &computed) const override
-      {
-        for (unsigned int q = 0; q < computed.size(); ++q)
-          {
-            computed[q](0) = 0;
-            for (unsigned int s = 0; s < n_slots; ++s)
-              computed[q](0) += inputs.solution_values[q][s * dim];
-          }
-      }
-
-    private:
-      const unsigned int n_slots;
     };
 
     // The von Mises stress of the in-plane stress and sigma_zz.
@@ -477,8 +453,9 @@ namespace ContactStefan
     const unsigned int n_slots = prm.body_ids.size();
     output_postprocessors.clear();
     output_postprocessors.push_back(std::make_unique<BodyDisplacement<dim>>(slot_of_body));
-    output_postprocessors.push_back(std::make_unique<SlotSum<dim>>("contact_pressure", n_slots));
-    output_postprocessors.push_back(std::make_unique<SlotSum<dim>>("contact_gap", n_slots));
+    output_postprocessors.push_back(
+      std::make_unique<SlotSum<dim>>("contact_pressure", n_slots, dim));
+    output_postprocessors.push_back(std::make_unique<SlotSum<dim>>("contact_gap", n_slots, dim));
     output_pressure.reinit(owned, relevant, mpi_communicator);
     output_gap.reinit(owned, relevant, mpi_communicator);
     output_pressure = pressure;

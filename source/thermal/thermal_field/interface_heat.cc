@@ -36,7 +36,7 @@ namespace ContactStefan
   // consistent meaning and is refused, and so is one whose bodies share no
   // face (a mistyped pair would act nowhere).
   template <int dim>
-  void ThermalField<dim>::setup_slots()
+  void ThermalField<dim>::setup_slots(const std::vector<BodyInterface<dim>> &interfaces)
   {
     if (conductance_interfaces.empty())
       {
@@ -44,8 +44,6 @@ namespace ContactStefan
           fe_collection.push_back(fe);
         return;
       }
-    std::string problem; // (normals are not used here)
-    const auto  interfaces = find_body_interfaces(triangulation, 90., problem);
     std::vector<std::pair<unsigned int, unsigned int>> local;
     for (const auto &interface : interfaces)
       if (!interface.faces.empty())
@@ -166,7 +164,7 @@ namespace ContactStefan
   // the DoFs of its two sides (the cells the interface names: vertex v of a
   // cell is its v-th DoF).
   template <int dim>
-  void ThermalField<dim>::setup_conductance_nodes()
+  void ThermalField<dim>::setup_conductance_nodes(const std::vector<BodyInterface<dim>> &interfaces)
   {
     conductance_nodes.clear();
     interface_point.clear();
@@ -176,8 +174,6 @@ namespace ContactStefan
     have_interface_contact = false;
     if (conductance_interfaces.empty())
       return;
-    std::string problem;
-    const auto  interfaces = find_body_interfaces(triangulation, 90., problem);
     std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
     const auto dof_at = [&](const typename Triangulation<dim>::active_cell_iterator &c,
                             const unsigned int                                       v) {
@@ -360,11 +356,11 @@ namespace ContactStefan
   std::vector<InterfaceHeat> ThermalField<dim>::interface_heat() const
   {
     const unsigned int  n = conductance_interfaces.size();
-    std::vector<double> sums(8 * n, 0.);
+    std::vector<double> sums(7 * n, 0.);
     for (const auto &node : conductance_nodes)
       if (node.owned_k)
         {
-          double      *s  = &sums[8 * node.interface];
+          double      *s  = &sums[7 * node.interface];
           const double dT = temperature_ghosted[node.dof_k] - temperature_ghosted[node.dof_l];
           const double w  = node.weight;
           s[0] += w * node.h.constant * dT;
@@ -379,7 +375,7 @@ namespace ContactStefan
     std::vector<InterfaceHeat> result(n);
     for (unsigned int i = 0; i < n; ++i)
       {
-        const double *s            = &sums[8 * i];
+        const double *s            = &sums[7 * i];
         result[i].name             = conductance_interfaces[i].name;
         result[i].rates            = {s[0], s[1], s[2], s[3], s[4]};
         result[i].rate             = result[i].rates.total();
@@ -390,8 +386,8 @@ namespace ContactStefan
 
 
 
-  template void ThermalField<2>::setup_slots();
-  template void ThermalField<2>::setup_conductance_nodes();
+  template void   ThermalField<2>::setup_slots(const std::vector<BodyInterface<2>> &);
+  template void   ThermalField<2>::setup_conductance_nodes(const std::vector<BodyInterface<2>> &);
   template void ThermalField<2>::add_conductance_sparsity(DynamicSparsityPattern &) const;
   template bool ThermalField<2>::conductance_depends_on_contact() const;
   template double ThermalField<2>::update_conductances();

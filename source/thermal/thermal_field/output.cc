@@ -6,37 +6,11 @@
 
 #include <deal.II/fe/fe_values.h>
 
+#include <contact-stefan/core/slot_sum.h>
 #include <contact-stefan/thermal/thermal_field.h>
 
 namespace ContactStefan
 {
-  // A nodal field of several slots as one scalar: the sum of the slots (all
-  // but the cell's own are FE_Nothing, zero).
-  template <int dim>
-  class ThermalField<dim>::SlotSum : public DataPostprocessorScalar<dim>
-  {
-  public:
-    SlotSum(const std::string &name, const unsigned int n_slots)
-      : DataPostprocessorScalar<dim>(name, update_values)
-      , n_slots(n_slots)
-    {}
-    void evaluate_vector_field(const DataPostprocessorInputs::Vector<dim> &inputs,
-                               std::vector<dealii::Vector<double>>        &computed) const override
-    {
-      for (unsigned int q = 0; q < computed.size(); ++q)
-        {
-          computed[q](0) = 0;
-          for (unsigned int s = 0; s < n_slots; ++s)
-            computed[q](0) += inputs.solution_values[q][s];
-        }
-    }
-
-  private:
-    const unsigned int n_slots;
-  };
-
-
-
   template <int dim>
   void ThermalField<dim>::add_output(DataOut<dim> &data_out) const
   {
@@ -70,7 +44,7 @@ namespace ContactStefan
                                            Named(&output_phase_index, "phase_index"),
                                            Named(&output_liquid_fraction, "liquid_fraction")})
           {
-            output_slot_sums.push_back(std::make_shared<SlotSum>(name, n_slots));
+            output_slot_sums.push_back(std::make_shared<SlotSum<dim>>(name, n_slots, 1));
             data_out.add_data_vector(dof_handler, *vector, *output_slot_sums.back());
           }
       }

@@ -78,7 +78,12 @@ namespace ContactStefan
   {
     TimerOutput::Scope t(timer, "setup: thermal field");
     ++n_setups;
-    setup_slots();
+    // The mesh's interfaces, once per set-up (normals unused: any corner angle).
+    std::string                           no_normals;
+    const std::vector<BodyInterface<dim>> interfaces =
+      conductance_interfaces.empty() ? std::vector<BodyInterface<dim>>() :
+                                       find_body_interfaces(triangulation, 90., no_normals);
+    setup_slots(interfaces);
     dof_handler.distribute_dofs(fe_collection);
     // A DoF order that depends on the mesh alone (depth-first through the
     // cell hierarchy), not on the cell indices, which record the history of
@@ -93,7 +98,7 @@ namespace ContactStefan
     hanging_node_constraints.reinit(relevant);
     DoFTools::make_hanging_node_constraints(dof_handler, hanging_node_constraints);
     hanging_node_constraints.close();
-    setup_conductance_nodes();
+    setup_conductance_nodes(interfaces);
 
     // The pattern keeps the rows and columns of constrained DoFs: the plateau
     // constraints change from one active-set iteration to the next, and the one
@@ -162,10 +167,7 @@ namespace ContactStefan
     support_points.clear();
     for (const auto &[dof, point] : points)
       support_points.emplace_hint(support_points.end(), dof, point);
-    // A node on a conductance interface sits one ulp inside its own body
-    // (node_point()): a function that jumps across the interface (the initial
-    // condition, a boundary value, an exact solution) is evaluated on the
-    // node's side. The move is below every tolerance.
+    // A node of a conductance interface sits inside its own cell (node_point()).
     for (auto &[dof, point] : support_points)
       point = node_point(dof, point);
 
@@ -771,9 +773,7 @@ namespace ContactStefan
         {
           dealii::Vector<double> &F = cell_load[cell->active_cell_index()];
           F.reinit(n);
-          // (On the cell of the triangulation: with several slots the DoF
-          // cell's element is a system of fe and FE_Nothing, whose DoF v is
-          // still fe's shape function v.)
+          // (The triangulation's cell: in slots, DoF v is still fe's function v.)
           fe_values.reinit(typename Triangulation<dim>::cell_iterator(cell));
           const Function<dim> &source = functions.heat_source(cell->material_id());
           for (unsigned int q = 0; q < quadrature.size(); ++q)
