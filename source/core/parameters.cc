@@ -709,6 +709,42 @@ namespace ContactStefan
                     "the contact pressure comes from the contact step: it needs "
                     "Physics/Mechanics = true");
         }
+    // Mortar interfaces (doc/contact.md): what this version can do with them.
+    for (const auto &[pair, law] : interface_pairs)
+      if (law.discretisation == Parameters::InterfacePair::Discretisation::mortar)
+        {
+          const std::string path =
+            "Contact/" + Parameters::InterfacePair::section(pair.first, pair.second) + "/";
+          require(physics.mechanics,
+                  path + "Discretisation",
+                  "'mortar' couples the contact step's conditions: it needs "
+                  "Physics/Mechanics = true");
+          require(!physics.thermal,
+                  path + "Discretisation",
+                  "'mortar' carries no heat yet (the thermal mortar coupling is not "
+                  "implemented): set Physics/Thermal = false or mesh the interface "
+                  "node for node");
+          require(law.kind == Parameters::Contact::Interfaces::contact,
+                  path + "Kind",
+                  "a mortar interface is a contact so far ('tied' needs matching nodes)");
+          for (const unsigned int id : law.mortar_boundaries)
+            {
+              require(mechanical_boundaries.count(id) == 0 && thermal_boundaries.count(id) == 0,
+                      path + "Mortar boundaries",
+                      "boundary id " + std::to_string(id) +
+                        " is a side of the interface and also has a boundary condition");
+              for (const auto &[other_pair, other] : interface_pairs)
+                require(other_pair == pair ||
+                          other.discretisation !=
+                            Parameters::InterfacePair::Discretisation::mortar ||
+                          std::count(other.mortar_boundaries.begin(),
+                                     other.mortar_boundaries.end(),
+                                     id) == 0,
+                        path + "Mortar boundaries",
+                        "boundary id " + std::to_string(id) + " is also a side of " +
+                          Parameters::InterfacePair::section(other_pair.first, other_pair.second));
+            }
+        }
     if (thermoelastic_heating_active())
       require(coupling.temperature_scale != Parameters::Coupling::TemperatureScale::unspecified,
               "Coupling/Temperature scale",

@@ -15,6 +15,7 @@ namespace ContactStefan
   PART(coupling_statistics_part)                                                               \
   PART(mechanical_statistics_part)                                                             \
   PART(mesh_statistics_part)                                                                   \
+  PART(mortar_statistics_part)                                                                 \
   PART(solver_calls_part)                                                                      \
   /* The exact solutions, chosen by 'Exact solution/Type'. */                                  \
   PART(neumann_part)                                                                           \

@@ -142,6 +142,32 @@ namespace ContactStefan
 
 
 
+    ConstraintRow
+    mortar_constraint(const std::array<std::uint64_t, 2>                                 &dofs_s,
+                      const std::vector<std::pair<std::array<std::uint64_t, 2>, double>> &masters,
+                      const Vector2                                                      &n,
+                      const double                                                        gap,
+                      const unsigned int                                                  c)
+    {
+      // n.u_s - sum_m w_m n.u_m = g, solved for u_s[c]:
+      //   u_s[c] = g/n_c - (n_o/n_c) u_s[o] + sum_m w_m (n_x u_m[x] + n_y u_m[y]) / n_c.
+      const unsigned int o = 1 - c;
+      if (n[c] == 0)
+        throw std::logic_error("mortar_constraint: the target component has n_c = 0");
+      ConstraintRow row;
+      row.target        = dofs_s[c];
+      row.inhomogeneity = gap / n[c];
+      if (n[o] != 0)
+        row.entries.emplace_back(dofs_s[o], -n[o] / n[c]);
+      for (const auto &[dofs_m, w] : masters)
+        for (unsigned int d = 0; d < 2; ++d)
+          if (n[d] * w != 0)
+            row.entries.emplace_back(dofs_m[d], w * n[d] / n[c]);
+      return row;
+    }
+
+
+
     Hertz::Hertz(const double P, const double R, const double E_star)
       : half_width(std::sqrt(4 * P * R / (M_PI * E_star)))
       , peak_pressure(half_width > 0 ? 2 * P / (M_PI * half_width) : 0.)

@@ -22,6 +22,10 @@ namespace ContactStefan
 {
   namespace
   {
+    // The body pairs (k < l) whose interface is a mortar one: their nodes need
+    // not match.
+    using MortarPairs = std::set<std::pair<unsigned int, unsigned int>>;
+
     std::string point_text(const Point<2> &p)
     {
       std::ostringstream s;
@@ -228,7 +232,8 @@ namespace ContactStefan
     // size of the mesh unless its edges differ in length by orders of magnitude.
     void check_conforming(const Triangulation<2> &mesh,
                           const std::string      &file,
-                          const double            near)
+                          const double            near,
+                          const MortarPairs      &mortar_pairs)
     {
       const std::vector<Point<2>> &vertices = mesh.get_vertices();
       const std::vector<bool>     &is_used  = mesh.get_used_vertices();
@@ -290,6 +295,11 @@ namespace ContactStefan
           const std::string where = "'" + file + "': the node " + point_text(vertices[hanging]) +
                                     " lies inside the edge from " + point_text(a) + " to " +
                                     point_text(b) + " of body " + std::to_string(edge.body);
+          // Between the two sides of a mortar interface nodes need not match.
+          if (bodies.size() == 1 &&
+              mortar_pairs.count({std::min<unsigned int>(edge.body, *bodies.begin()),
+                                  std::max<unsigned int>(edge.body, *bodies.begin())}) == 1)
+            continue;
           if (bodies.count(edge.body) == 1)
             throw InputError("Geometry/Mesh file",
                              where + ": a T-junction (hanging node); the mesh must be conforming, "
@@ -307,7 +317,9 @@ namespace ContactStefan
     // and no two vertices that cells use coincide (the mesh would be cut there:
     // bodies must share the nodes of their interfaces). One line names the file
     // and the first bad cell.
-    void check_mesh(const Triangulation<2> &mesh, const std::string &file)
+    void check_mesh(const Triangulation<2> &mesh,
+                    const std::string      &file,
+                    const MortarPairs      &mortar_pairs = {})
     {
       // Relative to the cell's squared diameter: a geometric zero, far above
       // the round-off of coordinates read from a file, far below any cell a
@@ -359,18 +371,32 @@ namespace ContactStefan
         for (const unsigned int f : cell->face_indices())
           shortest_edge = std::min(shortest_edge, cell->face(f)->measure());
       const double apart = near * shortest_edge;
+      // The bodies of each vertex, where mortar interfaces may put the two
+      // sides' vertices on top of each other.
+      std::vector<std::set<unsigned int>> bodies_at(mortar_pairs.empty() ? 0 : mesh.n_vertices());
+      if (!mortar_pairs.empty())
+        for (const auto &cell : mesh.active_cell_iterators())
+          for (const unsigned int v : cell->vertex_indices())
+            bodies_at[cell->vertex_index(v)].insert(cell->material_id());
+      const auto mortar_copies = [&](const unsigned int a, const unsigned int b) {
+        if (mortar_pairs.empty() || bodies_at[a].size() != 1 || bodies_at[b].size() != 1)
+          return false;
+        const unsigned int p = *bodies_at[a].begin(), q = *bodies_at[b].begin();
+        return mortar_pairs.count({std::min(p, q), std::max(p, q)}) == 1;
+      };
       for (unsigned int k = 0; k < used.size(); ++k)
         for (unsigned int m = k + 1;
              m < used.size() && used[m].first[0] - used[k].first[0] <= apart;
              ++m)
-          if (used[k].first.distance(used[m].first) <= apart)
+          if (used[k].first.distance(used[m].first) <= apart &&
+              !mortar_copies(used[k].second, used[m].second))
             throw InputError("Geometry/Mesh file",
                              "'" + file + "': vertices " + std::to_string(used[k].second) +
                                " and " + std::to_string(used[m].second) + " coincide at " +
                                point_text(used[k].first) +
                                ": the mesh is cut there (bodies must share their interface "
                                "nodes)");
-      check_conforming(mesh, file, near);
+      check_conforming(mesh, file, near, mortar_pairs);
     }
   } // namespace
 
@@ -561,6 +587,7 @@ namespace ContactStefan
     template <int dim>
     void make_coarse_mesh(const Parameters::Geometry                &g,
                           const Parameters::Refinement              &refinement,
+                          const MortarPairs                         &mortar_pairs,
                           parallel::distributed::Triangulation<dim> &triangulation)
     {
       if (g.mesh_type == Parameters::Geometry::MeshType::rectangle)
@@ -635,7 +662,7 @@ namespace ContactStefan
                                "'" + g.mesh_file + "' is not a readable Gmsh mesh (" +
                                  one_line(e.what()).substr(0, 120) + ")");
             }
-          check_mesh(coarse, g.mesh_file);
+          check_mesh(coarse, g.mesh_file, mortar_pairs);
           const double cells =
             coarse.n_active_cells() * std::pow(4., refinement.initial_global_refinements);
           check_cell_count(cells, refinement, "Mesh refinement/Initial global refinements");
@@ -653,16 +680,36 @@ namespace ContactStefan
     {
       const MPI_Comm         mpi_communicator = triangulation.get_communicator();
       std::set<unsigned int> materials, boundaries;
+      // 65536 body + boundary id of every boundary face: the sides
+      // of mortar interfaces.
+      std::set<unsigned int> sides;
       for (const auto &cell : triangulation.active_cell_iterators())
         if (!cell->is_artificial())
           {
             materials.insert(cell->material_id());
             for (const auto &face : cell->face_iterators())
               if (face->at_boundary())
-                boundaries.insert(face->boundary_id());
+                {
+                  boundaries.insert(face->boundary_id());
+                  sides.insert(65536 * cell->material_id() + face->boundary_id());
+                }
           }
       materials  = Utilities::MPI::compute_set_union(materials, mpi_communicator);
       boundaries = Utilities::MPI::compute_set_union(boundaries, mpi_communicator);
+      sides      = Utilities::MPI::compute_set_union(sides, mpi_communicator);
+      for (const auto &[pair, law] : prm.interface_pairs)
+        if (law.discretisation == Parameters::InterfacePair::Discretisation::mortar)
+          for (unsigned int side = 0; side < 2; ++side)
+            {
+              const unsigned int body = side == 0 ? pair.first : pair.second;
+              const unsigned int id   = law.mortar_boundaries[side];
+              if (sides.count(65536 * body + id) == 0)
+                throw InputError("Contact/" +
+                                   Parameters::InterfacePair::section(pair.first, pair.second) +
+                                   "/Mortar boundaries",
+                                 "body " + std::to_string(body) + " has no boundary face with id " +
+                                   std::to_string(id) + " in the mesh");
+            }
       for (const unsigned int m : materials)
         if (prm.materials.count(m) == 0)
           throw InputError("Bodies/Body ids",
@@ -742,7 +789,11 @@ namespace ContactStefan
                  const bool                                 coarse_only)
   {
     assert_two_dimensional<dim>();
-    make_coarse_mesh(prm.geometry, refinement, triangulation);
+    MortarPairs mortar_pairs;
+    for (const auto &[pair, law] : prm.interface_pairs)
+      if (law.discretisation == Parameters::InterfacePair::Discretisation::mortar)
+        mortar_pairs.insert(pair);
+    make_coarse_mesh(prm.geometry, refinement, mortar_pairs, triangulation);
     check_ids_in_mesh(prm, triangulation);
     if (coarse_only)
       return;

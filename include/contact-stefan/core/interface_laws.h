@@ -14,6 +14,7 @@
 
 #include <contact-stefan/core/checked_input.h>
 
+#include <array>
 #include <string>
 
 namespace ContactStefan
@@ -83,6 +84,22 @@ namespace ContactStefan
         conductance
       } thermal_contact;
       Conductance conductance; // with ThermalContact::conductance
+      // Where the two sides' meshes meet (doc/contact.md): node for node
+      // ('nodal', the bodies share the interface's vertices) or a dual mortar
+      // coupling of non-matching sides, each given by a boundary id.
+      enum class Discretisation
+      {
+        nodal,
+        mortar
+      } discretisation;
+      std::array<unsigned int, 2> mortar_boundaries{{0, 0}}; // body k's side, body l's
+      enum class MortarSlave
+      {
+        finer,
+        k,
+        l
+      } mortar_slave;
+      double mortar_search_distance; // m; 0: the longest edge of the two sides
 
       static std::string section(const unsigned int k, const unsigned int l);
       static void        declare(ParameterHandler &prm);
@@ -213,6 +230,35 @@ namespace ContactStefan
       prm.enter_subsection("Conductance");
       Conductance::declare(prm);
       prm.leave_subsection();
+      prm.declare_entry("Discretisation",
+                        "nodal",
+                        Patterns::Selection("nodal|mortar"),
+                        "How the two sides are paired (doc/contact.md): 'nodal', the bodies "
+                        "share the interface's nodes (one condition per node pair); "
+                        "'mortar', the sides are meshed independently (a Gmsh file with a "
+                        "physical line for each side, 'Mortar boundaries') and coupled by "
+                        "dual mortar integrals, one condition per slave node.");
+      prm.declare_entry("Mortar boundaries",
+                        "",
+                        Patterns::Anything(),
+                        "With Discretisation = mortar: the boundary ids (Gmsh physical "
+                        "lines) of body k's side and of body l's side of the interface, "
+                        "e.g. '4, 5'. They carry no other boundary condition.");
+      prm.declare_entry("Mortar slave",
+                        "finer",
+                        Patterns::Selection("finer|k|l"),
+                        "With Discretisation = mortar: the side whose nodes carry the "
+                        "conditions and the contact pressure. 'finer': the side with the "
+                        "shorter mean edge (side k if equal), the usual choice; 'k' or 'l' "
+                        "names it.");
+      prm.declare_entry("Mortar search distance",
+                        "0",
+                        Patterns::Double(0),
+                        "With Discretisation = mortar: a master edge is paired with a slave "
+                        "edge only if it lies within this distance (m) along the slave "
+                        "normal and faces it; 0: the longest edge of the two sides. It must "
+                        "exceed the largest gap the interface opens to and stay below the "
+                        "thickness of the bodies.");
     }
 
     inline void
@@ -233,6 +279,29 @@ namespace ContactStefan
       prm.enter_subsection("Conductance");
       conductance.parse(prm, path + "/Conductance/");
       prm.leave_subsection();
+      discretisation =
+        prm.get("Discretisation") == "mortar" ? Discretisation::mortar : Discretisation::nodal;
+      const std::string slave = prm.get("Mortar slave");
+      mortar_slave            = slave == "k" ? MortarSlave::k :
+                                slave == "l" ? MortarSlave::l :
+                                               MortarSlave::finer;
+      mortar_search_distance  = prm.get_double("Mortar search distance");
+      const std::string ids   = prm.get("Mortar boundaries");
+      if (discretisation == Discretisation::mortar)
+        {
+          const auto list = Input::parse_ids(ids, path + "/Mortar boundaries");
+          Input::require(list.size() == 2 && list[0] != list[1],
+                         path + "/Mortar boundaries",
+                         "'" + ids +
+                           "': give two different boundary ids, body k's side and body "
+                           "l's side");
+          mortar_boundaries = {{list[0], list[1]}};
+        }
+      else
+        Input::require(ids.empty(),
+                       path + "/Mortar boundaries",
+                       "is set but Discretisation = nodal: set Discretisation = mortar or "
+                       "remove it");
     }
 
     inline void Contact::parse(ParameterHandler &prm)

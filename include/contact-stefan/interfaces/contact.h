@@ -67,6 +67,18 @@ namespace ContactStefan
                                     const bool                          on_partner);
 
     /**
+     * The condition of a mortar slave node, n.(u_s - sum_m w_m u_m) = gap
+     * (interfaces/mortar.h: w_m = M_jm / D_j), solved for the slave's
+     * component `component` (n_component != 0).
+     */
+    ConstraintRow
+    mortar_constraint(const std::array<std::uint64_t, 2>                                 &dofs_s,
+                      const std::vector<std::pair<std::array<std::uint64_t, 2>, double>> &masters,
+                      const Vector2                                                      &normal,
+                      const double                                                        gap,
+                      const unsigned int component);
+
+    /**
      * The multiplier of one constraint among several that act on the same few
      * DoFs (an interface node pair, or an obstacle node, that is also on a
      * roller or has a prescribed component). After the constrained solve the

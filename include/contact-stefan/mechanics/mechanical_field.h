@@ -123,6 +123,14 @@ namespace ContactStefan
     double                       stiffness;      // normal diagonal of the stiffness matrix
     double                       gap    = 0;     // g at the current time
     bool                         corner = false; // faces disagree by more than the corner angle
+    // A mortar interface (doc/contact.md): side k above is a slave node (the
+    // normal points out of the slave body, `weight` is D_j), the condition is
+    // n.(u_k - sum_m w_m u_m) <= gap with the master nodes' DoFs and
+    // w_m = M_jm / D_j; `gap` adds mortar_gap = gtilde_j / D_j, the weighted
+    // gap of the two sides' polylines. has_partner is false.
+    bool                                                         mortar = false;
+    std::vector<std::pair<std::array<std::uint64_t, 2>, double>> masters;
+    double                                                       mortar_gap = 0;
   };
 
   template <int dim>
@@ -438,6 +446,18 @@ namespace ContactStefan
     {
       return normal_conditions;
     }
+    /** What the mortar coupling of one interface found (at the last set-up). */
+    struct MortarSummary
+    {
+      unsigned int slave_body       = 0; // the body whose side carries the conditions
+      unsigned int segments         = 0; // slave-master segments integrated
+      double       uncovered_length = 0; // slave side facing no master edge (m)
+    };
+    /** By group ("interface k-l"), for the mortar interfaces. */
+    const std::map<std::string, MortarSummary> &get_mortar_summary() const
+    {
+      return mortar_summary;
+    }
     /**
      * Every obstacle boundary and interface ("boundary N", "interface k-l"),
      * the same sorted list on every rank.
@@ -475,6 +495,9 @@ namespace ContactStefan
     void update_stiffness_diagonal();
     void update_condition_stiffness();
     void find_normal_conditions();
+    // The conditions of the mortar interfaces (mechanical_field/mortar.cc);
+    // fills mortar_summary.
+    std::vector<NormalCondition> mortar_conditions();
     void gather_contact_groups(const std::set<std::string> &groups);
     void make_body_frames();
     void make_sparsity_pattern();
@@ -690,7 +713,8 @@ namespace ContactStefan
     std::uint64_t     solved_signature = 0;
     ContactStepReport last_report;
 
-    std::vector<NormalCondition> normal_conditions;
+    std::vector<NormalCondition>         normal_conditions;
+    std::map<std::string, MortarSummary> mortar_summary;
     std::vector<std::string>     contact_groups;
     /**
      * The conditions imposed by the last build_contact_constraints(), by (x DoF

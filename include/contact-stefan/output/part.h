@@ -162,6 +162,7 @@ namespace ContactStefan
       section_force_errors, // check 'section normal force'
       contact_pressure,     // check 'contact pressure'
       gaps,                 // mechanical statistics: mean gap per contact group
+      mortar,               // mortar statistics: couplings and force balance
       hertz,                // check 'hertz'
       patch,                // check 'patch'
       other_checks,         // any further check, in registry order

@@ -91,19 +91,25 @@ namespace ContactStefan
         c.gap =
           (c.kind == NormalCondition::Kind::obstacle ? functions.obstacle_gap(c.boundary_id) :
                                                        functions.interface_gap(c.body_k, c.body_l))
-            .value(Point<dim>(c.position));
+            .value(Point<dim>(c.position)) +
+          c.mortar_gap;
   }
 
 
 
-  // n.(u_k - u_l), or n.u_k without a partner (ghosted displacement).
+  // n.(u_k - u_l), or n.u_k without a partner, or n.(u_k - sum_m w_m u_m) at
+  // a mortar slave node (ghosted displacement).
   template <int dim>
   double MechanicalField<dim>::normal_displacement_jump(const NormalCondition &c) const
   {
     double jump = 0;
     for (unsigned int d = 0; d < dim; ++d)
-      jump += c.normal[d] * (displacement_ghosted[c.dofs_k[d]] -
-                             (c.has_partner ? displacement_ghosted[c.dofs_l[d]] : 0.));
+      {
+        jump += c.normal[d] * (displacement_ghosted[c.dofs_k[d]] -
+                               (c.has_partner ? displacement_ghosted[c.dofs_l[d]] : 0.));
+        for (const auto &[dofs_m, w] : c.masters)
+          jump -= c.normal[d] * w * displacement_ghosted[dofs_m[d]];
+      }
     return jump;
   }
 
@@ -139,8 +145,11 @@ namespace ContactStefan
             const auto target = partner ? c.dofs_l[comp] : c.dofs_k[comp];
             if (c.normal[comp] == 0 || constraints.is_constrained(target))
               continue;
-            const auto row = Contact::normal_constraint(
-              c.dofs_k, c.has_partner ? &c.dofs_l : nullptr, c.normal, c.gap, comp, partner);
+            const auto row =
+              c.mortar ?
+                Contact::mortar_constraint(c.dofs_k, c.masters, c.normal, c.gap, comp) :
+                Contact::normal_constraint(
+                  c.dofs_k, c.has_partner ? &c.dofs_l : nullptr, c.normal, c.gap, comp, partner);
             constraints.add_line(row.target);
             for (const auto &[dof, coefficient] : row.entries)
               constraints.add_entry(row.target, dof, coefficient);

@@ -320,8 +320,12 @@ namespace ContactStefan
         {
           double old_jump = 0;
           for (unsigned int d = 0; d < dim; ++d)
-            old_jump +=
-              c.normal[d] * (u_old[c.dofs_k[d]] - (c.has_partner ? u_old[c.dofs_l[d]] : 0.));
+            {
+              old_jump +=
+                c.normal[d] * (u_old[c.dofs_k[d]] - (c.has_partner ? u_old[c.dofs_l[d]] : 0.));
+              for (const auto &[dofs_m, w] : c.masters)
+                old_jump -= c.normal[d] * w * u_old[dofs_m[d]];
+            }
           sum -= contact_pressure(c) * c.weight * (normal_displacement_jump(c) - old_jump);
         }
     return Utilities::MPI::sum(sum, mpi_communicator);

@@ -213,6 +213,9 @@ namespace ContactStefan
   void MechanicalField<dim>::make_sparsity_pattern()
   {
     // Each condition couples the DoFs it names (both sides of an interface).
+    // A mortar condition is only ever solved for its slave node: only the
+    // slave's DoFs reach the master nodes (so that the closure of a cell
+    // stays within a few edges, not the whole interface).
     std::map<types::global_dof_index, std::vector<types::global_dof_index>> condition_dofs;
     for (const auto &c : normal_conditions)
       {
@@ -223,8 +226,12 @@ namespace ContactStefan
             if (c.has_partner)
               all.push_back(static_cast<types::global_dof_index>(c.dofs_l[d]));
           }
-        for (const auto dof : all)
-          condition_dofs[dof].insert(condition_dofs[dof].end(), all.begin(), all.end());
+        const std::size_t n_targets = all.size();
+        for (const auto &[dofs_m, w] : c.masters)
+          for (unsigned int d = 0; d < dim; ++d)
+            all.push_back(static_cast<types::global_dof_index>(dofs_m[d]));
+        for (std::size_t i = 0; i < n_targets; ++i)
+          condition_dofs[all[i]].insert(condition_dofs[all[i]].end(), all.begin(), all.end());
       }
     // The DoFs of conditions that an active set can change (obstacles, and
     // interfaces unless tied): a cell whose closure reaches one is re-assembled
