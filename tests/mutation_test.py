@@ -67,9 +67,13 @@ BASES = {
     "kink": "tests/scenes/kinked_roller.prm",
     "gmsh": "tests/scenes/two_blocks_gmsh.prm",
     "cond": "tests/scenes/conductance_gap.prm",
+    "mort": "tests/scenes/mortar_patch.prm",
 }
-# Generated meshes (tests/make_two_blocks_msh.cmake) the Gmsh scenes need.
-MESHES = {"kink": ("kink.msh", True), "gmsh": ("two_blocks.msh", False)}
+# Generated meshes the Gmsh scenes need: tests/make_two_blocks_msh.cmake (with
+# the kink or not), or for "mortar" tests/make_mortar_msh.py (two blocks meshed
+# independently, 2 and 7 cells along the interface).
+MESHES = {"kink": ("kink.msh", True), "gmsh": ("two_blocks.msh", False),
+          "mort": ("mortar_patch.msh", "mortar")}
 
 SCENE_NAME = "scene.prm"
 
@@ -197,6 +201,7 @@ FUNCTION_ENTRIES = [
     ("gmsh", "Boundary conditions/Thermal boundary 11/Value", 1, {"pole", "floor"}),
     ("patch", "Boundary conditions/Mechanical boundary 3/Value", 2, MAY_RUN),
     ("patch", "Contact/Interface gap", 1, MAY_RUN),
+    ("mort", "Contact/Interface gap", 1, MAY_RUN),
     ("hertz", "Boundary conditions/Mechanical boundary 3/Gap", 1, MAY_RUN),
     ("block", "Materials/Body 0/Body force", 2, MAY_RUN),
     ("block", "Boundary conditions/Mechanical boundary 3/Value", 2, MAY_RUN),
@@ -236,6 +241,13 @@ POSITIVE_ENTRIES = [
     ("hertz", "Geometry/Upper right corner", [("nan", "2, nan"), ("inf", "inf, 0"),
                                              ("flat", "-2, 0")]),
     ("patch", "Geometry/Layer interfaces", [("nan", "nan"), ("outside", "5")]),
+    # A mortar interface (doc/contact.md).
+    ("mort", "Contact/Interface 1-2/Mortar boundaries",
+     [("same", "14, 14"), ("absent", "14, 99"), ("swapped", "15, 14"), ("one", "14"),
+      ("text", "abc"), ("nan", "nan, 15"), ("three", "14, 15, 16")]),
+    ("mort", "Contact/Interface 1-2/Mortar search distance",
+     [("nan", "nan"), ("neg", "-1"), ("text", "abc"), ("inf", "inf")]),
+    ("mort", "Contact/Interface 1-2/Mortar slave", [("text", "coarser")]),
     # The conductance of an interface (doc/interface_heat.md).
     ("cond", "Contact/Interface 0-1/Conductance/Gap roughness", SHORT_BAD_NUMBERS),
     ("cond", "Contact/Interface 0-1/Conductance/Emissivity k",
@@ -417,11 +429,11 @@ MESH_MUTATIONS = [
     ("inverted", "one quad inverted (two node indices swapped: a d c b)",
      lambda t: edit_first_quad(t, swap_nodes(1, 3)), ("gmsh", "kink")),
     ("bowtie", "one self-overlapping bow-tie quad (a c b d)",
-     lambda t: edit_first_quad(t, swap_nodes(1, 2)), ("gmsh", "kink")),
+     lambda t: edit_first_quad(t, swap_nodes(1, 2)), ("gmsh", "kink", "mort")),
     ("repeated-node", "one quad with a repeated node (a b c c)",
      lambda t: edit_first_quad(t, lambda f: f.__setitem__(8, f[7])), ("gmsh", "kink")),
     ("collapsed", "a node moved onto its neighbour (cells of zero area)",
-     collapse_node, ("gmsh", "kink")),
+     collapse_node, ("gmsh", "kink", "mort")),
     ("nan-coord", "node 1 at (nan, 0)",
      lambda t: edit_node(t, 1, lambda xyz: ["nan"] + xyz[1:]), ("gmsh", "kink")),
     ("inf-coord", "node 2 at (inf, 0)",
@@ -440,7 +452,7 @@ MESH_MUTATIONS = [
     ("body-tag", "a quad of physical surface 7 (no such body)",
      lambda t: edit_first_quad(t, lambda f: f.__setitem__(3, "7")), ("gmsh",)),
     ("duplicate", "the first quad twice (overlapping cells)", duplicate_first_quad,
-     ("gmsh", "kink")),
+     ("gmsh", "kink", "mort")),
     ("nodes-count", "$Nodes announces 5 nodes more than it lists",
      lambda t: edit_count(t, "$Nodes", 5), ("gmsh",)),
     ("elements-count", "$Elements announces 3 elements more than it lists",
@@ -1140,6 +1152,14 @@ def generate_meshes(args, directory):
     meshes = {}
     for base, (name, kink) in MESHES.items():
         target = os.path.join(directory, name)
+        if kink == "mortar":
+            subprocess.run([sys.executable, os.path.join(args.source_dir, "tests",
+                                                         "make_mortar_msh.py"),
+                            target, "--lower", "2,2", "--upper", "7,3", "--perturb", "upper"],
+                           check=True, stdout=subprocess.DEVNULL)
+            with open(target) as f:
+                meshes[base] = f.read()
+            continue
         command = [args.cmake, "-DOUTPUT=" + target]
         if kink:
             command.append("-DKINK=ON")

@@ -311,11 +311,17 @@ namespace ContactStefan
         {
           SlaveNode &node = coupling.slave[v];
           node.M.assign(M[v].begin(), M[v].end());
-          Vector2 weighted{{-node.D * slave.nodes[v][0], -node.D * slave.nodes[v][1]}};
+          // n_j . (sum_k M_jk x_k - D_j x_j) = n_j . sum_k M_jk (x_k - x_j), as
+          // sum_k M_jk = D_j: relative positions, free of the round-off of
+          // the coordinates' size. A gap below 1e-12 of the edges at the node
+          // is round-off of coinciding sides and is 0 (a node-to-node pair).
+          Vector2 weighted{{0., 0.}};
           for (const auto &[k, m] : node.M)
             for (unsigned int i = 0; i < 2; ++i)
-              weighted[i] += m * master.nodes[k][i];
+              weighted[i] += m * (master.nodes[k][i] - slave.nodes[v][i]);
           node.gap = dot(node.normal, weighted);
+          if (std::abs(node.gap) <= 1e-12 * node.edge_length * node.D)
+            node.gap = 0;
         }
       return coupling;
     }

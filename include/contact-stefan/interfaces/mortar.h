@@ -63,7 +63,7 @@ namespace ContactStefan
     {
       Vector2 normal{{0., 0.}}; // averaged outward unit normal of the slave side
       double  D   = 0;          // int psi_j over the covered part of its edges
-      double  gap = 0;          // gtilde_j = n_j . (sum_k M_jk x_k - D_j x_j)
+      double  gap = 0;          // gtilde_j = n_j . (sum_k M_jk x_k - D_j x_j), 0 below 1e-12 h D_j
       /** (master node, M_jk), by master node. */
       std::vector<std::pair<unsigned int, double>> M;
       /** The largest angle between an edge normal and the nodal normal (rad). */

@@ -495,9 +495,10 @@ namespace ContactStefan
     void update_stiffness_diagonal();
     void update_condition_stiffness();
     void find_normal_conditions();
-    // The conditions of the mortar interfaces (mechanical_field/mortar.cc);
-    // fills mortar_summary.
-    std::vector<NormalCondition> mortar_conditions();
+    // The conditions of the mortar interfaces (mechanical_field/mortar.cc)
+    // into mortar_cache and mortar_summary; adds their master DoFs to
+    // `relevant`.
+    void couple_mortar_interfaces();
     void gather_contact_groups(const std::set<std::string> &groups);
     void make_body_frames();
     void make_sparsity_pattern();
@@ -715,6 +716,7 @@ namespace ContactStefan
 
     std::vector<NormalCondition>         normal_conditions;
     std::map<std::string, MortarSummary> mortar_summary;
+    std::vector<NormalCondition>         mortar_cache;
     std::vector<std::string>     contact_groups;
     /**
      * The conditions imposed by the last build_contact_constraints(), by (x DoF

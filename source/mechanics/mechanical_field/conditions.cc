@@ -270,7 +270,7 @@ namespace ContactStefan
             e.given            = true;
           }
       }
-    for (const NormalCondition &c : mortar_conditions()) // per slave node: mortar.cc
+    for (const NormalCondition &c : mortar_cache) // per slave node: mortar.cc
       entries[{c.dofs_k[0], static_cast<int>(Kind::interface), c.group}] = {c, {}, true};
     if (!problem.empty() && problem.rfind("parameter", 0) != 0)
       problem = "the mesh: " + problem;

@@ -346,7 +346,7 @@ namespace ContactStefan
     g      = gap;
     active = interface_active;
     for (const auto &c : normal_conditions)
-      if (c.kind == NormalCondition::Kind::interface)
+      if (c.kind == NormalCondition::Kind::interface && !c.mortar)
         {
           InterfaceContactState &s = states[{c.body_k, c.body_l, c.vertex}];
           s.closed                 = c.tied || active[c.dofs_k[0]] > 0.5;

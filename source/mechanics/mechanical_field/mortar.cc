@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <tuple>
 
 #include "pieces.h"
 
@@ -26,36 +27,108 @@ namespace ContactStefan
 
   namespace
   {
+    // One face of a side of a mortar interface, as every rank receives it:
+    // its two nodes (positions and x, y DoFs) and its cell's centre.
+    struct MortarFace
+    {
+      std::array<Mortar::Vector2, 2>              x;
+      std::array<std::array<std::uint64_t, 2>, 2> dofs;
+      Mortar::Vector2                             inside;
+    };
+
     // One side of a mortar interface: its faces as a polyline, and each
-    // node's displacement DoFs and vertex.
+    // node's displacement DoFs.
     struct MortarSide
     {
       Mortar::Side                              side;
       std::vector<std::array<std::uint64_t, 2>> dofs;
-      std::vector<unsigned int>                 vertex;
-      std::map<unsigned int, unsigned int>      node_of_vertex;
     };
+
+    // The faces of both sides of one interface from all ranks, in an order
+    // that does not depend on the partition (by midpoint, then by the ends),
+    // as polylines whose nodes are numbered in that order.
+    std::array<MortarSide, 2> gather_sides(const std::array<std::vector<MortarFace>, 2> &own,
+                                           const MPI_Comm                                comm)
+    {
+      std::array<MortarSide, 2> sides;
+      for (unsigned int s = 0; s < 2; ++s)
+        {
+          // Flattened: 6 coordinates and 4 DoFs per face.
+          std::vector<double>        coordinates;
+          std::vector<std::uint64_t> dofs;
+          for (const MortarFace &f : own[s])
+            {
+              coordinates.insert(
+                coordinates.end(),
+                {f.x[0][0], f.x[0][1], f.x[1][0], f.x[1][1], f.inside[0], f.inside[1]});
+              dofs.insert(dofs.end(), {f.dofs[0][0], f.dofs[0][1], f.dofs[1][0], f.dofs[1][1]});
+            }
+          std::vector<MortarFace> faces;
+          const auto              all_coordinates = Utilities::MPI::all_gather(comm, coordinates);
+          const auto              all_dofs        = Utilities::MPI::all_gather(comm, dofs);
+          for (unsigned int r = 0; r < all_coordinates.size(); ++r)
+            for (unsigned int f = 0; 6 * f < all_coordinates[r].size(); ++f)
+              {
+                const double        *c = &all_coordinates[r][6 * f];
+                const std::uint64_t *d = &all_dofs[r][4 * f];
+                faces.push_back({{{{{c[0], c[1]}}, {{c[2], c[3]}}}},
+                                 {{{{d[0], d[1]}}, {{d[2], d[3]}}}},
+                                 {{c[4], c[5]}}});
+              }
+          std::sort(faces.begin(), faces.end(), [](const MortarFace &a, const MortarFace &b) {
+            const auto key = [](const MortarFace &f) {
+              return std::make_tuple(f.x[0][0] + f.x[1][0],
+                                     f.x[0][1] + f.x[1][1],
+                                     f.x[0][0],
+                                     f.x[0][1]);
+            };
+            return key(a) < key(b);
+          });
+          std::map<std::uint64_t, unsigned int> node_of_dof;
+          for (const MortarFace &f : faces)
+            {
+              std::array<unsigned int, 2> edge;
+              for (unsigned int v = 0; v < 2; ++v)
+                {
+                  const auto [it, inserted] =
+                    node_of_dof.emplace(f.dofs[v][0], sides[s].side.nodes.size());
+                  if (inserted)
+                    {
+                      sides[s].side.nodes.push_back(f.x[v]);
+                      sides[s].dofs.push_back(f.dofs[v]);
+                    }
+                  edge[v] = it->second;
+                }
+              sides[s].side.edges.push_back(edge);
+              sides[s].side.inside.push_back(f.inside);
+            }
+        }
+      return sides;
+    }
   } // namespace
 
 
 
+  // Every rank builds the whole coupling of each mortar interface from the
+  // faces of all ranks (in 2D an interface has a few thousand faces at most:
+  // the exchange and the O(slave edges x master edges) pairing are small
+  // against a contact step, doc/contact.md) and keeps the conditions of the
+  // slave nodes whose DoFs it sees. Their master nodes' DoFs join the locally
+  // relevant set: the constraint lines name them and the gap reads them.
   template <int dim>
-  std::vector<NormalCondition> MechanicalField<dim>::mortar_conditions()
+  void MechanicalField<dim>::couple_mortar_interfaces()
   {
     using Law = Parameters::InterfacePair;
-    std::vector<NormalCondition> result;
+    mortar_cache.clear();
     mortar_summary.clear();
+    IndexSet masters(dof_handler.n_dofs());
     for (const auto &[pair, law] : prm.interface_pairs)
       {
         if (law.discretisation != Law::Discretisation::mortar)
           continue;
         const std::string path = "Contact/" + Law::section(pair.first, pair.second) + "/";
-        if (Utilities::MPI::n_mpi_processes(mpi_communicator) > 1)
-          throw InputError(path + "Discretisation",
-                           "'mortar' runs on one MPI rank so far (the interface segments are "
-                           "not exchanged between ranks): run it without mpirun");
         const std::array<unsigned int, 2> body{{pair.first, pair.second}};
-        std::array<MortarSide, 2>         sides;
+        std::array<std::vector<MortarFace>, 2> own;
         for (const auto &cell : dof_handler.active_cell_iterators())
           if (cell->is_locally_owned())
             for (const unsigned int face : cell->face_indices())
@@ -64,36 +137,18 @@ namespace ContactStefan
                   if (cell->material_id() == body[s] &&
                       cell->face(face)->boundary_id() == law.mortar_boundaries[s])
                     {
-                      MortarSide                 &side = sides[s];
-                      const auto                  dofs = vertex_dofs<dim>(cell);
-                      std::array<unsigned int, 2> edge;
+                      const auto dofs = vertex_dofs<dim>(cell);
+                      MortarFace f;
                       for (unsigned int fv = 0; fv < 2; ++fv)
                         {
                           const unsigned int v = GeometryInfo<dim>::face_to_cell_vertices(face, fv);
-                          const unsigned int index = cell->vertex_index(v);
-                          const auto [it, inserted] =
-                            side.node_of_vertex.emplace(index, side.side.nodes.size());
-                          if (inserted)
-                            {
-                              side.side.nodes.push_back({{cell->vertex(v)[0], cell->vertex(v)[1]}});
-                              side.dofs.push_back({{dofs[v][0], dofs[v][1]}});
-                              side.vertex.push_back(index);
-                              for (unsigned int d = 0; d < dim; ++d)
-                                if (hanging_node_constraints.is_constrained(dofs[v][d]))
-                                  throw InputError(
-                                    path + "Discretisation",
-                                    "the mesh has a hanging node on a side of the mortar "
-                                    "interface, at (" +
-                                      std::to_string(cell->vertex(v)[0]) + ", " +
-                                      std::to_string(cell->vertex(v)[1]) +
-                                      "): refine the cells along each side alike (adaptive "
-                                      "refinement along a mortar side is not supported yet)");
-                            }
-                          edge[fv] = it->second;
+                          f.x[fv]              = {{cell->vertex(v)[0], cell->vertex(v)[1]}};
+                          f.dofs[fv]           = {{dofs[v][0], dofs[v][1]}};
                         }
-                      side.side.edges.push_back(edge);
-                      side.side.inside.push_back({{cell->center()[0], cell->center()[1]}});
+                      f.inside = {{cell->center()[0], cell->center()[1]}};
+                      own[s].push_back(f);
                     }
+        const std::array<MortarSide, 2> sides = gather_sides(own, mpi_communicator);
         // The slave side: 'finer' takes the shorter mean edge (k if equal).
         const double h_k         = Mortar::mean_edge_length(sides[0].side),
                      h_l         = Mortar::mean_edge_length(sides[1].side);
@@ -126,8 +181,8 @@ namespace ContactStefan
           {
             const Mortar::SlaveNode &node = coupling.slave[j];
             // A slave node that no master edge faces (beyond the end of the
-            // master side) has no condition.
-            if (!(node.D > 1e-10 * node.edge_length))
+            // master side) has no condition; nor one this rank does not see.
+            if (!(node.D > 1e-10 * node.edge_length) || !relevant.is_element(S.dofs[j][0]))
               continue;
             NormalCondition c;
             c.kind        = NormalCondition::Kind::interface;
@@ -137,7 +192,7 @@ namespace ContactStefan
             c.tied        = false;
             c.boundary_id = 0;
             c.position    = Point<2>(S.side.nodes[j][0], S.side.nodes[j][1]);
-            c.vertex      = S.vertex[j];
+            c.vertex      = numbers::invalid_unsigned_int;
             c.dofs_k      = S.dofs[j];
             c.has_partner = false;
             c.normal      = node.normal;
@@ -146,14 +201,17 @@ namespace ContactStefan
             c.mortar      = true;
             c.mortar_gap  = node.gap / node.D;
             for (const auto &[m, value] : node.M)
-              c.masters.emplace_back(M.dofs[m], value / node.D);
-            result.push_back(c);
+              {
+                c.masters.emplace_back(M.dofs[m], value / node.D);
+                masters.add_indices(M.dofs[m].begin(), M.dofs[m].end());
+              }
+            mortar_cache.push_back(c);
           }
       }
-    return result;
+    relevant.add_indices(masters);
   }
 
 
 
-  template std::vector<NormalCondition> MechanicalField<2>::mortar_conditions();
+  template void MechanicalField<2>::couple_mortar_interfaces();
 } // namespace ContactStefan

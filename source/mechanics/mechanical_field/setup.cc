@@ -113,6 +113,7 @@ namespace ContactStefan
     dof_handler.distribute_dofs(fe);
     owned = dof_handler.locally_owned_dofs();
     DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
+    couple_mortar_interfaces();
 
     hanging_node_constraints.clear();
     hanging_node_constraints.reinit(relevant);

@@ -1,0 +1,90 @@
+#!/usr/bin/python3
+"""A curved non-matching interface converges to the matching answer (benchmark M3
+of doc/benchmarks.md, doc/contact.md): the two blocks of
+tests/scenes/mortar_patch.prm with the interface y = 0.5 + 0.08 sin(pi x),
+pressed together by the top's displacement. Each level n meshes the lower
+block with n x n/2 cells and the upper one with 2n x n (tests/make_mortar_msh.py,
+every interface node on the curve, so the two polylines differ by O(h^2)),
+coupled by dual mortar; the reference at each level is the node-to-node
+interface on the matching 2n-cell meshes of both blocks (the mortar coupling on
+those matching meshes is checked against it too). Prints per level the contact
+force of both, their relative difference and its rate, the largest force
+imbalance of the mortar coupling, and the wall time of the mortar run (one run
+each on the same machine; compare ratios). Standard library only.
+
+    benchmarks/mortar_curved.py [BUILD_DIR] [--levels 6,12,24,48,96]
+"""
+import argparse
+import math
+import os
+import re
+import subprocess
+import sys
+import tempfile
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, "benchmarks"))
+from ladder import set_path  # noqa: E402
+
+SCENE = os.path.join(ROOT, "tests/scenes/mortar_patch.prm")
+MESHER = os.path.join(ROOT, "tests/make_mortar_msh.py")
+
+
+def mesh(path, lower, upper, *extra):
+    subprocess.run([sys.executable, MESHER, path, "--lower", lower, "--upper", upper,
+                    "--bump", "0.08"] + list(extra), check=True)
+
+
+def run(binary, work, name, mesh_file, mortar):
+    with open(SCENE) as f:
+        text = f.read()
+    text = set_path(text, "Geometry/Mesh file", mesh_file)
+    text = set_path(text, "Exact solution/Type", "none")
+    text = set_path(text, "Output/Directory", name)
+    if not mortar:
+        text = set_path(text, "Contact/Interface 1-2/Discretisation", "nodal")
+        text = set_path(text, "Contact/Interface 1-2/Mortar boundaries", "")
+    scene = os.path.join(work, name + ".prm")
+    with open(scene, "w") as f:
+        f.write(text)
+    start = time.time()
+    out = subprocess.run([binary, scene], cwd=work, check=True, capture_output=True,
+                         text=True).stdout
+    elapsed = time.time() - start
+    value = lambda name: float(re.search(r"^RESULT %s = (\S+)" % re.escape(name), out,
+                                         re.M).group(1))
+    force = value("contact force interface 1-2")
+    balance = value("mortar force balance interface 1-2") if mortar else 0.0
+    dofs = value("displacement dofs")
+    return force, balance, dofs, elapsed
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("build", nargs="?", default=os.path.join(ROOT, "build"))
+    parser.add_argument("--levels", default="6,12,24,48,96")
+    args = parser.parse_args()
+    binary = os.path.join(os.path.abspath(args.build), "contact-stefan")
+    print("| n | DoFs | mortar force (n : 2n) | matching force (2n : 2n) | relative difference "
+          "| rate | force balance | mortar run (s) |")
+    print("|---|---|---|---|---|---|---|---|")
+    last = None
+    with tempfile.TemporaryDirectory() as work:
+        for n in (int(v) for v in args.levels.split(",")):
+            m = 2 * n
+            coarse = os.path.join(work, "coarse_%d.msh" % n)
+            merged = os.path.join(work, "merged_%d.msh" % n)
+            mesh(coarse, "%d,%d" % (n, max(1, n // 2)), "%d,%d" % (m, n))
+            mesh(merged, "%d,%d" % (m, n), "%d,%d" % (m, n), "--merge")
+            force, balance, dofs, elapsed = run(binary, work, "mortar_%d" % n, coarse, True)
+            reference, _, _, _ = run(binary, work, "nodal_%d" % n, merged, False)
+            difference = abs(force - reference) / reference
+            rate = "" if last is None else "%.2f" % math.log2(last / difference)
+            print("| %d | %d | %.10g | %.10g | %.2e | %s | %.1e | %.2f |"
+                  % (n, dofs, force, reference, difference, rate, balance, elapsed))
+            last = difference
+
+
+if __name__ == "__main__":
+    main()
