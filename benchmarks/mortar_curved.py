@@ -55,7 +55,7 @@ def run(binary, work, name, mesh_file, mortar):
     value = lambda name: float(re.search(r"^RESULT %s = (\S+)" % re.escape(name), out,
                                          re.M).group(1))
     force = value("contact force interface 1-2")
-    balance = value("mortar force balance interface 1-2") if mortar else 0.0
+    balance = value("mortar weight defect interface 1-2") if mortar else 0.0
     dofs = value("displacement dofs")
     return force, balance, dofs, elapsed
 

@@ -8,6 +8,7 @@ the lower block's side of the interface, 15 the upper block's.
 
   make_mortar_msh.py OUTPUT --lower NX,NY --upper NX,NY [--width W] [--height H]
                      [--perturb lower|upper] [--bump A] [--shift S] [--merge]
+                     [--split-lower X] [--lift L] [--rotate DEG]
 
 --perturb moves the interior interface nodes of one block along x by up to 0.3
 of its cell width (x_i += 0.3 h sin(7 i)), with the column of nodes above or
@@ -16,7 +17,12 @@ interface the curve y = H + A sin(pi x / W) (both blocks' nodes on it: the two
 polylines differ by O(h^2)). --shift S moves the upper block right by S (it
 then overhangs the lower one). --merge (equal NX, no perturbation or shift)
 writes the same mesh with the interface nodes shared, for the node-to-node
-interface to compare with (no lines 14 and 15). The test meshes are generated, never
+interface to compare with (no lines 14 and 15). --split-lower X makes the lower
+block's cells right of x = X body 3 (sharing the nodes on x = X with body 1),
+their top faces line 16 and the upper block's bottom faces right of X line 17:
+two interfaces, 1-2 and 2-3, whose sides meet at x = X. --lift L moves the
+upper block up by L (a gap). --rotate DEG turns the whole mesh by DEG degrees
+about the middle of the interface (W/2, H). The test meshes are generated, never
 committed."""
 import argparse
 import math
@@ -49,14 +55,17 @@ def main():
     parser.add_argument("--bump", type=float, default=0.0)
     parser.add_argument("--shift", type=float, default=0.0)
     parser.add_argument("--merge", action="store_true")
+    parser.add_argument("--split-lower", type=float, default=None)
+    parser.add_argument("--lift", type=float, default=0.0)
+    parser.add_argument("--rotate", type=float, default=0.0)
     args = parser.parse_args()
     W, H = args.width, args.height
     interface = lambda x: H + args.bump * math.sin(math.pi * x / W)
     lx, ly = (int(v) for v in args.lower.split(","))
     ux, uy = (int(v) for v in args.upper.split(","))
     lower = block(lx, ly, W, 0.0, lambda x: 0.0, interface, args.perturb == "lower")
-    upper = block(ux, uy, W, args.shift, lambda x: interface(x), lambda x: 2 * H,
-                  args.perturb == "upper")
+    upper = block(ux, uy, W, args.shift, lambda x: interface(x) + args.lift,
+                  lambda x: 2 * H + args.lift, args.perturb == "upper")
 
     elements = []  # (type, physical, nodes) with 1-based node numbers
 
@@ -84,6 +93,16 @@ def main():
 
     add_block(lower, lx, ly, 0, 1, 12, 14)
     add_block(upper, ux, uy, len(lower), 2, 15, 13)
+    if args.split_lower is not None:
+        all_nodes = lower + upper
+        right = lambda ids: sum(all_nodes[i - 1][0] for i in ids) / len(ids) > args.split_lower
+        for n, (kind, physical, ids) in enumerate(elements):
+            if kind == 3 and physical == 1 and right(ids):
+                elements[n] = (kind, 3, ids)
+            elif kind == 1 and physical == 14 and right(ids):
+                elements[n] = (kind, 16, ids)
+            elif kind == 1 and physical == 15 and right(ids):
+                elements[n] = (kind, 17, ids)
     nodes = lower + upper
     if args.merge:
         # Drop the upper block's bottom row and renumber the rest.
@@ -91,6 +110,10 @@ def main():
         shift = ux + 1
         elements[:] = [(kind, physical, [i - shift if i > len(lower) + shift else i
                                          for i in ids]) for kind, physical, ids in elements]
+    if args.rotate:
+        c, s = math.cos(math.radians(args.rotate)), math.sin(math.radians(args.rotate))
+        nodes = [(W / 2 + c * (x - W / 2) - s * (y - H), H + s * (x - W / 2) + c * (y - H))
+                 for x, y in nodes]
     with open(args.output, "w") as f:
         f.write("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n%d\n" % len(nodes))
         for n, (x, y) in enumerate(nodes):

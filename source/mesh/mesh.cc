@@ -22,9 +22,51 @@ namespace ContactStefan
 {
   namespace
   {
-    // The body pairs (k < l) whose interface is a mortar one: their nodes need
-    // not match.
-    using MortarPairs = std::set<std::pair<unsigned int, unsigned int>>;
+    // The mortar interfaces: (body k, body l) -> (body k's side id, body l's).
+    // Between the two sides of one of them nodes need not match.
+    using MortarPairs =
+      std::map<std::pair<unsigned int, unsigned int>, std::array<unsigned int, 2>>;
+
+    // Per vertex, the mortar interfaces (their index in `pairs`) on whose
+    // sides it lies: on a boundary face of body k with k's side id, or of
+    // body l with l's.
+    std::vector<std::set<unsigned int>> mortar_side_tags(const Triangulation<2> &mesh,
+                                                         const MortarPairs      &pairs)
+    {
+      std::vector<std::set<unsigned int>> tags(pairs.empty() ? 0 : mesh.n_vertices());
+      if (pairs.empty())
+        return tags;
+      for (const auto &cell : mesh.active_cell_iterators())
+        for (const unsigned int f : cell->face_indices())
+          if (cell->at_boundary(f))
+            {
+              unsigned int index = 0;
+              for (const auto &[pair, ids] : pairs)
+                {
+                  if ((cell->material_id() == pair.first &&
+                       cell->face(f)->boundary_id() == ids[0]) ||
+                      (cell->material_id() == pair.second &&
+                       cell->face(f)->boundary_id() == ids[1]))
+                    for (unsigned int v = 0; v < 2; ++v)
+                      tags[cell->face(f)->vertex_index(v)].insert(index);
+                  ++index;
+                }
+            }
+      return tags;
+    }
+
+    // Whether vertices a and b lie on the same mortar interface's sides.
+    bool on_one_mortar_interface(const std::vector<std::set<unsigned int>> &tags,
+                                 const unsigned int                         a,
+                                 const unsigned int                         b)
+    {
+      if (tags.empty())
+        return false;
+      for (const unsigned int t : tags[a])
+        if (tags[b].count(t) == 1)
+          return true;
+      return false;
+    }
 
     std::string point_text(const Point<2> &p)
     {
@@ -230,10 +272,10 @@ namespace ContactStefan
     // or, for a long slanted edge whose box holds many buckets, the 3 x 3
     // buckets around points at most a bucket apart along it: linear in the
     // size of the mesh unless its edges differ in length by orders of magnitude.
-    void check_conforming(const Triangulation<2> &mesh,
-                          const std::string      &file,
-                          const double            near,
-                          const MortarPairs      &mortar_pairs)
+    void check_conforming(const Triangulation<2>                    &mesh,
+                          const std::string                         &file,
+                          const double                               near,
+                          const std::vector<std::set<unsigned int>> &mortar_tags)
     {
       const std::vector<Point<2>> &vertices = mesh.get_vertices();
       const std::vector<bool>     &is_used  = mesh.get_used_vertices();
@@ -295,10 +337,11 @@ namespace ContactStefan
           const std::string where = "'" + file + "': the node " + point_text(vertices[hanging]) +
                                     " lies inside the edge from " + point_text(a) + " to " +
                                     point_text(b) + " of body " + std::to_string(edge.body);
-          // Between the two sides of a mortar interface nodes need not match.
-          if (bodies.size() == 1 &&
-              mortar_pairs.count({std::min<unsigned int>(edge.body, *bodies.begin()),
-                                  std::max<unsigned int>(edge.body, *bodies.begin())}) == 1)
+          // Between the two sides of a mortar interface nodes need not match:
+          // the node and the edge on the sides of one mortar interface.
+          if (bodies.size() == 1 && bodies.count(edge.body) == 0 &&
+              on_one_mortar_interface(mortar_tags, hanging, edge.a) &&
+              on_one_mortar_interface(mortar_tags, hanging, edge.b))
             continue;
           if (bodies.count(edge.body) == 1)
             throw InputError("Geometry/Mesh file",
@@ -371,18 +414,22 @@ namespace ContactStefan
         for (const unsigned int f : cell->face_indices())
           shortest_edge = std::min(shortest_edge, cell->face(f)->measure());
       const double apart = near * shortest_edge;
-      // The bodies of each vertex, where mortar interfaces may put the two
-      // sides' vertices on top of each other.
+      // The bodies of each vertex and the mortar sides it lies on: the two
+      // sides of a mortar interface may put vertices of its two bodies on
+      // top of each other (nowhere else).
+      const auto                          mortar_tags = mortar_side_tags(mesh, mortar_pairs);
       std::vector<std::set<unsigned int>> bodies_at(mortar_pairs.empty() ? 0 : mesh.n_vertices());
       if (!mortar_pairs.empty())
         for (const auto &cell : mesh.active_cell_iterators())
           for (const unsigned int v : cell->vertex_indices())
             bodies_at[cell->vertex_index(v)].insert(cell->material_id());
       const auto mortar_copies = [&](const unsigned int a, const unsigned int b) {
-        if (mortar_pairs.empty() || bodies_at[a].size() != 1 || bodies_at[b].size() != 1)
+        if (mortar_pairs.empty() || !on_one_mortar_interface(mortar_tags, a, b))
           return false;
-        const unsigned int p = *bodies_at[a].begin(), q = *bodies_at[b].begin();
-        return mortar_pairs.count({std::min(p, q), std::max(p, q)}) == 1;
+        for (const unsigned int body : bodies_at[a])
+          if (bodies_at[b].count(body) == 1)
+            return false;
+        return true;
       };
       for (unsigned int k = 0; k < used.size(); ++k)
         for (unsigned int m = k + 1;
@@ -396,7 +443,7 @@ namespace ContactStefan
                                point_text(used[k].first) +
                                ": the mesh is cut there (bodies must share their interface "
                                "nodes)");
-      check_conforming(mesh, file, near, mortar_pairs);
+      check_conforming(mesh, file, near, mortar_tags);
     }
   } // namespace
 
@@ -792,7 +839,7 @@ namespace ContactStefan
     MortarPairs mortar_pairs;
     for (const auto &[pair, law] : prm.interface_pairs)
       if (law.discretisation == Parameters::InterfacePair::Discretisation::mortar)
-        mortar_pairs.insert(pair);
+        mortar_pairs[pair] = law.mortar_boundaries;
     make_coarse_mesh(prm.geometry, refinement, mortar_pairs, triangulation);
     check_ids_in_mesh(prm, triangulation);
     if (coarse_only)

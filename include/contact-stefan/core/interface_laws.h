@@ -100,6 +100,7 @@ namespace ContactStefan
         l
       } mortar_slave;
       double mortar_search_distance; // m; 0: the longest edge of the two sides
+      double mortar_min_coverage;    // of a slave node's support, to get a condition
 
       static std::string section(const unsigned int k, const unsigned int l);
       static void        declare(ParameterHandler &prm);
@@ -259,6 +260,15 @@ namespace ContactStefan
                         "normal and faces it; 0: the longest edge of the two sides. It must "
                         "exceed the largest gap the interface opens to and stay below the "
                         "thickness of the bodies.");
+      prm.declare_entry("Mortar minimum coverage",
+                        "0.5",
+                        Patterns::Double(0, 1),
+                        "With Discretisation = mortar: a slave node gets a condition only if "
+                        "the master side covers at least this fraction of int N_j over its "
+                        "edges. Near the end of the master side the dual basis of a barely "
+                        "covered edge extrapolates the master edge past its end (a node "
+                        "covered to a fraction c carries a pressure of order 1/c^2); such a "
+                        "node is left free instead.");
     }
 
     inline void
@@ -286,6 +296,7 @@ namespace ContactStefan
                                 slave == "l" ? MortarSlave::l :
                                                MortarSlave::finer;
       mortar_search_distance  = prm.get_double("Mortar search distance");
+      mortar_min_coverage     = prm.get_double("Mortar minimum coverage");
       const std::string ids   = prm.get("Mortar boundaries");
       if (discretisation == Discretisation::mortar)
         {

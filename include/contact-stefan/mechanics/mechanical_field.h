@@ -452,6 +452,7 @@ namespace ContactStefan
       unsigned int slave_body       = 0; // the body whose side carries the conditions
       unsigned int segments         = 0; // slave-master segments integrated
       double       uncovered_length = 0; // slave side facing no master edge (m)
+      unsigned int slave_nodes      = 0; // slave nodes with a condition
     };
     /** By group ("interface k-l"), for the mortar interfaces. */
     const std::map<std::string, MortarSummary> &get_mortar_summary() const
@@ -499,6 +500,9 @@ namespace ContactStefan
     // into mortar_cache and mortar_summary; adds their master DoFs to
     // `relevant`.
     void couple_mortar_interfaces();
+    // Refuses a mortar slave node that carries another contact condition
+    // (collective; mechanical_field/mortar.cc).
+    void check_mortar_junctions() const;
     void gather_contact_groups(const std::set<std::string> &groups);
     void make_body_frames();
     void make_sparsity_pattern();

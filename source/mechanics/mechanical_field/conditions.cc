@@ -142,8 +142,10 @@ namespace ContactStefan
           for (const unsigned int comp : order)
             if (c.normal[comp] != 0 && !fixed_constraints.is_constrained(c.dofs_k[comp]))
               {
-                const auto row =
-                  Contact::normal_constraint(c.dofs_k, nullptr, c.normal, 0., comp, false);
+                auto row = Contact::normal_constraint(c.dofs_k, nullptr, c.normal, 0., comp, false);
+                // (Two slanted rollers at a vertex: u_x = a u_y, then u_y = b u_x.)
+                if (!break_cycles(row, fixed_constraints))
+                  continue;
                 fixed_constraints.add_line(row.target);
                 for (const auto &[dof, coefficient] : row.entries)
                   fixed_constraints.add_entry(row.target, dof, coefficient);

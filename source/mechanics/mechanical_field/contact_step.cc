@@ -2,18 +2,17 @@
 // rigid obstacles and between bodies, solved by the primal-dual active-set method.
 //
 // For a guess of the active set every active node is the linear constraint
-// n.(u_k - u_l) = g (n.u_k = g at an obstacle), written in AffineConstraints by
-// solving for the displacement component with the larger |n_c| (as deal.II's
-// normal-flux constraints do), on top of the hanging-node, Dirichlet, tied and
-// roller constraints; where that component is taken the other one is used, then
-// (interfaces) the partner's. The constrained linear system is assembled from
-// cached cell matrices and solved. The compressive normal force of each node is
-// read off the residual of the unconstrained system, lambda = -n.(K u - f)_k, and
-// the node is active next iteration if lambda + c d > 0, with d = n.(u_k - u_l) - g
-// and c the complementarity constant times the node's normal stiffness. The
-// iteration stops when the set does not change. It starts from the previous
-// step's set (warm start). If an active set recurs, c is divided by ten, which
-// makes the update follow the multipliers more than the gaps and breaks the cycle.
+// n.(u_k - u_l) = g (n.u_k = g at an obstacle; at a mortar slave node the master
+// side is a weighted sum of nodes), written in AffineConstraints by solving for
+// the displacement component with the larger |n_c|, on top of the hanging-node,
+// Dirichlet, tied and roller constraints (where that component is taken, the
+// other, then the partner's). The constrained system is assembled from cached
+// cell matrices and solved. The compressive normal force of each node is read
+// off the residual, lambda = -n.(K u - f)_k, and the node is active next
+// iteration if lambda + c d > 0, d = n.(u_k - u_l) - g, c the complementarity
+// constant times the node's normal stiffness, until the set does not change;
+// warm-started from the previous step's set. If a set recurs, c is divided by
+// ten, which makes the update follow the multipliers more and breaks the cycle.
 #include <deal.II/base/function_parser.h>
 
 #include <deal.II/lac/solver_cg.h>
@@ -21,7 +20,6 @@
 #include <deal.II/lac/trilinos_precondition.h>
 #include <deal.II/lac/trilinos_solver.h>
 
-#include <contact-stefan/interfaces/contact.h>
 #include <contact-stefan/mechanics/mechanical_field.h>
 
 #include <algorithm>
@@ -31,6 +29,8 @@
 #include <set>
 #include <sstream>
 #include <unordered_map>
+
+#include "pieces.h"
 
 namespace ContactStefan
 {
@@ -97,8 +97,7 @@ namespace ContactStefan
 
 
 
-  // n.(u_k - u_l), or n.u_k without a partner, or n.(u_k - sum_m w_m u_m) at
-  // a mortar slave node (ghosted displacement).
+  // n.(u_k - u_l), n.u_k, or n.(u_k - sum_m w_m u_m) at a mortar slave node.
   template <int dim>
   double MechanicalField<dim>::normal_displacement_jump(const NormalCondition &c) const
   {
@@ -145,11 +144,13 @@ namespace ContactStefan
             const auto target = partner ? c.dofs_l[comp] : c.dofs_k[comp];
             if (c.normal[comp] == 0 || constraints.is_constrained(target))
               continue;
-            const auto row =
+            auto row =
               c.mortar ?
                 Contact::mortar_constraint(c.dofs_k, c.masters, c.normal, c.gap, comp) :
                 Contact::normal_constraint(
                   c.dofs_k, c.has_partner ? &c.dofs_l : nullptr, c.normal, c.gap, comp, partner);
+            if (!MechanicalFieldPieces::break_cycles(row, constraints)) // (a slanted roller)
+              continue;
             constraints.add_line(row.target);
             for (const auto &[dof, coefficient] : row.entries)
               constraints.add_entry(row.target, dof, coefficient);

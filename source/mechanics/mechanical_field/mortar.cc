@@ -176,13 +176,35 @@ namespace ContactStefan
           }
         const std::string group =
           "interface " + std::to_string(pair.first) + "-" + std::to_string(pair.second);
-        mortar_summary[group] = {body[slave], coupling.n_segments, coupling.uncovered_length};
+        // A slave node that the master side covers to less than 'Mortar minimum
+        // coverage' of its support (beyond or at the end of the master side)
+        // has no condition.
+        const auto conditioned = [&](const Mortar::SlaveNode &node) {
+          return node.D > 1e-10 * node.edge_length &&
+                 node.D >= law.mortar_min_coverage * 0.5 * node.edge_length;
+        };
+        const auto n_conditions =
+          std::count_if(coupling.slave.begin(), coupling.slave.end(), conditioned);
+        if (n_conditions == 0)
+          throw InputError(path + "Mortar boundaries",
+                           "no node of body " + std::to_string(body[slave]) + "'s side (id " +
+                             std::to_string(law.mortar_boundaries[slave]) + ", " +
+                             std::to_string(S.side.edges.size()) + " faces) faces body " +
+                             std::to_string(body[1 - slave]) + "'s side (id " +
+                             std::to_string(law.mortar_boundaries[1 - slave]) + ", " +
+                             std::to_string(M.side.edges.size()) +
+                             " faces) within the search distance " +
+                             std::to_string(parameters.search_distance) +
+                             " m: check the ids and 'Mortar search distance'");
+        mortar_summary[group] = {body[slave],
+                                 coupling.n_segments,
+                                 coupling.uncovered_length,
+                                 static_cast<unsigned int>(n_conditions)};
         for (unsigned int j = 0; j < S.side.nodes.size(); ++j)
           {
             const Mortar::SlaveNode &node = coupling.slave[j];
-            // A slave node that no master edge faces (beyond the end of the
-            // master side) has no condition; nor one this rank does not see.
-            if (!(node.D > 1e-10 * node.edge_length) || !relevant.is_element(S.dofs[j][0]))
+            // (Only the nodes this rank sees.)
+            if (!conditioned(node) || !relevant.is_element(S.dofs[j][0]))
               continue;
             NormalCondition c;
             c.kind        = NormalCondition::Kind::interface;
@@ -213,5 +235,40 @@ namespace ContactStefan
 
 
 
+  // A mortar slave node may carry no other contact condition: where the
+  // slave sides of two mortar interfaces meet, or a slave side meets a nodal
+  // interface or an obstacle, the second condition would be counted twice or
+  // close a cycle of constraints. (A roller there is fine.)
+  template <int dim>
+  void MechanicalField<dim>::check_mortar_junctions() const
+  {
+    std::map<types::global_dof_index, std::vector<const NormalCondition *>> at;
+    for (const auto &c : normal_conditions)
+      if (c.kind != NormalCondition::Kind::roller)
+        {
+          at[c.dofs_k[0]].push_back(&c);
+          if (c.has_partner)
+            at[c.dofs_l[0]].push_back(&c);
+        }
+    std::string problem;
+    for (const auto &c : normal_conditions)
+      if (c.mortar && problem.empty())
+        for (const NormalCondition *other : at[c.dofs_k[0]])
+          if (other != &c)
+            {
+              problem = "parameter 'Contact/" +
+                        Parameters::InterfacePair::section(c.body_k, c.body_l) +
+                        "/Mortar boundaries': the slave node at (" + std::to_string(c.position[0]) +
+                        ", " + std::to_string(c.position[1]) + ") is also on " + other->group +
+                        "; a node takes one contact condition: let the sides end apart or "
+                        "make that node's other side the slave";
+              break;
+            }
+    throw_collectively<InputError>(problem, mpi_communicator);
+  }
+
+
+
   template void MechanicalField<2>::couple_mortar_interfaces();
+  template void MechanicalField<2>::check_mortar_junctions() const;
 } // namespace ContactStefan

@@ -7,7 +7,14 @@
 
 #include <deal.II/dofs/dof_handler.h>
 
+#include <deal.II/lac/affine_constraints.h>
+
+#include <contact-stefan/interfaces/contact.h>
+
+#include <algorithm>
 #include <array>
+#include <cmath>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -41,6 +48,46 @@ namespace ContactStefan
           result[vertex][component % dim] = dofs[i];
         }
       return result;
+    }
+
+    // A contact row whose entry u_j is itself constrained in terms of the
+    // row's target (a roller u_x = a u_y on a slanted face at a node whose
+    // contact row targets u_y and names u_x) would close a cycle that
+    // AffineConstraints::close() never leaves. Such lines are substituted into
+    // the row and the row is solved for its target again. False if the
+    // target's coefficient then vanishes: the condition cannot be imposed on
+    // that component.
+    inline bool break_cycles(Contact::ConstraintRow          &row,
+                             const AffineConstraints<double> &constraints)
+    {
+      double                          self          = 0;
+      double                          inhomogeneity = row.inhomogeneity;
+      std::map<std::uint64_t, double> entries;
+      for (const auto &[j, a] : row.entries)
+        {
+          const auto *line  = constraints.get_constraint_entries(j);
+          const bool  names = line && std::any_of(line->begin(), line->end(), [&](const auto &e) {
+                               return e.first == row.target;
+                             });
+          if (!names)
+            {
+              entries[j] += a;
+              continue;
+            }
+          inhomogeneity += a * constraints.get_inhomogeneity(j);
+          for (const auto &[k, b] : *line)
+            (k == row.target ? self : entries[k]) += a * b;
+        }
+      if (self == 0)
+        return true;
+      if (std::abs(1 - self) < 1e-10)
+        return false;
+      row.entries.clear();
+      for (const auto &[k, b] : entries)
+        if (b != 0)
+          row.entries.emplace_back(k, b / (1 - self));
+      row.inhomogeneity = inhomogeneity / (1 - self);
+      return true;
     }
   } // namespace MechanicalFieldPieces
 } // namespace ContactStefan

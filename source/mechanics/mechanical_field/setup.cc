@@ -155,6 +155,7 @@ namespace ContactStefan
     make_body_frames();
     assemble_cell_stiffness();
     find_normal_conditions();
+    check_mortar_junctions();
     make_fixed_constraints();
     make_sparsity_pattern();
   }
