@@ -186,3 +186,14 @@ scene(mortar/rotated-1-2 1 ${T}/scenes/mortar_rotated.prm mortar_rotated_1_2
   "RESULT min contact pressure at active nodes>0.0099999999999"
   "RESULT contact force interface 1-2>0.0099999999999"
   "RESULT contact force interface 1-2<0.0100000000001")
+
+# Killed after step 3 and resumed from the checkpoint of step 2 (adapted
+# meshes, the coupling found again on the reloaded mesh, the active set
+# re-derived from u): the uninterrupted run's RESULT lines and statistics; also
+# written on 2 ranks and resumed on 3.
+set(MORTAR_RESUME ${MORTAR_ADAPTIVE})
+list(FILTER MORTAR_RESUME INCLUDE REGEX "^SET:")
+resume_test(restart/mortar-adaptive 1 1 CONTACT_STEFAN_KILL_AFTER_STEP 3
+  ${T}/scenes/mortar_matching.prm ${MORTAR_RESUME} "SET:Checkpoint/Interval (steps)=2")
+resume_test(restart/mortar-adaptive-mpi2-to-3 2 3 CONTACT_STEFAN_KILL_AFTER_STEP 3
+  ${T}/scenes/mortar_matching.prm ${MORTAR_RESUME} "SET:Checkpoint/Interval (steps)=2")
