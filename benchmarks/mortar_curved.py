@@ -12,7 +12,12 @@ force of both, their relative difference and its rate, the largest force
 imbalance of the mortar coupling, and the wall time of the mortar run (one run
 each on the same machine; compare ratios). Standard library only.
 
-    benchmarks/mortar_curved.py [BUILD_DIR] [--levels 6,12,24,48,96]
+    benchmarks/mortar_curved.py [BUILD_DIR] [--levels 6,12,24,48,96] [--iterations]
+
+--iterations prints instead the active-set iterations per step of
+tests/scenes/mortar_matching.prm (the active set grows over four steps) with
+4 : 10 cells along the interface (mortar) against 10 : 10 (node-to-node) at
+global refinement 0, 1, 2 (doc/contact.md).
 """
 import argparse
 import math
@@ -60,12 +65,50 @@ def run(binary, work, name, mesh_file, mortar):
     return force, balance, dofs, elapsed
 
 
+def iterations(binary):
+    scene_file = os.path.join(ROOT, "tests/scenes/mortar_matching.prm")
+    print("| global refinements | mortar 4 : 10: DoFs, max, mean iterations | node-to-node "
+          "10 : 10: DoFs, max, mean iterations |")
+    print("|---|---|---|")
+    with tempfile.TemporaryDirectory() as work:
+        split, merged = os.path.join(work, "split.msh"), os.path.join(work, "merged.msh")
+        subprocess.run([sys.executable, MESHER, split, "--lower", "4,2", "--upper", "10,4"],
+                       check=True)
+        subprocess.run([sys.executable, MESHER, merged, "--lower", "10,4", "--upper", "10,4",
+                        "--merge"], check=True)
+        for level in range(3):
+            row = []
+            for mortar in (True, False):
+                with open(scene_file) as f:
+                    text = f.read()
+                text = set_path(text, "Geometry/Mesh file", split if mortar else merged)
+                text = set_path(text, "Mesh refinement/Initial global refinements", str(level))
+                text = set_path(text, "Output/Directory", "it_%d_%d" % (level, mortar))
+                if mortar:
+                    text = set_path(text, "Contact/Interface 1-2/Discretisation", "mortar")
+                    text = set_path(text, "Contact/Interface 1-2/Mortar boundaries", "14, 15")
+                scene = os.path.join(work, "it.prm")
+                with open(scene, "w") as f:
+                    f.write(text)
+                out = subprocess.run([binary, scene], cwd=work, check=True,
+                                     capture_output=True, text=True).stdout
+                value = lambda name: re.search(r"^RESULT %s = (\S+)" % name, out, re.M).group(1)
+                row.append("%s, %s, %s" % (value("displacement dofs"),
+                                           value("max contact iterations"),
+                                           value("mean contact iterations")))
+            print("| %d | %s | %s |" % (level, row[0], row[1]))
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("build", nargs="?", default=os.path.join(ROOT, "build"))
     parser.add_argument("--levels", default="6,12,24,48,96")
+    parser.add_argument("--iterations", action="store_true")
     args = parser.parse_args()
     binary = os.path.join(os.path.abspath(args.build), "contact-stefan")
+    if args.iterations:
+        iterations(binary)
+        return
     print("| n | DoFs | mortar force (n : 2n) | matching force (2n : 2n) | relative difference "
           "| rate | force balance | mortar run (s) |")
     print("|---|---|---|---|---|---|---|---|")

@@ -18,12 +18,13 @@ Exit 0 on success, 1 with one line per failed check otherwise.
 import argparse
 import os
 import re
-import subprocess
 import sys
 import tempfile
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "benchmarks"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from ladder import set_path  # noqa: E402
+from compare_runs import compare, run_scene  # noqa: E402
 
 # Statistics columns and RESULT lines that count work, not physics, or that are
 # round-off (energy-balance residuals, the enthalpy change of a mesh transfer).
@@ -35,29 +36,11 @@ WORK = re.compile(r"wall|iterations|changes|damped|fallback|solver|calls|factori
 def run(binary, scene_text, directory, acceleration, np):
     """One run in directory; returns its RESULT lines, statistics columns and
     'Coupling:' line."""
-    os.makedirs(directory)
-    scene = os.path.join(directory, "scene.prm")
-    text = scene_text
-    text = set_path(text, "Coupling/Fixed-point acceleration", acceleration)
+    text = set_path(scene_text, "Coupling/Fixed-point acceleration", acceleration)
     text = set_path(text, "Output/Directory", os.path.join(directory, "output"))
-    with open(scene, "w") as f:
-        f.write(text)
-    command = [binary, scene]
-    if np > 1:
-        command = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", str(np)] + command
-    result = subprocess.run(command, capture_output=True, text=True)
-    if result.returncode != 0:
-        sys.exit("the run with acceleration '%s' failed (exit %d): %s"
-                 % (acceleration, result.returncode, result.stderr.strip()[-300:]))
-    results = {}
-    for line in result.stdout.splitlines():
-        if line.startswith("RESULT ") and " = " in line:
-            name, value = line[len("RESULT "):].rsplit(" = ", 1)
-            results[name] = value.strip()
-    coupling = [l for l in result.stdout.splitlines() if l.startswith("Coupling:")]
-    with open(os.path.join(directory, "output", "statistics.txt")) as f:
-        lines = [l.split() for l in f if not l.startswith("#")]
-    columns = {name: [float(row[k]) for row in lines[1:]] for k, name in enumerate(lines[0])}
+    results, columns, stdout = run_scene(binary, text, directory, np,
+                                         "'%s' acceleration" % acceleration)
+    coupling = [l for l in stdout.splitlines() if l.startswith("Coupling:")]
     return results, columns, coupling[0] if coupling else ""
 
 
@@ -87,30 +70,9 @@ def main():
         failures.append("the block run took up to %g passes per step (allowed %d)"
                         % (max(passes or [0]), args.passes))
     plain_passes = plain[1].get("coupling_iterations", [0])
-    compared = 0
-    for name, values in plain[1].items():
-        if WORK.search(name) or name in ("step", "time"):
-            continue
-        other = block[1].get(name)
-        if other is None or len(other) != len(values):
-            failures.append("column %s: missing or of another length in the block run" % name)
-            continue
-        scale = max(abs(v) for v in values) or 1.0
-        worst = max(abs(a - b) for a, b in zip(values, other)) / scale
-        compared += 1
-        if not worst <= args.tolerance:
-            failures.append("column %s differs by %.3g of its largest value" % (name, worst))
-    for name, value in plain[0].items():
-        if WORK.search(name) or name not in block[0]:
-            continue
-        try:
-            a, b = float(value), float(block[0][name])
-        except ValueError:
-            continue
-        compared += 1
-        if not abs(a - b) <= args.tolerance * max(abs(a), abs(b), 1e-300):
-            failures.append("RESULT %s: %s (none) against %s (block solve)"
-                            % (name, value, block[0][name]))
+    compared, differences = compare(plain, block, args.tolerance, WORK, ("none", "block solve"),
+                                    missing_results_fail=False)
+    failures += differences
     print("compared %d columns and RESULT lines; passes per step: none up to %g, block up to %g"
           % (compared, max(plain_passes), max(passes or [0])))
     for failure in failures:
