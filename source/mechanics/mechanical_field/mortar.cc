@@ -196,10 +196,20 @@ namespace ContactStefan
                              " faces) within the search distance " +
                              std::to_string(parameters.search_distance) +
                              " m: check the ids and 'Mortar search distance'");
+        double weight_defect = 0;
+        for (const Mortar::SlaveNode &node : coupling.slave)
+          if (conditioned(node))
+            {
+              double sum = 0;
+              for (const auto &[m, value] : node.M)
+                sum += value / node.D;
+              weight_defect = std::max(weight_defect, std::abs(1 - sum));
+            }
         mortar_summary[group] = {body[slave],
                                  coupling.n_segments,
                                  coupling.uncovered_length,
-                                 static_cast<unsigned int>(n_conditions)};
+                                 static_cast<unsigned int>(n_conditions),
+                                 weight_defect};
         for (unsigned int j = 0; j < S.side.nodes.size(); ++j)
           {
             const Mortar::SlaveNode &node = coupling.slave[j];

@@ -39,23 +39,14 @@ namespace ContactStefan
       using PartWithState<dim, MortarState>::PartWithState;
       using Slot = ResultLines::Slot;
 
+      // The coupling is built once per mesh (the summary holds its defect);
+      // the largest over the meshes of the run is kept.
       void update(const StepData &) override
       {
-        const MechanicalField<dim> &field = *this->run.mechanical;
-        const auto                 &owned = field.get_dof_handler().locally_owned_dofs();
-        for (const auto &[group, summary] : field.get_mortar_summary())
+        for (const auto &[group, summary] : this->run.mechanical->get_mortar_summary())
           {
-            double defect = 0;
-            for (const auto &c : field.get_normal_conditions())
-              if (c.mortar && c.group == group && owned.is_element(c.dofs_k[0]))
-                {
-                  double w_sum = 0;
-                  for (const auto &[dofs, w] : c.masters)
-                    w_sum += w;
-                  defect = std::max(defect, std::abs(1 - w_sum));
-                }
             double &max = this->state.max_defect[group];
-            max         = std::max(max, Utilities::MPI::max(defect, this->run.mpi_communicator));
+            max         = std::max(max, summary.weight_defect);
           }
       }
 
