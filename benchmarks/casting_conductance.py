@@ -9,7 +9,6 @@ plots them to doc/figures/casting_conductance.png.
 """
 import os
 import re
-import shutil
 import subprocess
 import sys
 import tempfile
@@ -26,7 +25,10 @@ def settings():
 
 def run(binary, work, name, extra):
     scene = os.path.join(work, name + ".prm")
-    shutil.copy(os.path.join(ROOT, "prm/casting.prm"), scene)
+    with open(os.path.join(ROOT, "prm/casting.prm")) as f:
+        text = f.read().replace("include include/", "include %s/prm/include/" % ROOT)
+    with open(scene, "w") as f:
+        f.write(text)
     subprocess.run([os.path.join(ROOT, "tests/apply_settings.sh"), scene,
                     "SET:Output/Directory=" + name, "SET:Output/VTU interval=0"] + extra,
                    check=True, stdout=subprocess.DEVNULL)

@@ -177,6 +177,10 @@ def run_scene(binary, key, workroot):
     for setting in settings:
         path, _, value = setting.partition("=")
         text = set_path(text, path, value)
+    # The copy runs elsewhere: a relative include names a file beside the scene.
+    scene_dir = os.path.dirname(os.path.join(ROOT, prm))
+    text = re.sub(r"^(\s*include\s+)(?!/)(\S.*)$",
+                  lambda m: m.group(1) + os.path.join(scene_dir, m.group(2)), text, flags=re.M)
     work = tempfile.mkdtemp(prefix="run-", dir=workroot)
     run.directory = work
     with open(os.path.join(work, "scene.prm"), "w", encoding="utf-8") as f:

@@ -1,9 +1,9 @@
 #!/usr/bin/python3
 """Render the application scenes to the pictures of doc/scenes.md.
 
-Runs each scene (prm/subduction.prm, prm/casting.prm) with the given binary in a
-temporary directory, reads its VTU output (meshio) and statistics table, and
-writes to doc/figures/scenes/:
+Runs each scene (prm/subduction.prm, prm/casting.prm, prm/casting_mortar.prm)
+with the given binary in a temporary directory, reads its VTU output (meshio)
+and statistics table, and writes to doc/figures/scenes/:
 
   <scene>_fields.png     temperature with the phase fronts, liquid fraction and
                          von Mises stress (the recovered point field
@@ -69,6 +69,12 @@ SCENES = {
                     time_scale=1.0, time_unit="s", length=1e-3, length_unit="mm",
                     interface=casting_interface, temperature_levels=[660],
                     figsize=(13, 11)),
+    # The die meshed on its own, a mortar wall: the pressure sits on the
+    # slave side, the casting's (body 0).
+    "casting_mortar": dict(prm="prm/casting_mortar.prm", out="output-casting-mortar",
+                           time_scale=1.0, time_unit="s", length=1e-3, length_unit="mm",
+                           interface=casting_interface, temperature_levels=[660],
+                           figsize=(13, 11), pressure_body=0),
 }
 
 
@@ -76,6 +82,11 @@ def interface_figure(name, scene, frames, path):
     fig, ax = plt.subplots(figsize=(7, 4))
     for t, points, quads, d in frames:
         on, s, label = scene["interface"](points)
+        if "pressure_body" in scene:
+            # (A mortar interface: the other side's vertices carry no pressure.)
+            of_body = np.zeros(len(points), dtype=bool)
+            of_body[quads[d["body_id"][quads[:, 0]] == scene["pressure_body"]].ravel()] = True
+            on = on & of_body
         # Interface vertices appear once per adjacent cell; the pressure sits on
         # the cells of the lower body id: take the largest value per position.
         keys = np.round(s[on], 6)

@@ -35,8 +35,9 @@ def run_scene(binary, text, directory, np, what):
 def compare(a, b, tolerance, work, names, missing_results_fail, absolute=0.0):
     """Compares runs a and b ((results, columns, ...) of run_scene): every
     statistics column not matching the regex `work` (nor step, time) at every
-    step within tolerance of the column's largest value, and every numeric
-    RESULT line within tolerance relative (plus `absolute`). A RESULT line of a
+    step within tolerance of the column's largest value (plus `absolute`),
+    and every numeric RESULT line within tolerance relative (plus
+    `absolute`). A RESULT line of a
     missing from b fails only if missing_results_fail. Returns (number
     compared, failures)."""
     failures, compared = [], 0
@@ -51,7 +52,7 @@ def compare(a, b, tolerance, work, names, missing_results_fail, absolute=0.0):
         scale = max(abs(v) for v in values) or 1.0
         worst = max(abs(x - y) for x, y in zip(values, other)) / scale
         compared += 1
-        if not worst <= tolerance:
+        if not worst <= tolerance + absolute / scale:
             failures.append("column %s differs by %.3g of its largest value" % (name, worst))
     for name, value in a[0].items():
         if work.search(name):

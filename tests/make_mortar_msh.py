@@ -8,7 +8,7 @@ the lower block's side of the interface, 15 the upper block's.
 
   make_mortar_msh.py OUTPUT --lower NX,NY --upper NX,NY [--width W] [--height H]
                      [--perturb lower|upper] [--bump A] [--shift S] [--merge]
-                     [--split-lower X] [--lift L] [--rotate DEG]
+                     [--split-lower X] [--lift L] [--rotate DEG] [--centre]
 
 --perturb moves the interior interface nodes of one block along x by up to 0.3
 of its cell width (x_i += 0.3 h sin(7 i)), with the column of nodes above or
@@ -22,8 +22,9 @@ block's cells right of x = X body 3 (sharing the nodes on x = X with body 1),
 their top faces line 16 and the upper block's bottom faces right of X line 17:
 two interfaces, 1-2 and 2-3, whose sides meet at x = X. --lift L moves the
 upper block up by L (a gap). --rotate DEG turns the whole mesh by DEG degrees
-about the middle of the interface (W/2, H). The test meshes are generated, never
-committed."""
+about the middle of the interface (W/2, H). --centre moves the mesh left by W/2,
+so that the middle of the interface is at x = 0 (lines 10 and 11 at x = -W/2 and
+W/2). The test meshes are generated, never committed."""
 import argparse
 import math
 
@@ -58,6 +59,7 @@ def main():
     parser.add_argument("--split-lower", type=float, default=None)
     parser.add_argument("--lift", type=float, default=0.0)
     parser.add_argument("--rotate", type=float, default=0.0)
+    parser.add_argument("--centre", action="store_true")
     args = parser.parse_args()
     W, H = args.width, args.height
     interface = lambda x: H + args.bump * math.sin(math.pi * x / W)
@@ -114,6 +116,8 @@ def main():
         c, s = math.cos(math.radians(args.rotate)), math.sin(math.radians(args.rotate))
         nodes = [(W / 2 + c * (x - W / 2) - s * (y - H), H + s * (x - W / 2) + c * (y - H))
                  for x, y in nodes]
+    if args.centre:
+        nodes = [(x - W / 2, y) for x, y in nodes]
     with open(args.output, "w") as f:
         f.write("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n%d\n" % len(nodes))
         for n, (x, y) in enumerate(nodes):

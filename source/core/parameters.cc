@@ -54,7 +54,12 @@ namespace ContactStefan
                         "ids. 'disk in ring': a quarter disk r < Inner radius (body 0) in a "
                         "quarter ring up to Outer radius (body 1), boundary ids 0 (x = 0), "
                         "1 (y = 0), 2 (outer arc); Subdivisions n, m give 2n cells along the "
-                        "arcs and m across the ring; the nodes lie on the circles. "
+                        "arcs and m across the ring; the nodes lie on the circles. A third "
+                        "value a meshes the ring on its own with a cells along its arcs: the "
+                        "two sides of r = Inner radius get their own nodes and boundary ids "
+                        "3 (the disk's) and 4 (the ring's), for a mortar interface "
+                        "(Contact/Interface 0-1/Discretisation = mortar, Mortar boundaries = "
+                        "3, 4). "
                         "'dipping interface': the rectangle cut by a straight interface "
                         "from (Interface top x, y1) down to y0 at Interface dip below the "
                         "horizontal, dipping towards +x; body 0 below it, body 1 above; "
@@ -131,7 +136,11 @@ namespace ContactStefan
                   "must be positive integers, got " + str(v));
           subdivisions.push_back(static_cast<unsigned int>(v));
         }
-      require(subdivisions.size() == 2, "Geometry/Subdivisions", "needs two integers");
+      require(subdivisions.size() == 2 ||
+                (subdivisions.size() == 3 && mesh_type == MeshType::disk_in_ring),
+              "Geometry/Subdivisions",
+              mesh_type == MeshType::disk_in_ring ? "needs two integers n, m (or three: n, m, a)" :
+                                                    "needs two integers");
       if (mesh_type == MeshType::dipping_interface)
         {
           require(interface_top_x > ll[0] && interface_top_x < ur[0],
@@ -719,11 +728,11 @@ namespace ContactStefan
                   path + "Discretisation",
                   "'mortar' couples the contact step's conditions: it needs "
                   "Physics/Mechanics = true");
-          require(!physics.thermal,
-                  path + "Discretisation",
-                  "'mortar' carries no heat yet (the thermal mortar coupling is not "
-                  "implemented): set Physics/Thermal = false or mesh the interface "
-                  "node for node");
+          require(!physics.thermal ||
+                    law.thermal_contact == Parameters::InterfacePair::ThermalContact::perfect,
+                  path + "Thermal contact",
+                  "a conductance across a mortar interface is not implemented (perfect "
+                  "thermal contact is): mesh the interface node for node or make it perfect");
           require(law.kind == Parameters::Contact::Interfaces::contact,
                   path + "Kind",
                   "a mortar interface is a contact so far ('tied' needs matching nodes)");

@@ -457,17 +457,23 @@ namespace ContactStefan
     // straight lines to arc points at equal angles; around it a quarter ring
     // b < r < c (body 1) of 2n x m cells on the same angles. Every node on a
     // circle lies exactly on it, and the two bodies share the nodes of r = b.
+    // With a > 0 the ring has a cells along its arcs instead and nodes of its
+    // own on r = b (the two sides of a mortar interface, doc/contact.md):
+    // boundary ids 3 (the disk's arc) and 4 (the ring's inner arc).
     void make_disk_in_ring(Triangulation<2> &coarse,
                            const double      b,
                            const double      c,
                            const unsigned    n,
-                           const unsigned    m)
+                           const unsigned    m,
+                           const unsigned    a)
     {
       std::vector<Point<2>>                                   vertices;
       std::map<std::pair<long long, long long>, unsigned int> index_of;
       const double                                            snap   = 1e-12 * c;
-      const auto                                              vertex = [&](const Point<2> &p) {
-        const std::pair<long long, long long> key{std::llround(p[0] / snap),
+      // (A ring meshed on its own keeps its nodes apart from the disk's.)
+      long long  offset = 0;
+      const auto vertex = [&](const Point<2> &p) {
+        const std::pair<long long, long long> key{std::llround(p[0] / snap) + offset,
                                                   std::llround(p[1] / snap)};
         const auto [it, added] = index_of.emplace(key, vertices.size());
         if (added)
@@ -514,12 +520,15 @@ namespace ContactStefan
             add({{top(j, k), top(j + 1, k), top(j, k + 1), top(j + 1, k + 1)}}, 0);
           }
       // Ring (l outward, a counter-clockwise).
-      const auto ring = [&](const unsigned l, const unsigned a) {
-        return arc(b + l * (c - b) / m, a * quarter / n);
+      const unsigned int n_arc = a > 0 ? a : 2 * n;
+      const auto         ring  = [&](const unsigned l, const unsigned k) {
+        return arc(b + l * (c - b) / m, k * 2 * quarter / n_arc);
       };
+      if (a > 0)
+        offset = 4 * std::llround(c / snap) + 4;
       for (unsigned int l = 0; l < m; ++l)
-        for (unsigned int a = 0; a < 2 * n; ++a)
-          add({{ring(l, a), ring(l + 1, a), ring(l, a + 1), ring(l + 1, a + 1)}}, 1);
+        for (unsigned int k = 0; k < n_arc; ++k)
+          add({{ring(l, k), ring(l + 1, k), ring(l, k + 1), ring(l + 1, k + 1)}}, 1);
 
       GridTools::consistently_order_cells(cells);
       coarse.create_triangulation(vertices, cells, SubCellData());
@@ -530,7 +539,9 @@ namespace ContactStefan
               const Point<2> x = face->center();
               face->set_boundary_id(std::abs(x[0]) < 1e-10 * c ? 0 :
                                     std::abs(x[1]) < 1e-10 * c ? 1 :
-                                                                 2);
+                                    x.norm() > 0.5 * (b + c)   ? 2 :
+                                    cell->material_id() == 0   ? 3 :
+                                                                 4);
             }
     }
 
@@ -680,14 +691,15 @@ namespace ContactStefan
         }
       else if (g.mesh_type == Parameters::Geometry::MeshType::disk_in_ring)
         {
-          const double n = g.subdivisions[0], m = g.subdivisions[1];
-          const double cells =
-            (3 * n * n + 2 * n * m) * std::pow(4., refinement.initial_global_refinements);
+          const double       n = g.subdivisions[0], m = g.subdivisions[1];
+          const unsigned int a     = g.subdivisions.size() > 2 ? g.subdivisions[2] : 0;
+          const double       cells = (3 * n * n + (a > 0 ? a : 2 * n) * m) *
+                               std::pow(4., refinement.initial_global_refinements);
           check_cell_count(cells, refinement, "Geometry/Subdivisions");
           Triangulation<dim> coarse;
           make_disk_in_ring(
-            coarse, g.inner_radius, g.outer_radius, g.subdivisions[0], g.subdivisions[1]);
-          check_mesh(coarse, "the disk-in-ring mesh");
+            coarse, g.inner_radius, g.outer_radius, g.subdivisions[0], g.subdivisions[1], a);
+          check_mesh(coarse, "the disk-in-ring mesh", mortar_pairs);
           triangulation.copy_triangulation(coarse);
         }
       else

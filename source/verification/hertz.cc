@@ -1,13 +1,18 @@
-// Part 'hertz' (Exact solution/Type = hertz, doc/benchmarks.md C1): a rigid
-// cylinder of 'Cylinder radius' pressed into body 'Body' through its obstacle
-// boundary. The Hertz half-plane solution for the computed force, against the
-// pressure at the obstacle's nodes: half-width, peak pressure and the
-// pressure profile.
+// Part 'hertz' (Exact solution/Type = hertz, doc/benchmarks.md C1, M5): a
+// rigid cylinder of 'Cylinder radius' pressed into body 'Body' through its
+// obstacle boundary; or, with 'Second body', two elastic half-planes whose
+// interface gap is the cylinder's profile, g = x^2 / (2R) near the contact,
+// pressed together (the Hertz problem of two elastic cylinders of relative
+// curvature 1/R, with 1/E* = 1/E*_1 + 1/E*_2). The Hertz half-plane solution
+// for the computed force, against the pressure at the contact nodes (the
+// obstacle's, or the interface's: node pairs or mortar slave nodes):
+// half-width, peak pressure and the pressure profile.
 #include <contact-stefan/core/checked_input.h>
 #include <contact-stefan/interfaces/contact.h>
 #include <contact-stefan/output/part.h>
 #include <contact-stefan/verification/contact_solution_checks.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -20,6 +25,7 @@ namespace ContactStefan
     struct HertzParameters : PartParameters
     {
       unsigned int body;
+      int          second_body; // -1: the rigid cylinder (an obstacle)
       double       cylinder_radius;
     };
 
@@ -40,18 +46,18 @@ namespace ContactStefan
         const MechanicalField<dim> &field      = *run.mechanical;
         const auto                 &owned      = field.get_dof_handler().locally_owned_dofs();
         const auto                 &conditions = field.get_normal_conditions();
-        // The contact nodes of the obstacle: position, pressure and weight.
+        // The contact nodes: position, pressure and weight.
         std::vector<std::array<double, 3>> local;
         double                             local_force = 0;
         for (const auto &c : conditions)
-          if (c.kind == Kind::obstacle && owned.is_element(c.dofs_k[0]))
+          if (counts(c) && owned.is_element(c.dofs_k[0]))
             {
               const double p = field.is_active(c) ? field.contact_pressure(c) : 0.;
               local.push_back({{c.position[0], p, c.weight}});
               local_force += p * c.weight;
             }
         const double         P      = Utilities::MPI::sum(local_force, comm);
-        const double         E_star = run.materials[parameters.body].plane_strain_modulus;
+        const double         E_star = composite_modulus();
         const Contact::Hertz hertz(P, parameters.cylinder_radius, E_star);
         double               contact_length = 0, p0 = 0, error2 = 0, norm2 = 0;
         for (const auto &[x, p, w] : local)
@@ -81,12 +87,31 @@ namespace ContactStefan
         add("Hertz pressure profile relative L2 error", std::sqrt(error2 / norm2));
         double spacing = HUGE_VAL;
         for (const auto &c : conditions)
-          if (c.kind == Kind::obstacle)
+          if (counts(c))
             spacing = std::min(spacing, c.weight);
         add("contact mesh width", Utilities::MPI::min(spacing, comm));
       }
 
     private:
+      // An obstacle node of Body, or a node of the interface of Body and
+      // Second body.
+      bool counts(const NormalCondition &c) const
+      {
+        if (parameters.second_body < 0)
+          return c.kind == NormalCondition::Kind::obstacle;
+        const unsigned int a = parameters.body, b = parameters.second_body;
+        return c.kind == NormalCondition::Kind::interface && c.body_k == std::min(a, b) &&
+               c.body_l == std::max(a, b);
+      }
+      double composite_modulus() const
+      {
+        const double E1 = this->run.materials[parameters.body].plane_strain_modulus;
+        if (parameters.second_body < 0)
+          return E1;
+        const double E2 = this->run.materials[parameters.second_body].plane_strain_modulus;
+        return 1 / (1 / E1 + 1 / E2);
+      }
+
       const HertzParameters &parameters;
     };
   } // namespace
@@ -99,11 +124,19 @@ namespace ContactStefan
     info.name           = "hertz";
     info.exact_solution = true;
     info.description    = "a rigid cylinder of Cylinder radius pressed into body Body through its "
-                          "obstacle boundary (the Hertz half-plane solution for the computed "
-                          "force).";
+                          "obstacle boundary, or Body and Second body pressed together across an "
+                          "interface whose gap is the cylinder's profile (the Hertz half-plane "
+                          "solution for the computed force).";
     info.declare        = [](ParameterHandler &prm) {
       prm.enter_subsection("Exact solution");
       prm.declare_entry("Cylinder radius", "1", Patterns::Double(0), "Hertz: R (m).");
+      prm.declare_entry("Second body",
+                        "-1",
+                        Patterns::Integer(-1),
+                        "Hertz: -1, a rigid cylinder pressing on Body's obstacle boundary; a "
+                        "body id: Body and this body are two elastic half-planes in contact "
+                        "across their interface, whose Gap is the cylinder's profile (relative "
+                        "curvature 1/Cylinder radius; 1/E* = 1/E*_Body + 1/E*_second).");
       prm.leave_subsection();
     };
     info.parse = [](ParameterHandler &prm, const SceneParameters &scene, const bool chosen) {
@@ -111,9 +144,14 @@ namespace ContactStefan
       prm.enter_subsection("Exact solution");
       p->body            = prm.get_integer("Body");
       p->cylinder_radius = get_finite(prm, "Exact solution/", "Cylinder radius");
+      p->second_body     = prm.get_integer("Second body");
       prm.leave_subsection();
       if (!chosen)
         return std::shared_ptr<const PartParameters>();
+      require(p->second_body < 0 || (scene.materials.count(p->second_body) == 1 &&
+                                     p->second_body != static_cast<int>(p->body)),
+              "Exact solution/Second body",
+              "must be -1 or a body other than Exact solution/Body in Bodies/Body ids");
       require(p->cylinder_radius > 0,
               "Exact solution/Cylinder radius",
               "must be > 0 for the Hertz solution, got " + str(p->cylinder_radius));

@@ -30,6 +30,23 @@ set(CASTING_BOUNDS
   "RESULT max energy-balance residual<1e-8")
 scene(scenes/casting 1 ${CMAKE_SOURCE_DIR}/prm/casting.prm casting ${CASTING_BOUNDS})
 scene(scenes/casting-mpi2 2 ${CMAKE_SOURCE_DIR}/prm/casting.prm casting ${CASTING_BOUNDS})
+# The casting with its die meshed on its own (prm/casting_mortar.prm, 32
+# casting cells and 24 die cells along the wall, a dual mortar interface in
+# contact and perfect thermal contact): energy conserved, the coupling
+# balanced; its melt area and contact force lie within 5 % and 1 % of the
+# matching mesh of the same casting resolution (doc/scenes.md: 6.34e-4 m^2,
+# 3.96e5 N/m).
+set(CASTING_MORTAR_BOUNDS "SET:Output/VTU interval=0"
+  "RESULT max energy-balance residual<1e-12"
+  "RESULT steps with relaxation fallback<0.5"
+  "RESULT mortar weight defect interface 0-1<1e-14"
+  "RESULT mortar uncovered slave length interface 0-1<1e-15"
+  "RESULT melt area>0.000634" "RESULT melt area<0.000666"
+  "RESULT contact force interface 0-1>392000" "RESULT contact force interface 0-1<400000")
+scene(scenes/casting-mortar 1 ${CMAKE_SOURCE_DIR}/prm/casting_mortar.prm casting_mortar
+  ${CASTING_MORTAR_BOUNDS})
+scene(scenes/casting-mortar-mpi2 2 ${CMAKE_SOURCE_DIR}/prm/casting_mortar.prm casting_mortar
+  ${CASTING_MORTAR_BOUNDS})
 # The casting born stress-free at solidification (doc/solidification.md), run
 # until it has frozen through (200 s): every corner of its 192 cells born once.
 scene(scenes/casting-birth 1 ${CMAKE_SOURCE_DIR}/prm/casting.prm casting-birth

@@ -40,7 +40,9 @@ namespace ContactStefan
       // "disk in ring": a quarter disk r < Inner radius (body 0) fitted into a
       // quarter ring Inner radius < r < Outer radius (body 1), boundary ids 0
       // (x = 0), 1 (y = 0), 2 (the outer arc); Subdivisions n, m: 2n cells along
-      // the arcs, m across the ring (doc/benchmarks.md T4).
+      // the arcs, m across the ring (doc/benchmarks.md T4); n, m, a: the ring
+      // meshed on its own with a cells along its arcs, the sides of r = Inner
+      // radius ids 3 (disk) and 4 (ring), a mortar interface.
       // "dipping interface": the rectangle cut by a straight interface from
       // (Interface top x, y1) down to y0 at Interface dip degrees below the
       // horizontal (dipping towards +x): body 0 below/left of it, body 1 above/right

@@ -383,6 +383,34 @@ namespace ContactStefan
     unsigned int relaxation_fallback();
     double       compute_energy_balance(unsigned int &inconsistent_nodes) const;
 
+    /**
+     * thermal_field/mortar.cc: the hanging-node constraints and, for every
+     * mortar interface in perfect thermal contact, one line per coupled slave
+     * node Theta_j = sum_m (M_jm / D_j) Theta_m (its master DoFs join the
+     * locally relevant set first).
+     */
+    void make_node_constraints();
+    /**
+     * The law through which a coupled slave node's interpolated enthalpy is
+     * read (its phase, its melt share): its masters' laws mixed with the
+     * line's positive weights, which on matching sides is its partner's law,
+     * as at a node the two bodies share.
+     */
+    void set_mortar_slave_laws();
+    /**
+     * After a step: a coupled slave node's enthalpy is the line's
+     * interpolation of its masters' (as on a new mesh, after_transfer()),
+     * not its law's enthalpy at the interpolated temperature, which on a
+     * plateau would be an end of it; its phase state follows.
+     */
+    void interpolate_mortar_slave_enthalpies();
+    /** Whether a mortar interface is in perfect thermal contact (all ranks). */
+    bool have_thermal_mortar = false;
+    /** The lines of make_node_constraints() on the relevant slave DoFs. */
+    std::vector<
+      std::pair<types::global_dof_index, std::vector<std::pair<types::global_dof_index, double>>>>
+      mortar_lines;
+
     /** thermal_field/interface_heat.cc */
     /** interfaces: the mesh's (find_body_interfaces), found once per set-up. */
     void setup_slots(const std::vector<BodyInterface<dim>> &interfaces);
@@ -464,8 +492,10 @@ namespace ContactStefan
     IndexSet        owned, relevant;
 
     /**
-     * Hanging-node constraints alone, the Dirichlet ones on top (rebuilt each
-     * step), and the full set of one active-set iteration (plus the plateau nodes).
+     * Hanging-node constraints alone (with the lines of mortar interfaces in
+     * perfect thermal contact: a coupled slave node is a hanging node of the
+     * master side), the Dirichlet ones on top (rebuilt each step), and the
+     * full set of one active-set iteration (plus the plateau nodes).
      */
     AffineConstraints<double> hanging_node_constraints, dirichlet_constraints, constraints;
 

@@ -906,6 +906,7 @@ namespace ContactStefan
           local_plateau += EnthalpyLaw::is_plateau(static_cast<unsigned int>(phase_state[dof]));
         report.plateau_nodes = Utilities::MPI::sum(local_plateau, mpi_communicator);
       }
+    interpolate_mortar_slave_enthalpies(); // (mortar.cc)
     report.energy_residual    = compute_energy_balance(report.inconsistent_nodes);
     report.factorisations     = n_factorisations;
     report.thermoelastic_heat = thermoelastic_heat();

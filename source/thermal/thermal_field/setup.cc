@@ -93,11 +93,7 @@ namespace ContactStefan
     DoFRenumbering::hierarchical(dof_handler);
     owned = dof_handler.locally_owned_dofs();
     DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
-
-    hanging_node_constraints.clear();
-    hanging_node_constraints.reinit(relevant);
-    DoFTools::make_hanging_node_constraints(dof_handler, hanging_node_constraints);
-    hanging_node_constraints.close();
+    make_node_constraints(); // hanging nodes, mortar interfaces (mortar.cc)
     setup_conductance_nodes(interfaces);
 
     // The pattern keeps the rows and columns of constrained DoFs: the plateau
@@ -525,6 +521,7 @@ namespace ContactStefan
             if (relevant.is_element(dof) && hanging_node_constraints.is_constrained(dof))
               law_of_node[relevant.index_within_set(dof)] = law_of_body.at(cell->material_id());
         }
+    set_mortar_slave_laws(); // (mortar.cc)
   }
 
 

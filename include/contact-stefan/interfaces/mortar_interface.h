@@ -1,0 +1,91 @@
+// One mortar interface of the mesh (Contact/Interface k-l/Discretisation =
+// mortar, doc/contact.md): the boundary faces of body k and body l that carry
+// the interface's two 'Mortar boundaries' ids, gathered from every rank,
+// and their dual mortar coupling (interfaces/mortar.h). Both fields build it
+// from the same faces with the same rules, so that they agree on the slave
+// side, on which slave nodes are coupled and on the weights: the contact step
+// turns it into one Signorini condition per slave node, the enthalpy step
+// into one constraint Theta_j = sum_m (M_jm / D_j) Theta_m (perfect thermal
+// contact). Each field names its own DoFs of a node (two displacement
+// components, one temperature).
+#ifndef contact_stefan_mortar_interface_h
+#define contact_stefan_mortar_interface_h
+
+#include <deal.II/dofs/dof_handler.h>
+
+#include <contact-stefan/core/interface_laws.h>
+#include <contact-stefan/interfaces/mortar.h>
+
+#include <array>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace ContactStefan
+{
+  using namespace dealii;
+
+  /** The coupling of one mortar interface, the same on every rank. */
+  struct MortarInterface
+  {
+    /** 'interface k-l'. */
+    std::string name;
+    /** The bodies k < l; which of the two sides (0: k, 1: l) is the slave. */
+    std::array<unsigned int, 2> body{{0, 0}};
+    unsigned int                slave = 0;
+    /**
+     * The two sides as polylines (nodes numbered in an order that does not
+     * depend on the partition) and each node's DoFs, as the field named them.
+     */
+    std::array<Mortar::Side, 2>                                      sides;
+    std::array<std::vector<std::vector<types::global_dof_index>>, 2> dofs;
+    double                                                           search_distance = 0;
+    /** D, M, normals and gaps by slave node. */
+    Mortar::Coupling coupling;
+    /**
+     * Whether slave node j has a condition: the master side covers at least
+     * 'Mortar minimum coverage' of its support.
+     */
+    std::vector<bool> conditioned;
+    unsigned int      n_conditions = 0;
+    /** max |1 - sum_m M_jm / D_j| over the conditioned nodes. */
+    double weight_defect = 0;
+
+    const Mortar::Side &slave_side() const
+    {
+      return sides[slave];
+    }
+    const std::vector<std::vector<types::global_dof_index>> &slave_dofs() const
+    {
+      return dofs[slave];
+    }
+    const std::vector<std::vector<types::global_dof_index>> &master_dofs() const
+    {
+      return dofs[1 - slave];
+    }
+  };
+
+  /**
+   * The DoFs of vertex v of a cell, as a field numbers them (the same count
+   * for every node).
+   */
+  template <int dim>
+  using MortarNodeDofs = std::function<
+    std::vector<types::global_dof_index>(const typename DoFHandler<dim>::active_cell_iterator &cell,
+                                         const unsigned int vertex)>;
+
+  /**
+   * The coupling of the mortar interface between bodies pair.first <
+   * pair.second whose law is 'law', built from the locally owned cells of
+   * every rank (collective). Throws InputError naming 'Contact/Interface
+   * k-l/Mortar boundaries' if a nodal normal is undefined or if no slave node
+   * faces the master side within the search distance.
+   */
+  template <int dim>
+  MortarInterface couple_mortar_interface(const DoFHandler<dim>                       &dof_handler,
+                                          const std::pair<unsigned int, unsigned int> &pair,
+                                          const Parameters::InterfacePair             &law,
+                                          const MortarNodeDofs<dim>                   &node_dofs);
+} // namespace ContactStefan
+
+#endif

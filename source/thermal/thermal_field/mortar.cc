@@ -1,0 +1,187 @@
+// Perfect thermal contact across a mortar interface (Contact/Interface k-l/
+// Discretisation = mortar, Thermal contact = perfect; doc/contact.md,
+// "Non-matching interfaces"). The two sides are meshed independently, so
+// each has its own temperature DoFs; continuity is imposed weakly with the
+// dual basis psi_j of the slave side,
+//
+//   int_Gamma psi_j (Theta_slave - Theta_master) = 0   for every slave node j,
+//
+// which, psi_j being biorthogonal to the slave hat functions, is one equation
+// per slave node: D_j Theta_j = sum_m M_jm Theta_m. It is statically
+// condensed: Theta_j = sum_m (M_jm / D_j) Theta_m is a constraint line, and
+// the slave node becomes a hanging node of the master side. Everything the
+// enthalpy step does with hanging nodes then holds for it: its lumped mass,
+// its conductivity rows and its loads are distributed to the master nodes by
+// the same weights, its enthalpy and temperature are interpolated, and the
+// totals (stored heat, energy balance) count the master nodes only. The
+// condensed system is the mortar (weakly continuous) Galerkin system, whose
+// heat leaving the slave side enters the master side exactly (sum_m M_jm =
+// D_j to round-off), and which reproduces a temperature linear along the
+// interface exactly (the dual basis reproduces linear functions).
+//
+// The coupling is the contact step's: interfaces/mortar_interface.h builds it
+// from the same faces with the same rules, so that the contact conditions
+// and the thermal lines name the same slave nodes.
+#include <deal.II/base/mpi.h>
+
+#include <deal.II/dofs/dof_tools.h>
+
+#include <contact-stefan/interfaces/mortar_interface.h>
+#include <contact-stefan/thermal/thermal_field.h>
+
+#include <algorithm>
+#include <map>
+#include <set>
+
+namespace ContactStefan
+{
+  template <int dim>
+  void ThermalField<dim>::make_node_constraints()
+  {
+    using Law = Parameters::InterfacePair;
+    // Lines (slave DoF, weights of the master DoFs) of the slave nodes this
+    // rank sees.
+    auto &lines = mortar_lines;
+    lines.clear();
+    IndexSet     masters(dof_handler.n_dofs());
+    unsigned int n_interfaces = 0;
+    for (const auto &[pair, law] : prm.interface_pairs)
+      if (law.discretisation == Law::Discretisation::mortar &&
+          law.thermal_contact == Law::ThermalContact::perfect)
+        ++n_interfaces;
+    have_thermal_mortar = n_interfaces > 0;
+    if (n_interfaces > 0)
+      {
+        // A slave node on a boundary with a prescribed temperature keeps it:
+        // its line would override the boundary value (hanging constraints
+        // come first, make_dirichlet_constraints()). Decided from the owned
+        // cells of all ranks, so that every rank drops the same lines.
+        std::vector<types::global_dof_index> fixed;
+        std::vector<types::global_dof_index> dofs;
+        for (const auto &cell : dof_handler.active_cell_iterators())
+          if (cell->is_locally_owned())
+            for (const unsigned int f : cell->face_indices())
+              if (cell->face(f)->at_boundary())
+                {
+                  const auto bc = prm.thermal_boundaries.find(cell->face(f)->boundary_id());
+                  if (bc == prm.thermal_boundaries.end() ||
+                      bc->second.type != Parameters::ThermalBoundary::Type::temperature)
+                    continue;
+                  dofs.resize(cell->get_fe().n_dofs_per_cell());
+                  cell->get_dof_indices(dofs);
+                  for (unsigned int v = 0; v < GeometryInfo<dim>::vertices_per_face; ++v)
+                    fixed.push_back(dofs[GeometryInfo<dim>::face_to_cell_vertices(f, v)]);
+                }
+        std::set<types::global_dof_index> on_dirichlet;
+        for (const auto &part : Utilities::MPI::all_gather(mpi_communicator, fixed))
+          on_dirichlet.insert(part.begin(), part.end());
+
+        for (const auto &[pair, law] : prm.interface_pairs)
+          {
+            if (law.discretisation != Law::Discretisation::mortar ||
+                law.thermal_contact != Law::ThermalContact::perfect)
+              continue;
+            // Vertex v of a cell is its v-th DoF (FE_Q(1), or one FE_Q(1) in
+            // the body's slot).
+            const MortarInterface mi = couple_mortar_interface<dim>(
+              dof_handler,
+              pair,
+              law,
+              [](const typename DoFHandler<dim>::active_cell_iterator &cell, const unsigned int v) {
+                std::vector<types::global_dof_index> dofs(cell->get_fe().n_dofs_per_cell());
+                cell->get_dof_indices(dofs);
+                return std::vector<types::global_dof_index>{dofs[v]};
+              });
+            for (unsigned int j = 0; j < mi.slave_side().nodes.size(); ++j)
+              {
+                const types::global_dof_index slave = mi.slave_dofs()[j][0];
+                if (!mi.conditioned[j] || !relevant.is_element(slave) || on_dirichlet.count(slave))
+                  continue;
+                const Mortar::SlaveNode &node = mi.coupling.slave[j];
+                auto                    &line =
+                  lines
+                    .emplace_back(slave, std::vector<std::pair<types::global_dof_index, double>>())
+                    .second;
+                for (const auto &[m, value] : node.M)
+                  {
+                    const types::global_dof_index master = mi.master_dofs()[m][0];
+                    line.emplace_back(master, value / node.D);
+                    masters.add_index(master);
+                  }
+              }
+          }
+        relevant.add_indices(masters);
+      }
+
+    hanging_node_constraints.clear();
+    hanging_node_constraints.reinit(relevant);
+    DoFTools::make_hanging_node_constraints(dof_handler, hanging_node_constraints);
+    // (A boundary node is never hanging: no line is there yet.)
+    for (const auto &[slave, entries] : lines)
+      {
+        hanging_node_constraints.add_line(slave);
+        hanging_node_constraints.add_entries(slave, entries);
+      }
+    hanging_node_constraints.close();
+  }
+
+
+
+  template <int dim>
+  void ThermalField<dim>::set_mortar_slave_laws()
+  {
+    for (const auto &[slave, entries] : mortar_lines)
+      {
+        std::map<unsigned int, double> weight_of_law;
+        double                         total = 0;
+        for (const auto &[master, w] : entries)
+          if (w > 0)
+            {
+              weight_of_law[law_of_node[relevant.index_within_set(master)]] += w;
+              total += w;
+            }
+        if (weight_of_law.empty())
+          continue;
+        unsigned int &law = law_of_node[relevant.index_within_set(slave)];
+        if (weight_of_law.size() == 1)
+          law = weight_of_law.begin()->first;
+        else
+          {
+            std::vector<std::pair<double, const EnthalpyLaw *>> terms;
+            for (const auto &[l, w] : weight_of_law)
+              terms.emplace_back(w / total, &laws[l]);
+            laws.push_back(EnthalpyLaw::weighted_sum(terms));
+            law = laws.size() - 1;
+          }
+      }
+  }
+
+
+
+  template <int dim>
+  void ThermalField<dim>::interpolate_mortar_slave_enthalpies()
+  {
+    if (!have_thermal_mortar)
+      return;
+    enthalpy_ghosted = enthalpy;
+    double *h = entries(enthalpy), *state = entries(phase_state);
+    for (const auto &[slave, line] : mortar_lines)
+      if (owned.is_element(slave))
+        {
+          const unsigned int i     = slave - first_owned;
+          double             value = 0;
+          for (const auto &[master, w] : line)
+            value += w * enthalpy_ghosted[master];
+          h[i]     = value;
+          state[i] = owned_node_law(i).state_of_enthalpy(value);
+        }
+    enthalpy_ghosted    = enthalpy;
+    phase_state_ghosted = phase_state;
+  }
+
+
+
+  template void ThermalField<2>::make_node_constraints();
+  template void ThermalField<2>::interpolate_mortar_slave_enthalpies();
+  template void ThermalField<2>::set_mortar_slave_laws();
+} // namespace ContactStefan
