@@ -404,6 +404,12 @@ namespace ContactStefan
      * plateau would be an end of it; its phase state follows.
      */
     void interpolate_mortar_slave_enthalpies();
+    /**
+     * With thermal mortar lines: every free node's lumped mass is > 0 after
+     * the slave nodes handed theirs to their masters (the dual weights can
+     * be negative); else the run stops, naming the node (collective).
+     */
+    void check_condensed_mass() const;
     /** Whether a mortar interface is in perfect thermal contact (all ranks). */
     bool have_thermal_mortar = false;
     /** The lines of make_node_constraints() on the relevant slave DoFs. */

@@ -26,15 +26,62 @@
 
 #include <deal.II/dofs/dof_tools.h>
 
+#include <contact-stefan/core/checked_input.h>
 #include <contact-stefan/interfaces/mortar_interface.h>
 #include <contact-stefan/thermal/thermal_field.h>
 
 #include <algorithm>
+#include <array>
 #include <map>
 #include <set>
 
 namespace ContactStefan
 {
+  namespace
+  {
+    // Where a node enters a line: the interface, its position, the pair.
+    struct MortarNodeUse
+    {
+      std::string                           interface;
+      std::array<double, 2>                 position;
+      std::pair<unsigned int, unsigned int> pair;
+    };
+
+    // A slave node takes one line, and no master node is a slave elsewhere:
+    // where the sides of two mortar interfaces meet, a second line would
+    // count the node's heat twice, and lines that name each other make
+    // AffineConstraints::close() substitute them into each other for ever
+    // (a chain without a loop would close, but the slave laws and enthalpies
+    // read the lines unresolved). Decided on data every rank has in full.
+    void refuse_chained_lines(
+      const std::map<types::global_dof_index, std::vector<MortarNodeUse>> &slave_of,
+      const std::map<types::global_dof_index, std::vector<MortarNodeUse>> &master_of)
+    {
+      const auto refuse = [](const MortarNodeUse &use, const std::string &why) {
+        throw InputError("Contact/" +
+                           Parameters::InterfacePair::section(use.pair.first, use.pair.second) +
+                           "/Mortar boundaries",
+                         "the node at (" + std::to_string(use.position[0]) + ", " +
+                           std::to_string(use.position[1]) + ") " + why +
+                           "; a node takes one thermal mortar line: let the sides end apart, or "
+                           "choose 'Mortar slave' so that the node is a master of both");
+      };
+      for (const auto &[dof, uses] : slave_of)
+        {
+          if (uses.size() > 1)
+            refuse(uses[0],
+                   "is a slave node of " + uses[0].interface + " and of " + uses[1].interface);
+          const auto m = master_of.find(dof);
+          if (m != master_of.end())
+            refuse(uses[0],
+                   "is a slave node of " + uses[0].interface + " and a master node of " +
+                     m->second[0].interface);
+        }
+    }
+  } // namespace
+
+
+
   template <int dim>
   void ThermalField<dim>::make_node_constraints()
   {
@@ -75,6 +122,7 @@ namespace ContactStefan
         std::set<types::global_dof_index> on_dirichlet;
         for (const auto &part : Utilities::MPI::all_gather(mpi_communicator, fixed))
           on_dirichlet.insert(part.begin(), part.end());
+        std::map<types::global_dof_index, std::vector<MortarNodeUse>> slave_of, master_of;
 
         for (const auto &[pair, law] : prm.interface_pairs)
           {
@@ -92,6 +140,20 @@ namespace ContactStefan
                 cell->get_dof_indices(dofs);
                 return std::vector<types::global_dof_index>{dofs[v]};
               });
+            // The whole coupling is the same on every rank: record every
+            // line's slave and masters (by position, for the message) to
+            // refuse a node that two lines would name.
+            for (unsigned int j = 0; j < mi.slave_side().nodes.size(); ++j)
+              if (mi.conditioned[j] && !on_dirichlet.count(mi.slave_dofs()[j][0]))
+                {
+                  const auto &x = mi.slave_side().nodes[j];
+                  slave_of[mi.slave_dofs()[j][0]].push_back({mi.name, {{x[0], x[1]}}, pair});
+                  for (const auto &[m, value] : mi.coupling.slave[j].M)
+                    {
+                      const auto &y = mi.sides[1 - mi.slave].nodes[m];
+                      master_of[mi.master_dofs()[m][0]].push_back({mi.name, {{y[0], y[1]}}, pair});
+                    }
+                }
             for (unsigned int j = 0; j < mi.slave_side().nodes.size(); ++j)
               {
                 const types::global_dof_index slave = mi.slave_dofs()[j][0];
@@ -111,6 +173,7 @@ namespace ContactStefan
               }
           }
         relevant.add_indices(masters);
+        refuse_chained_lines(slave_of, master_of);
       }
 
     hanging_node_constraints.clear();
@@ -181,7 +244,30 @@ namespace ContactStefan
 
 
 
+  template <int dim>
+  void ThermalField<dim>::check_condensed_mass() const
+  {
+    if (!have_thermal_mortar)
+      return;
+    std::string problem;
+    for (const auto dof : owned)
+      if (!hanging_node_constraints.is_constrained(dof) && !(lumped_mass[dof] > 0))
+        {
+          const Point<dim> &x = support_points.at(dof);
+          problem             = "the lumped mass of the node at (" + std::to_string(x[0]) + ", " +
+                    std::to_string(x[1]) + ") is " + std::to_string(lumped_mass[dof]) +
+                    " after the slave nodes of the mortar interfaces handed theirs to their "
+                    "masters (negative dual weights where a slave side is much coarser than "
+                    "its master): make the finer side the slave ('Mortar slave = finer')";
+          break;
+        }
+    throw_collectively<std::runtime_error>(problem, mpi_communicator);
+  }
+
+
+
   template void ThermalField<2>::make_node_constraints();
+  template void ThermalField<2>::check_condensed_mass() const;
   template void ThermalField<2>::interpolate_mortar_slave_enthalpies();
   template void ThermalField<2>::set_mortar_slave_laws();
 } // namespace ContactStefan

@@ -166,7 +166,7 @@ namespace ContactStefan
     // A node of a conductance interface sits inside its own cell (node_point()).
     for (auto &[dof, point] : support_points)
       point = node_point(dof, point);
-
+    check_condensed_mass(); // (mortar.cc)
     setup_nodal_enthalpy_laws();
     index_local_entries();
     setup_coupling();
