@@ -91,7 +91,8 @@ endforeach()
 # Adaptive refinement of both blocks every step (displacement indicator and
 # the contact zone) while the active set grows: the segments are found again
 # on every new mesh; the same statistics on 1, 2 and 3 ranks.
-set(MORTAR_ADAPTIVE
+# (The mesh and the adaptation, shared with the thermal tests of M4.)
+set(MORTAR_ADAPTIVE_MESH
   "SET:Geometry/Mesh file=${M}/mortar_adaptive.msh"
   "SET:Contact/Interface 1-2/Discretisation=mortar"
   "SET:Contact/Interface 1-2/Mortar boundaries=14, 15"
@@ -99,7 +100,8 @@ set(MORTAR_ADAPTIVE
   "SET:Mesh refinement/Adaptive refinement interval=1"
   "SET:Mesh refinement/Maximum level=3"
   "SET:Mesh refinement/Refine fraction=0.3"
-  "SET:Mesh refinement/Coarsen fraction=0.1"
+  "SET:Mesh refinement/Coarsen fraction=0.1")
+set(MORTAR_ADAPTIVE ${MORTAR_ADAPTIVE_MESH}
   "SET:Mesh refinement/Mark contact zones=true"
   "RESULT mesh adaptations>2.5"
   "RESULT mortar weight defect interface 1-2<1e-14"
@@ -289,15 +291,7 @@ add_test(NAME mortar/thermal-matching-equals-nodal
 add_test(NAME mortar/thermal-matching-equals-nodal-mpi2
   COMMAND /usr/bin/python3 ${T}/compare_mortar.py ${BIN} ${T}/scenes/mortar_melting.prm
           ${M}/mortar_matching_nodal.msh ${M}/mortar_matching_split.msh --np 2)
-set(MORTAR_MELTING_ADAPTIVE
-  "SET:Geometry/Mesh file=${M}/mortar_adaptive.msh"
-  "SET:Contact/Interface 1-2/Discretisation=mortar"
-  "SET:Contact/Interface 1-2/Mortar boundaries=14, 15"
-  "SET:Mesh refinement/Initial global refinements=1"
-  "SET:Mesh refinement/Adaptive refinement interval=1"
-  "SET:Mesh refinement/Maximum level=3"
-  "SET:Mesh refinement/Refine fraction=0.3"
-  "SET:Mesh refinement/Coarsen fraction=0.1"
+set(MORTAR_MELTING_ADAPTIVE ${MORTAR_ADAPTIVE_MESH}
   "SET:Coupling/Scheme=staggered"
   "SET:Solver/Truncated Newton hand-over=0")
 foreach(np 1 2 3)
