@@ -88,6 +88,26 @@ namespace ContactStefan
           side.inside.push_back(f.inside);
         }
     }
+
+    // The DoFs of vertex v of a cell, by component: a Q1 element (or a
+    // system of Q1 and FE_Nothing) has one DoF per component at each vertex.
+    template <int dim>
+    std::vector<types::global_dof_index>
+    node_dofs(const typename DoFHandler<dim>::active_cell_iterator &cell, const unsigned int v)
+    {
+      const auto                          &fe = cell->get_fe();
+      std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+      cell->get_dof_indices(dofs);
+      std::vector<std::pair<unsigned int, types::global_dof_index>> at_vertex;
+      for (unsigned int i = 0; i < fe.n_dofs_per_cell(); ++i)
+        if (fe.system_to_component_index(i).second == v)
+          at_vertex.emplace_back(fe.system_to_component_index(i).first, dofs[i]);
+      std::sort(at_vertex.begin(), at_vertex.end());
+      std::vector<types::global_dof_index> result;
+      for (const auto &[component, dof] : at_vertex)
+        result.push_back(dof);
+      return result;
+    }
   } // namespace
 
 
@@ -95,8 +115,7 @@ namespace ContactStefan
   template <int dim>
   MortarInterface couple_mortar_interface(const DoFHandler<dim>                       &dof_handler,
                                           const std::pair<unsigned int, unsigned int> &pair,
-                                          const Parameters::InterfacePair             &law,
-                                          const MortarNodeDofs<dim>                   &node_dofs)
+                                          const Parameters::InterfacePair             &law)
   {
     using Law              = Parameters::InterfacePair;
     const std::string path = "Contact/" + Law::section(pair.first, pair.second) + "/";
@@ -118,7 +137,7 @@ namespace ContactStefan
                     {
                       const unsigned int v = GeometryInfo<dim>::face_to_cell_vertices(face, fv);
                       f.x[fv]              = {{cell->vertex(v)[0], cell->vertex(v)[1]}};
-                      f.dofs[fv]           = node_dofs(cell, v);
+                      f.dofs[fv]           = node_dofs<dim>(cell, v);
                       n_dofs               = f.dofs[fv].size();
                     }
                   f.inside = {{cell->center()[0], cell->center()[1]}};
@@ -189,6 +208,5 @@ namespace ContactStefan
 
   template MortarInterface couple_mortar_interface<2>(const DoFHandler<2> &,
                                                       const std::pair<unsigned int, unsigned int> &,
-                                                      const Parameters::InterfacePair &,
-                                                      const MortarNodeDofs<2> &);
+                                                      const Parameters::InterfacePair &);
 } // namespace ContactStefan

@@ -6,7 +6,7 @@
 // side, on which slave nodes are coupled and on the weights: the contact step
 // turns it into one Signorini condition per slave node, the enthalpy step
 // into one constraint Theta_j = sum_m (M_jm / D_j) Theta_m (perfect thermal
-// contact). Each field names its own DoFs of a node (two displacement
+// contact). A node carries the field's own DoFs (two displacement
 // components, one temperature).
 #ifndef contact_stefan_mortar_interface_h
 #define contact_stefan_mortar_interface_h
@@ -17,7 +17,6 @@
 #include <contact-stefan/interfaces/mortar.h>
 
 #include <array>
-#include <functional>
 #include <string>
 #include <vector>
 
@@ -66,26 +65,18 @@ namespace ContactStefan
   };
 
   /**
-   * The DoFs of vertex v of a cell, as a field numbers them (the same count
-   * for every node).
-   */
-  template <int dim>
-  using MortarNodeDofs = std::function<
-    std::vector<types::global_dof_index>(const typename DoFHandler<dim>::active_cell_iterator &cell,
-                                         const unsigned int vertex)>;
-
-  /**
    * The coupling of the mortar interface between bodies pair.first <
    * pair.second whose law is 'law', built from the locally owned cells of
    * every rank (collective). Throws InputError naming 'Contact/Interface
    * k-l/Mortar boundaries' if a nodal normal is undefined or if no slave node
-   * faces the master side within the search distance.
+   * faces the master side within the search distance. A node's DoFs are those
+   * of the field's Q1 element at the vertex, by component (the displacement's
+   * x and y, or the temperature; FE_Nothing slots have none).
    */
   template <int dim>
   MortarInterface couple_mortar_interface(const DoFHandler<dim>                       &dof_handler,
                                           const std::pair<unsigned int, unsigned int> &pair,
-                                          const Parameters::InterfacePair             &law,
-                                          const MortarNodeDofs<dim>                   &node_dofs);
+                                          const Parameters::InterfacePair             &law);
 } // namespace ContactStefan
 
 #endif

@@ -40,14 +40,7 @@ namespace ContactStefan
       {
         if (law.discretisation != Law::Discretisation::mortar)
           continue;
-        const MortarInterface mi = couple_mortar_interface<dim>(
-          dof_handler,
-          pair,
-          law,
-          [](const typename DoFHandler<dim>::active_cell_iterator &cell, const unsigned int v) {
-            const auto dofs = vertex_dofs<dim>(cell);
-            return std::vector<types::global_dof_index>{dofs[v][0], dofs[v][1]};
-          });
+        const MortarInterface mi = couple_mortar_interface<dim>(dof_handler, pair, law);
         mortar_summary[mi.name] = {mi.body[mi.slave],
                                    mi.coupling.n_segments,
                                    mi.coupling.uncovered_length,

@@ -129,17 +129,7 @@ namespace ContactStefan
             if (law.discretisation != Law::Discretisation::mortar ||
                 law.thermal_contact != Law::ThermalContact::perfect)
               continue;
-            // Vertex v of a cell is its v-th DoF (FE_Q(1), or one FE_Q(1) in
-            // the body's slot).
-            const MortarInterface mi = couple_mortar_interface<dim>(
-              dof_handler,
-              pair,
-              law,
-              [](const typename DoFHandler<dim>::active_cell_iterator &cell, const unsigned int v) {
-                std::vector<types::global_dof_index> dofs(cell->get_fe().n_dofs_per_cell());
-                cell->get_dof_indices(dofs);
-                return std::vector<types::global_dof_index>{dofs[v]};
-              });
+            const MortarInterface mi = couple_mortar_interface<dim>(dof_handler, pair, law);
             // The whole coupling is the same on every rank: record every
             // line's slave and masters (by position, for the message) to
             // refuse a node that two lines would name.
