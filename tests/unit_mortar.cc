@@ -6,6 +6,9 @@
 //   slave node has sum_k M_jk = D_j (force balance), a linear field is
 //   reproduced, D_j u_j = sum_k M_jk u_k (the patch test), and the weighted
 //   gap is 0; an offset master side gives gtilde_j / D_j = the offset;
+// - the pair weights of a heat flux: W = D I on matching sides; otherwise
+//   W_jk >= 0, sum_k W_jk = D_j, and sum_j W_jk = the master node's lumped
+//   weight on a fully covered straight side;
 // - the dual basis is biorthogonal on a partly covered edge;
 // - curved sides (two polygons on one circle): force balance to round-off,
 //   a weighted gap of O(h^2);
@@ -55,6 +58,8 @@ namespace
   {
     double balance = 0, linear = 0, gap = 0;
     double total_D = 0;
+    // max |sum_k W_jk - D_j| / D_j, the smallest W_jk
+    double pair_balance = 0, smallest_pair_weight = 0;
   };
   Defects defects(const Mortar::Coupling &c, const Mortar::Side &slave, const Mortar::Side &master)
   {
@@ -74,6 +79,13 @@ namespace
         d.linear  = std::max(d.linear, std::abs(f) / node.D);
         d.gap     = std::max(d.gap, std::abs(node.gap) / node.D);
         d.total_D += node.D;
+        double pairs = 0;
+        for (const auto &[k, w] : node.W)
+          {
+            pairs += w;
+            d.smallest_pair_weight = std::min(d.smallest_pair_weight, w);
+          }
+        d.pair_balance = std::max(d.pair_balance, std::abs(pairs - node.D) / node.D);
       }
     return d;
   }
@@ -97,8 +109,10 @@ int main()
         for (const auto &[k, m] : c.slave[j].M)
           ok = ok && (k == j ? close(m, lumped, 1e-14) : std::abs(m) < 1e-15);
         ok = ok && std::abs(c.slave[j].gap) < 1e-15;
+        ok = ok && c.slave[j].W.size() == 1 && c.slave[j].W[0].first == j &&
+             close(c.slave[j].W[0].second, lumped, 1e-14);
       }
-    check(ok, "matching sides: M = D I with D the lumped weight, no gap (node-to-node)");
+    check(ok, "matching sides: M = W = D I with D the lumped weight, no gap (node-to-node)");
     check(c.uncovered_length == 0, "matching sides: all covered");
   }
 
@@ -125,6 +139,21 @@ int main()
       check(d.balance < 1e-14 && d.linear < 1e-13 && d.gap < 1e-14 && close(d.total_D, 1, 1e-14),
             std::string(r.name) +
               ": sum_k M_jk = D_j, a linear field reproduced, zero gap, sum D = length");
+      // Column sums of W: each master node's lumped weight (half its edges).
+      std::vector<double> column(xm.size(), 0.);
+      for (const auto &node : c.slave)
+        for (const auto &[k, w] : node.W)
+          column[k] += w;
+      double column_defect = 0;
+      for (unsigned int k = 0; k < xm.size(); ++k)
+        {
+          const double lumped =
+            0.5 * ((k > 0 ? xm[k] - xm[k - 1] : 0.) + (k + 1 < xm.size() ? xm[k + 1] - xm[k] : 0.));
+          column_defect = std::max(column_defect, std::abs(column[k] - lumped) / lumped);
+        }
+      check(d.pair_balance < 1e-14 && d.smallest_pair_weight >= 0 && column_defect < 1e-13,
+            std::string(r.name) +
+              ": pair weights W_jk >= 0, sum_k W_jk = D_j, sum_j W_jk = the master's weight");
     }
 
   // What the node-to-segment method would do instead: each slave node's
@@ -200,6 +229,8 @@ int main()
           "partly covered edge: D_j = int_0^0.3 N_j");
     check(d.balance < 1e-13 && close(c.uncovered_length, 0.7, 1e-14),
           "partly covered edge: balance, uncovered length 0.7");
+    check(d.pair_balance < 1e-13 && d.smallest_pair_weight >= 0,
+          "partly covered edge: pair weights >= 0 with sums D_j");
   }
 
   // Curved: slave = 24-gon and master = 17-gon on the unit circle's upper
@@ -229,6 +260,8 @@ int main()
     for (const auto &node : c.slave)
       max_gap = std::max(max_gap, std::abs(node.gap) / node.D);
     check(d.balance < 1e-14, "curved sides: sum_k M_jk = D_j at every slave node");
+    check(d.pair_balance < 1e-14 && d.smallest_pair_weight >= 0,
+          "curved sides: pair weights >= 0 with sums D_j");
     // Chord sagitta of the coarser polygon: 1 - cos(pi / 34) = 4.3e-3.
     check(max_gap > 1e-4 && max_gap < 1 - std::cos(M_PI / 34),
           "curved sides: weighted gap nonzero and below the master chords' sagitta");

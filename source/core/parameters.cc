@@ -728,11 +728,6 @@ namespace ContactStefan
                   path + "Discretisation",
                   "'mortar' couples the contact step's conditions: it needs "
                   "Physics/Mechanics = true");
-          require(!physics.thermal ||
-                    law.thermal_contact == Parameters::InterfacePair::ThermalContact::perfect,
-                  path + "Thermal contact",
-                  "a conductance across a mortar interface is not implemented (perfect "
-                  "thermal contact is): mesh the interface node for node or make it perfect");
           require(law.kind == Parameters::Contact::Interfaces::contact,
                   path + "Kind",
                   "a mortar interface is a contact so far ('tied' needs matching nodes)");

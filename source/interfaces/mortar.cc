@@ -209,14 +209,16 @@ namespace ContactStefan
       // The integrals of one slave edge (nodes s) over its segments: the dual
       // basis on the covered part (psi_i = sum_j a_ij N_j, a = diag(d) A^-1,
       // A_ij = int N_i N_j, d_i = int N_i), then M_ik += int psi_i N_k and
-      // D_i += d_i. False if the covered part is negligible.
+      // D_i += d_i; W_ik += the trapezoidal rule of N_i N_k on each segment.
+      // False if the covered part is negligible.
       bool integrate_edge(const SlaveEdge                             &edge,
                           const std::array<unsigned int, 2>           &s,
                           const std::vector<Segment>                  &segments,
                           const Side                                  &master,
                           const dealii::QGauss<1>                     &gauss,
                           std::vector<SlaveNode>                      &nodes,
-                          std::vector<std::map<unsigned int, double>> &M)
+                          std::vector<std::map<unsigned int, double>> &M,
+                          std::vector<std::map<unsigned int, double>> &W)
       {
         const double length  = std::sqrt(dot(minus(edge.xb, edge.xa), minus(edge.xb, edge.xa)));
         double       A[2][2] = {{0., 0.}, {0., 0.}}, d[2] = {0., 0.};
@@ -238,6 +240,17 @@ namespace ContactStefan
         const double det     = A[0][0] * A[1][1] - A[0][1] * A[1][0];
         const double a[2][2] = {{d[0] * A[1][1] / det, -d[0] * A[0][1] / det},
                                 {-d[1] * A[1][0] / det, d[1] * A[0][0] / det}};
+        // The master edge's hat functions at slave point xi of the segment.
+        const auto master_shape = [&](const std::array<unsigned int, 2> &me, const double xi) {
+          double t = 0, eta = 0;
+          if (!project_onto_master(
+                edge.x(xi), edge.n(xi), master.nodes[me[0]], master.nodes[me[1]], t, eta))
+            throw std::runtime_error(
+              "a point of the slave edge from (" + std::to_string(edge.xa[0]) + ", " +
+              std::to_string(edge.xa[1]) + ") does not project onto its master edge");
+          eta = std::min(1., std::max(0., eta));
+          return std::array<double, 2>{{1 - eta, eta}};
+        };
         for (const Segment &seg : segments)
           {
             const auto  &me   = master.edges[seg.master_edge];
@@ -247,20 +260,23 @@ namespace ContactStefan
                 const double xi   = seg.xi0 + span * gauss.point(g)[0];
                 const double w    = gauss.weight(g) * span * length;
                 const double N[2] = {1 - xi, xi};
-                double       t = 0, eta = 0;
-                if (!project_onto_master(
-                      edge.x(xi), edge.n(xi), master.nodes[me[0]], master.nodes[me[1]], t, eta))
-                  throw std::runtime_error(
-                    "a Gauss point of the slave edge from (" + std::to_string(edge.xa[0]) + ", " +
-                    std::to_string(edge.xa[1]) + ") does not project onto its master edge");
-                eta                = std::min(1., std::max(0., eta));
-                const double Nm[2] = {1 - eta, eta};
+                const auto   Nm   = master_shape(me, xi);
                 for (unsigned int i = 0; i < 2; ++i)
                   {
                     const double psi = a[i][0] * N[0] + a[i][1] * N[1];
                     for (unsigned int k = 0; k < 2; ++k)
                       M[s[i]][me[k]] += w * psi * Nm[k];
                   }
+              }
+            // Trapezoidal pair weights: the segment's two ends.
+            for (const double xi : {seg.xi0, seg.xi1})
+              {
+                const double N[2] = {1 - xi, xi};
+                const auto   Nm   = master_shape(me, xi);
+                for (unsigned int i = 0; i < 2; ++i)
+                  for (unsigned int k = 0; k < 2; ++k)
+                    if (N[i] * Nm[k] > 0)
+                      W[s[i]][me[k]] += 0.5 * span * length * N[i] * Nm[k];
               }
           }
         nodes[s[0]].D += d[0];
@@ -287,7 +303,7 @@ namespace ContactStefan
           master_normal[e] = a.normal();
         }
       const dealii::QGauss<1>                     gauss(parameters.n_gauss);
-      std::vector<std::map<unsigned int, double>> M(slave.nodes.size());
+      std::vector<std::map<unsigned int, double>> M(slave.nodes.size()), W(slave.nodes.size());
       for (unsigned int se = 0; se < slave.edges.size(); ++se)
         {
           const std::array<unsigned int, 2> s = slave.edges[se];
@@ -304,13 +320,14 @@ namespace ContactStefan
                                               master_normal,
                                               parameters.search_distance,
                                               coupling.uncovered_length);
-          if (integrate_edge(edge, s, segments, master, gauss, coupling.slave, M))
+          if (integrate_edge(edge, s, segments, master, gauss, coupling.slave, M, W))
             coupling.n_segments += segments.size();
         }
       for (unsigned int v = 0; v < slave.nodes.size(); ++v)
         {
           SlaveNode &node = coupling.slave[v];
           node.M.assign(M[v].begin(), M[v].end());
+          node.W.assign(W[v].begin(), W[v].end());
           // n_j . (sum_k M_jk x_k - D_j x_j) = n_j . sum_k M_jk (x_k - x_j), as
           // sum_k M_jk = D_j: relative positions, free of the round-off of
           // the coordinates' size. A gap below 1e-12 of the edges at the node

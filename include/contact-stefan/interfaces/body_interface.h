@@ -82,7 +82,9 @@ namespace ContactStefan
    * (MechanicalField::interface_contact_states, doc/interface_heat.md): the
    * normal gap (m, > 0 open), the contact pressure (Pa) and whether the vertex
    * is closed (in the active set; a tied interface is closed with gap and
-   * pressure 0). Keyed by (body k, body l, vertex index).
+   * pressure 0). Keyed by (body k, body l, vertex index); on a mortar
+   * interface by (body k, body l, slave node number in its MortarInterface),
+   * and every rank has every slave node's state.
    */
   struct InterfaceContactState
   {

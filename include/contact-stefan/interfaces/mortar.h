@@ -34,6 +34,11 @@
 // sum_k M_jk holds to round-off for every slave node: the contact forces on
 // the two sides, D_j lambda_j n_j and -sum_j M_jk lambda_j n_j, sum to zero on
 // any interface, curved or not.
+//
+// For a heat flux across the interface the same segments give pair weights
+// W_jk (the trapezoidal rule of int N_j N_k on each segment, with the master
+// hat functions at the segment's two projected ends): non-negative, with row
+// sums D_j, and W = D I on matching sides.
 #ifndef contact_stefan_mortar_h
 #define contact_stefan_mortar_h
 
@@ -66,6 +71,15 @@ namespace ContactStefan
       double  gap = 0;          // gtilde_j = n_j . (sum_k M_jk x_k - D_j x_j), 0 below 1e-12 h D_j
       /** (master node, M_jk), by master node. */
       std::vector<std::pair<unsigned int, double>> M;
+      /**
+       * (master node, W_jk), by master node: the pair weights of a heat flux
+       * across the interface (a conductance, doc/interface_heat.md), W_jk =
+       * int N_j N_k by the trapezoidal rule on each segment. Unlike M_jk they
+       * are never negative, so h W_jk (Theta_j - Theta_k) keeps the
+       * conductivity matrix an M-matrix; sum_k W_jk = D_j (the rule is exact
+       * for the linear N_j on a segment), and on matching sides W = D I.
+       */
+      std::vector<std::pair<unsigned int, double>> W;
       /** The largest angle between an edge normal and the nodal normal (rad). */
       double max_deviation = 0;
       /** The length of the slave edges at the node: D_j is at most half of it. */

@@ -131,6 +131,9 @@ namespace ContactStefan
     bool                                                         mortar = false;
     std::vector<std::pair<std::array<std::uint64_t, 2>, double>> masters;
     double                                                       mortar_gap = 0;
+    // The slave node's number in its MortarInterface (the same on every rank
+    // and in both fields): the key of its InterfaceContactState.
+    unsigned int mortar_node = 0;
   };
 
   template <int dim>

@@ -466,6 +466,8 @@ namespace ContactStefan
       unsigned int                    body_k, body_l;
       std::string                     name;
       std::unique_ptr<ConductanceLaw> law;
+      /** Discretisation = mortar: its nodes are mortar_conductance_nodes. */
+      bool mortar = false;
     };
     struct ConductanceNode
     {
@@ -479,6 +481,44 @@ namespace ContactStefan
     };
     std::vector<ConductanceInterface> conductance_interfaces;
     std::vector<ConductanceNode>      conductance_nodes;
+    /**
+     * Gap, pressure and closed flag of a node (key: its vertex, or its slave
+     * node number on a mortar interface) into state.
+     */
+    void contact_state(const ConductanceInterface &interface,
+                       const unsigned int          key,
+                       const Point<dim>           &position,
+                       ConductanceState           &state) const;
+    /**
+     * A coupled slave node of a mortar interface with a conductance
+     * (thermal_field/mortar.cc): its number j in the interface's coupling
+     * (the contact step's key for its state), its DoF, D_j, the pair weights
+     * W_jm of its master DoFs (interfaces/mortar.h), whether the slave is
+     * body k, and the terms of h of the last update. Every rank keeps every
+     * node (their DoFs are all locally relevant), evaluates h alike and
+     * writes the rows it owns.
+     */
+    struct MortarConductanceNode
+    {
+      unsigned int                                            interface, node;
+      Point<dim>                                              position;
+      types::global_dof_index                                 dof;
+      double                                                  D;
+      std::vector<std::pair<types::global_dof_index, double>> masters;
+      bool                                                    slave_is_k;
+      ConductanceTerms                                        h;
+    };
+    std::vector<MortarConductanceNode> mortar_conductance_nodes;
+    /**
+     * The nodes of the mortar conductance interfaces and where a function
+     * is evaluated for each (interface_side_offset into a cell of its side).
+     * Adds their DoFs to 'dofs' (for the locally relevant set).
+     */
+    void couple_mortar_conductances(IndexSet &dofs);
+    std::vector<std::pair<types::global_dof_index, Point<dim>>> mortar_interface_points;
+    /** The state of a mortar node: (T, liquid fraction) of side k and side l. */
+    ConductanceState mortar_conductance_state(const MortarConductanceNode &node,
+                                              const Vector                &h_old) const;
     /**
      * Where a function is evaluated for a node: the vertex, or for a node on a
      * conductance interface the point interface_side_offset of the way from

@@ -335,7 +335,9 @@ namespace ContactStefan
 
   // Ghosted copies of the last contact step's nodal pressure, gap and active
   // flags, read at the interface vertices of the owned cells (whose DoFs
-  // another rank may own).
+  // another rank may own). A mortar slave node's state is keyed by its node
+  // number and handed to every rank (collective): the heat it exchanges
+  // reaches master DoFs that any rank may own.
   template <int dim>
   void MechanicalField<dim>::interface_contact_states(InterfaceContactStates &states) const
   {
@@ -345,6 +347,9 @@ namespace ContactStefan
     p      = pressure;
     g      = gap;
     active = interface_active;
+    // (body k, body l, node, closed) and (gap, pressure) of the owned mortar nodes.
+    std::vector<std::array<unsigned int, 4>> mortar_keys;
+    std::vector<std::array<double, 2>>       mortar_values;
     for (const auto &c : normal_conditions)
       if (c.kind == NormalCondition::Kind::interface && !c.mortar)
         {
@@ -352,6 +357,25 @@ namespace ContactStefan
           s.closed                 = c.tied || active[c.dofs_k[0]] > 0.5;
           s.gap                    = c.tied ? 0. : g[c.dofs_k[0]];
           s.pressure               = c.tied ? 0. : p[c.dofs_k[0]];
+        }
+      else if (c.kind == NormalCondition::Kind::interface && owned.is_element(c.dofs_k[0]))
+        {
+          mortar_keys.push_back(
+            {{c.body_k, c.body_l, c.mortar_node, active[c.dofs_k[0]] > 0.5 ? 1u : 0u}});
+          mortar_values.push_back({{g[c.dofs_k[0]], p[c.dofs_k[0]]}});
+        }
+    if (mortar_summary.empty())
+      return;
+    const auto keys   = Utilities::MPI::all_gather(mpi_communicator, mortar_keys);
+    const auto values = Utilities::MPI::all_gather(mpi_communicator, mortar_values);
+    for (unsigned int r = 0; r < keys.size(); ++r)
+      for (unsigned int i = 0; i < keys[r].size(); ++i)
+        {
+          const auto            &key = keys[r][i];
+          InterfaceContactState &s   = states[{key[0], key[1], key[2]}];
+          s.closed                   = key[3] == 1;
+          s.gap                      = values[r][i][0];
+          s.pressure                 = values[r][i][1];
         }
   }
 

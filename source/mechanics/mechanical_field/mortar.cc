@@ -69,6 +69,7 @@ namespace ContactStefan
             c.corner      = node.max_deviation > contact_prm.corner_angle * numbers::PI / 180;
             c.mortar      = true;
             c.mortar_gap  = node.gap / node.D;
+            c.mortar_node = j;
             for (const auto &[m, value] : node.M)
               {
                 const auto &dofs = mi.master_dofs()[m];

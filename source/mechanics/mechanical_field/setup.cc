@@ -578,6 +578,23 @@ namespace ContactStefan
               Parameters::InterfacePair::ThermalContact::conductance)
             for (const auto &vertex : interface.vertices)
               two_sided.insert(vertex.index);
+        // The sides of a mortar interface with a conductance likewise (each
+        // is a boundary of its own body, where the two bodies' references
+        // meet).
+        for (const auto &cell : triangulation.active_cell_iterators())
+          if (!cell->is_artificial())
+            for (const unsigned int f : cell->face_indices())
+              if (cell->face(f)->at_boundary())
+                for (const auto &[pair, law] : prm.interface_pairs)
+                  if (law.discretisation == Parameters::InterfacePair::Discretisation::mortar &&
+                      law.thermal_contact ==
+                        Parameters::InterfacePair::ThermalContact::conductance &&
+                      ((cell->material_id() == pair.first &&
+                        cell->face(f)->boundary_id() == law.mortar_boundaries[0]) ||
+                       (cell->material_id() == pair.second &&
+                        cell->face(f)->boundary_id() == law.mortar_boundaries[1])))
+                    for (const unsigned int v : cell->face(f)->vertex_indices())
+                      two_sided.insert(cell->face(f)->vertex_index(v));
       }
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())

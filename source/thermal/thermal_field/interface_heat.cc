@@ -56,8 +56,11 @@ namespace ContactStefan
       return prm.interface_pair(k, l).thermal_contact ==
              Parameters::InterfacePair::ThermalContact::conductance;
     };
+    // (The sides of a mortar interface are meshed apart: they share no face
+    // and no node, and need no slots of their own.)
     for (const auto &[pair, law] : prm.interface_pairs)
-      if (conductance(pair.first, pair.second) && touching.count(pair) == 0)
+      if (conductance(pair.first, pair.second) && touching.count(pair) == 0 &&
+          law.discretisation != Parameters::InterfacePair::Discretisation::mortar)
         throw InputError("Contact/" + Parameters::InterfacePair::section(pair.first, pair.second) +
                            "/Thermal contact",
                          "bodies " + std::to_string(pair.first) + " and " +
@@ -186,7 +189,8 @@ namespace ContactStefan
     };
     for (const auto &interface : interfaces)
       for (unsigned int i = 0; i < conductance_interfaces.size(); ++i)
-        if (conductance_interfaces[i].body_k == interface.body_k &&
+        if (!conductance_interfaces[i].mortar &&
+            conductance_interfaces[i].body_k == interface.body_k &&
             conductance_interfaces[i].body_l == interface.body_l)
           for (const auto &vertex : interface.vertices)
             {
@@ -214,6 +218,7 @@ namespace ContactStefan
           interface_point.emplace(dof,
                                   node.position + interface_side_offset * (centre - node.position));
         }
+    interface_point.insert(mortar_interface_points.begin(), mortar_interface_points.end());
   }
 
 
@@ -226,6 +231,12 @@ namespace ContactStefan
         dsp.add(node.dof_k, node.dof_l);
         dsp.add(node.dof_l, node.dof_k);
       }
+    for (const auto &node : mortar_conductance_nodes)
+      for (const auto &[master, w] : node.masters)
+        {
+          dsp.add(node.dof, master);
+          dsp.add(master, node.dof);
+        }
   }
 
 
@@ -237,6 +248,38 @@ namespace ContactStefan
       if (c.law->depends_on_contact())
         return true;
     return false;
+  }
+
+
+
+  // The gap, pressure and closed flag at an interface node: the contact
+  // step's (keyed by vertex, or by slave node on a mortar interface), or the
+  // interface's Gap function with pressure 0 where the contact step has none
+  // -- before the first contact step on a mesh, and at a node whose contact
+  // condition was left out because all its displacement components are
+  // prescribed (it cannot open or close).
+  template <int dim>
+  void ThermalField<dim>::contact_state(const ConductanceInterface &interface,
+                                        const unsigned int          key,
+                                        const Point<dim>           &position,
+                                        ConductanceState           &state) const
+  {
+    if (have_interface_contact)
+      {
+        const auto it = interface_contact.find({interface.body_k, interface.body_l, key});
+        if (it != interface_contact.end())
+          {
+            state.gap      = it->second.gap;
+            state.pressure = it->second.pressure;
+            state.closed   = it->second.closed;
+            return;
+          }
+      }
+    Function<dim> &gap = functions.interface_gap(interface.body_k, interface.body_l);
+    gap.set_time(time);
+    state.gap      = gap.value(position);
+    state.pressure = 0;
+    state.closed   = state.gap <= 0;
   }
 
 
@@ -266,29 +309,25 @@ namespace ContactStefan
           {
             const ConductanceInterface &interface = conductance_interfaces[node.interface];
             ConductanceState            state;
-            if (have_interface_contact)
-              {
-                const auto it =
-                  interface_contact.find({interface.body_k, interface.body_l, node.vertex});
-                if (it == interface_contact.end())
-                  throw std::logic_error("the contact step has no state at a conductance node");
-                state.gap      = it->second.gap;
-                state.pressure = it->second.pressure;
-                state.closed   = it->second.closed;
-              }
-            else
-              {
-                Function<dim> &gap = functions.interface_gap(interface.body_k, interface.body_l);
-                gap.set_time(time);
-                state.gap    = gap.value(node.position);
-                state.closed = state.gap <= 0;
-              }
+            contact_state(interface, node.vertex, node.position, state);
             state.temperature = {
               {temperature_ghosted[node.dof_k], temperature_ghosted[node.dof_l]}};
             state.liquid_fraction    = {{law(node.dof_k).liquid_fraction(h_old[node.dof_k]),
                                          law(node.dof_l).liquid_fraction(h_old[node.dof_l])}};
             state.position           = {{node.position[0], node.position[1]}};
             state.time               = time;
+            const ConductanceTerms h = interface.law->evaluate(state);
+            changed                  = changed || h.total() != node.h.total();
+            change                   = std::max(change, std::abs(h.total() - node.h.total()));
+            largest                  = std::max({largest, h.total(), node.h.total()});
+            node.h                   = h;
+          }
+        // Mortar nodes: every rank evaluates every node from the same data.
+        for (auto &node : mortar_conductance_nodes)
+          {
+            const ConductanceInterface &interface = conductance_interfaces[node.interface];
+            ConductanceState            state     = mortar_conductance_state(node, h_old);
+            contact_state(interface, node.node, node.position, state);
             const ConductanceTerms h = interface.law->evaluate(state);
             changed                  = changed || h.total() != node.h.total();
             change                   = std::max(change, std::abs(h.total() - node.h.total()));
@@ -331,6 +370,22 @@ namespace ContactStefan
             matrix.add(node.dof_l, node.dof_k, -wh);
           }
       }
+    // A mortar slave node j and its masters m: h_j W_jm [1 -1; -1 1] per pair.
+    for (const auto &node : mortar_conductance_nodes)
+      for (const auto &[master, w] : node.masters)
+        {
+          const double wh = w * node.h.total();
+          if (owned.is_element(node.dof))
+            {
+              matrix.add(node.dof, node.dof, wh);
+              matrix.add(node.dof, master, -wh);
+            }
+          if (owned.is_element(master))
+            {
+              matrix.add(master, master, wh);
+              matrix.add(master, node.dof, -wh);
+            }
+        }
   }
 
 
@@ -346,6 +401,15 @@ namespace ContactStefan
         if (node.owned_l)
           result[node.dof_l] -= q;
       }
+    for (const auto &node : mortar_conductance_nodes)
+      for (const auto &[master, w] : node.masters)
+        {
+          const double q = w * node.h.total() * (theta[node.dof] - theta[master]);
+          if (owned.is_element(node.dof))
+            result[node.dof] += q;
+          if (owned.is_element(master))
+            result[master] -= q;
+        }
   }
 
 
@@ -371,6 +435,26 @@ namespace ContactStefan
           s[5] += w * node.h.total();
           s[6] += w;
         }
+    // Mortar nodes (the same on every rank): counted once, by rank 0, pair by
+    // pair from side k to side l.
+    if (Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
+      for (const auto &node : mortar_conductance_nodes)
+        {
+          double      *s    = &sums[7 * node.interface];
+          const double sign = node.slave_is_k ? 1. : -1.;
+          for (const auto &[master, w] : node.masters)
+            {
+              const double dT =
+                sign * w * (temperature_ghosted[node.dof] - temperature_ghosted[master]);
+              s[0] += node.h.constant * dT;
+              s[1] += node.h.contact * dT;
+              s[2] += node.h.gas * dT;
+              s[3] += node.h.radiation * dT;
+              s[4] += node.h.function * dT;
+            }
+          s[5] += node.D * node.h.total();
+          s[6] += node.D;
+        }
     Utilities::MPI::sum(sums, mpi_communicator, sums);
     std::vector<InterfaceHeat> result(n);
     for (unsigned int i = 0; i < n; ++i)
@@ -391,6 +475,10 @@ namespace ContactStefan
   template void ThermalField<2>::add_conductance_sparsity(DynamicSparsityPattern &) const;
   template bool ThermalField<2>::conductance_depends_on_contact() const;
   template double ThermalField<2>::update_conductances();
+  template void   ThermalField<2>::contact_state(const ConductanceInterface &,
+                                               const unsigned int,
+                                               const Point<2> &,
+                                               ConductanceState &) const;
   template void ThermalField<2>::add_conductance_matrix(TrilinosWrappers::SparseMatrix &) const;
   template void ThermalField<2>::add_conductance_product(const Vector &, Vector &) const;
   template std::vector<InterfaceHeat> ThermalField<2>::interface_heat() const;

@@ -97,6 +97,9 @@ namespace ContactStefan
           law.thermal_contact == Law::ThermalContact::perfect)
         ++n_interfaces;
     have_thermal_mortar = n_interfaces > 0;
+    // The slave nodes of the perfect lines (all ranks), which a conductance
+    // may not name.
+    std::map<types::global_dof_index, MortarNodeUse> perfect_slaves;
     if (n_interfaces > 0)
       {
         // A slave node on a boundary with a prescribed temperature keeps it:
@@ -164,7 +167,39 @@ namespace ContactStefan
           }
         relevant.add_indices(masters);
         refuse_chained_lines(slave_of, master_of);
+        for (const auto &[dof, uses] : slave_of)
+          perfect_slaves.emplace(dof, uses[0]);
       }
+    {
+      IndexSet conductance_dofs(dof_handler.n_dofs());
+      couple_mortar_conductances(conductance_dofs);
+      relevant.add_indices(conductance_dofs);
+      // A conductance exchanges heat between free nodes: a node that a
+      // perfect mortar line constrains would take raw, uncondensed entries
+      // (and lose the heat to round-off of nothing: the energy balance
+      // breaks). Decided on data every rank has in full.
+      for (const auto &node : mortar_conductance_nodes)
+        {
+          std::vector<types::global_dof_index> named{node.dof};
+          for (const auto &[master, w] : node.masters)
+            named.push_back(master);
+          for (const auto dof : named)
+            if (const auto it = perfect_slaves.find(dof); it != perfect_slaves.end())
+              {
+                const ConductanceInterface &ci = conductance_interfaces[node.interface];
+                throw InputError("Contact/" +
+                                   Parameters::InterfacePair::section(ci.body_k, ci.body_l) +
+                                   "/Mortar boundaries",
+                                 "the node at (" + std::to_string(it->second.position[0]) + ", " +
+                                   std::to_string(it->second.position[1]) +
+                                   ") is a slave node of " + it->second.interface +
+                                   " (perfect thermal contact) and a node of the conductance of " +
+                                   ci.name +
+                                   "; let the sides end apart, or choose 'Mortar slave' of " +
+                                   it->second.interface + " so that the node is its master");
+              }
+        }
+    }
 
     hanging_node_constraints.clear();
     hanging_node_constraints.reinit(relevant);
@@ -176,6 +211,100 @@ namespace ContactStefan
         hanging_node_constraints.add_entries(slave, entries);
       }
     hanging_node_constraints.close();
+  }
+
+
+
+  // A conductance across a mortar interface (Thermal contact = conductance):
+  // the flux h (Theta_slave - Theta_master) between the two sides' own
+  // temperatures, lumped pair by pair: slave node j and master node m
+  // exchange h_j W_jm (Theta_j - Theta_m), with the pair weights W_jm >= 0 of
+  // interfaces/mortar.h (sum_m W_jm = D_j). The term is symmetric with zero
+  // row sums and non-positive off-diagonal entries, so what leaves one side
+  // enters the other to round-off and the conductivity matrix stays an
+  // M-matrix (the dual weights M_jm can be negative and would not keep it);
+  // on matching sides W = D I and it is the nodal term, w h [1 -1; -1 1]; a
+  // jump of temperature that is uniform along the interface crosses it
+  // exactly. h_j is evaluated at the slave node from the contact step's gap,
+  // pressure and closed flag there, the slave's temperature and liquid
+  // fraction, and the W-weighted mean of its masters'. Only the slave nodes
+  // with a contact condition (coverage above 'Mortar minimum coverage')
+  // exchange heat. Every rank keeps every node, so that each can write the
+  // rows it owns: the interface's DoFs join the locally relevant set.
+  template <int dim>
+  void ThermalField<dim>::couple_mortar_conductances(IndexSet &dofs)
+  {
+    mortar_conductance_nodes.clear();
+    mortar_interface_points.clear();
+    std::map<types::global_dof_index, Point<dim>> points;
+    for (unsigned int i = 0; i < conductance_interfaces.size(); ++i)
+      {
+        const ConductanceInterface &ci = conductance_interfaces[i];
+        if (!ci.mortar)
+          continue;
+        const std::pair<unsigned int, unsigned int> pair(ci.body_k, ci.body_l);
+        const MortarInterface                       mi =
+          couple_mortar_interface<dim>(dof_handler, pair, prm.interface_pair(ci.body_k, ci.body_l));
+        for (unsigned int j = 0; j < mi.slave_side().nodes.size(); ++j)
+          {
+            if (!mi.conditioned[j])
+              continue;
+            const Mortar::SlaveNode &sn = mi.coupling.slave[j];
+            MortarConductanceNode    node;
+            node.interface  = i;
+            node.node       = j;
+            node.position   = Point<dim>(mi.slave_side().nodes[j][0], mi.slave_side().nodes[j][1]);
+            node.dof        = mi.slave_dofs()[j][0];
+            node.D          = sn.D;
+            node.slave_is_k = mi.slave == 0;
+            dofs.add_index(node.dof);
+            for (const auto &[m, w] : sn.W)
+              {
+                node.masters.emplace_back(mi.master_dofs()[m][0], w);
+                dofs.add_index(mi.master_dofs()[m][0]);
+              }
+            mortar_conductance_nodes.push_back(std::move(node));
+          }
+        // Functions (initial condition, boundary values, exact solution) are
+        // evaluated for a node of either side inside a cell of its side.
+        for (unsigned int side = 0; side < 2; ++side)
+          {
+            const Mortar::Side &S = mi.sides[side];
+            for (unsigned int e = 0; e < S.edges.size(); ++e)
+              for (const unsigned int v : S.edges[e])
+                {
+                  const Point<dim> x(S.nodes[v][0], S.nodes[v][1]),
+                    inside(S.inside[e][0], S.inside[e][1]);
+                  points.emplace(mi.dofs[side][v][0], x + interface_side_offset * (inside - x));
+                }
+          }
+      }
+    mortar_interface_points.assign(points.begin(), points.end());
+  }
+
+
+
+  template <int dim>
+  ConductanceState ThermalField<dim>::mortar_conductance_state(const MortarConductanceNode &node,
+                                                               const Vector &h_old) const
+  {
+    double temperature = 0, fraction = 0;
+    for (const auto &[master, w] : node.masters)
+      {
+        temperature += w * temperature_ghosted[master];
+        fraction += w * law(master).liquid_fraction(h_old[master]);
+      }
+    const std::array<double, 2> slave{
+      {temperature_ghosted[node.dof], law(node.dof).liquid_fraction(h_old[node.dof])}};
+    const std::array<double, 2> master{{temperature / node.D, fraction / node.D}};
+    const auto                 &k = node.slave_is_k ? slave : master;
+    const auto                 &l = node.slave_is_k ? master : slave;
+    ConductanceState            state;
+    state.temperature     = {{k[0], l[0]}};
+    state.liquid_fraction = {{k[1], l[1]}};
+    state.position        = {{node.position[0], node.position[1]}};
+    state.time            = time;
+    return state;
   }
 
 
@@ -260,4 +389,7 @@ namespace ContactStefan
   template void ThermalField<2>::check_condensed_mass() const;
   template void ThermalField<2>::interpolate_mortar_slave_enthalpies();
   template void ThermalField<2>::set_mortar_slave_laws();
+  template void             ThermalField<2>::couple_mortar_conductances(IndexSet &);
+  template ConductanceState ThermalField<2>::mortar_conductance_state(const MortarConductanceNode &,
+                                                                      const Vector &) const;
 } // namespace ContactStefan

@@ -54,6 +54,7 @@ namespace ContactStefan
           c.body_k = pair.first;
           c.body_l = pair.second;
           c.name   = "interface " + std::to_string(pair.first) + "-" + std::to_string(pair.second);
+          c.mortar = law.discretisation == Parameters::InterfacePair::Discretisation::mortar;
           c.law    = std::make_unique<ConductanceLaw>(
             law.conductance,
             prm.coupling.absolute_offset(),
