@@ -12,7 +12,9 @@ With --mortar it runs the gap conductance on the matching mesh
 (prm/casting.prm, Subdivisions = n, n) and across the mortar wall
 (prm/casting_mortar.prm, Subdivisions = n, 3n/4, 3n/2: the die meshed on its
 own, coarser along the wall) for n = 8, 16, 32, and prints the table of
-doc/scenes.md: melt area, heat crossed, mean h and contact force at 60 s.
+doc/scenes.md: melt area, heat crossed, mean h and contact force at 60 s, and
+plots the melt fraction and the closed share of the wall over time to
+doc/figures/casting_conductance_mortar.png.
 """
 import os
 import re
@@ -53,10 +55,23 @@ def run(binary, work, name, extra, prm="prm/casting.prm"):
     return rows, elapsed
 
 
-def mortar_table(binary):
+def pyplot():
+    """matplotlib's pyplot without a display, or None (with a message)."""
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        return plt
+    except ImportError:
+        print("no matplotlib (use Debian's /usr/bin/python3): no picture")
+        return None
+
+
+def mortar_table(binary, png):
     print("casting cells along the wall | die cells | melt area matching / mortar (m^2) | "
           "heat crossed matching / mortar (J/m) | mean h matching / mortar (W/(m^2 K)) | "
           "contact force matching / mortar (N/m) | run matching / mortar (s)")
+    curves = []
     with tempfile.TemporaryDirectory() as work:
         for n in (8, 16, 32):
             matching, t_matching = run(binary, work, "matching%d" % n,
@@ -76,13 +91,41 @@ def mortar_table(binary):
                   f"{crossed[0]:.4e} / {crossed[1]:.4e} ({100 * (crossed[1] / crossed[0] - 1):+.1f} %) | "
                   f"{a['mean_h_interface_0_1']:.0f} / {b['mean_h_interface_0_1']:.0f} | "
                   f"{a[force]:.3e} / {b[force]:.3e} | {t_matching:.2f} / {t_mortar:.2f}")
+            curves.append((n, matching, mortar))
+    plt = pyplot()
+    if plt is None:
+        return 0
+    fig, ax = plt.subplots(1, 2, figsize=(10, 3.8))
+    area0 = curves[0][1][0]["liquid_area"]
+    for k, (n, matching, mortar) in enumerate(curves):
+        t = [r["time"] for r in matching]
+        ax[0].plot(t, [r["liquid_area"] / area0 for r in matching], "C%d-" % k,
+                   label="matching, %d cells" % (2 * n))
+        ax[0].plot(t, [r["liquid_area"] / area0 for r in mortar], "C%d--" % k,
+                   label="mortar, %d : %d" % (2 * n, 3 * n // 2))
+        ax[1].plot(t, [r["active_nodes"] / matching[0]["active_nodes"] for r in matching],
+                   "C%d-" % k)
+        ax[1].plot(t, [r["active_nodes"] / mortar[0]["active_nodes"] for r in mortar], "C%d--" % k)
+    ax[0].set_xlabel("t [s]")
+    ax[0].set_ylabel("liquid fraction of the casting")
+    ax[0].legend(fontsize=7)
+    ax[0].set_title("gap conductance: matching wall (solid), mortar wall (dashed)")
+    ax[0].title.set_fontsize(9)
+    ax[1].set_xlabel("t [s]")
+    ax[1].set_ylabel("closed wall nodes / all")
+    ax[1].set_title("contact closed along the wall")
+    ax[1].title.set_fontsize(9)
+    fig.tight_layout()
+    fig.savefig(png, dpi=110)
+    print("wrote", png)
     return 0
 
 
 def main():
     if "--mortar" in sys.argv:
         build = sys.argv[1] if sys.argv[1] != "--mortar" else os.path.join(ROOT, "build")
-        return mortar_table(os.path.abspath(os.path.join(build, "contact-stefan")))
+        return mortar_table(os.path.abspath(os.path.join(build, "contact-stefan")),
+                            os.path.join(ROOT, "doc/figures/casting_conductance_mortar.png"))
     build = sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "build")
     png = sys.argv[2] if len(sys.argv) > 2 else os.path.join(ROOT, "doc/figures/casting_conductance.png")
     binary = os.path.abspath(os.path.join(build, "contact-stefan"))
@@ -98,12 +141,8 @@ def main():
             print(f"{p['time']:6.0f}  {p['liquid_area'] / area0:14.3f}  {g['liquid_area'] / area0:10.3f}"
                   f"  {g['mean_h_interface_0_1']:18.0f}  {g['heat_rate_interface_0_1']:15.0f}"
                   f"  {int(g['active_nodes']):12d}")
-    try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        print("no matplotlib (use Debian's /usr/bin/python3): no picture")
+    plt = pyplot()
+    if plt is None:
         return 0
     fig, ax = plt.subplots(1, 2, figsize=(10, 3.8))
     t = [r["time"] for r in perfect]

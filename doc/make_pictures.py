@@ -70,11 +70,11 @@ SCENES = {
                     interface=casting_interface, temperature_levels=[660],
                     figsize=(13, 11)),
     # The die meshed on its own, a mortar wall: the pressure sits on the
-    # slave side, the casting's (body 0).
+    # slave side, the die's (body 1).
     "casting_mortar": dict(prm="prm/casting_mortar.prm", out="output-casting-mortar",
                            time_scale=1.0, time_unit="s", length=1e-3, length_unit="mm",
                            interface=casting_interface, temperature_levels=[660],
-                           figsize=(13, 11), pressure_body=0),
+                           figsize=(13, 11), pressure_body=1),
 }
 
 
