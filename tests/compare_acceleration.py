@@ -24,7 +24,7 @@ import tempfile
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "benchmarks"))
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from ladder import set_path  # noqa: E402
-from compare_runs import compare, run_scene  # noqa: E402
+from compare_runs import compare, report, run_scene  # noqa: E402
 
 # Statistics columns and RESULT lines that count work, not physics, or that are
 # round-off (energy-balance residuals, the enthalpy change of a mesh transfer).
@@ -73,11 +73,8 @@ def main():
     compared, differences = compare(plain, block, args.tolerance, WORK, ("none", "block solve"),
                                     missing_results_fail=False)
     failures += differences
-    print("compared %d columns and RESULT lines; passes per step: none up to %g, block up to %g"
-          % (compared, max(plain_passes), max(passes or [0])))
-    for failure in failures:
-        print("FAILED: " + failure)
-    return 1 if failures else 0
+    return report("compared %d columns and RESULT lines; passes per step: none up to %g, "
+                  "block up to %g" % (compared, max(plain_passes), max(passes or [0])), failures)
 
 
 if __name__ == "__main__":

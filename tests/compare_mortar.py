@@ -26,7 +26,7 @@ import tempfile
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "benchmarks"))
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from ladder import set_path  # noqa: E402
-from compare_runs import compare, run_scene  # noqa: E402
+from compare_runs import compare, report, run_scene  # noqa: E402
 
 # Columns and RESULT lines that count work or time, not physics; and the
 # temperature DoFs, which differ: the nodal run's bodies share the interface
@@ -65,10 +65,8 @@ def main():
                      True, args.np)
     compared, failures = compare(nodal, mortar, args.tolerance, WORK, ("nodal", "mortar"),
                                  missing_results_fail=True, absolute=1e-15)
-    print("compared %d columns and RESULT lines of the nodal and the mortar run" % compared)
-    for failure in failures:
-        print("FAILED: " + failure)
-    return 1 if failures else 0
+    return report("compared %d columns and RESULT lines of the nodal and the mortar run"
+                  % compared, failures)
 
 
 if __name__ == "__main__":

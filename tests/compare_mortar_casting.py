@@ -22,7 +22,7 @@ import tempfile
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "benchmarks"))
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from ladder import set_path  # noqa: E402
-from compare_runs import compare, run_scene  # noqa: E402
+from compare_runs import compare, report, run_scene  # noqa: E402
 
 # Work and time; the DoF counts (the die's interior is meshed differently);
 # the mortar run's own summary lines; and the contact work, a sum of
@@ -65,10 +65,8 @@ def main():
         compared += 1
         if len(a) != len(b) or not worst <= CONTACT_WORK_BOUND:
             failures.append("column %s differs by %.3g J/m" % (name, worst))
-    print("compared %d columns and RESULT lines of the nodal and the mortar run" % compared)
-    for failure in failures:
-        print("FAILED: " + failure)
-    return 1 if failures else 0
+    return report("compared %d columns and RESULT lines of the nodal and the mortar run"
+                  % compared, failures)
 
 
 if __name__ == "__main__":

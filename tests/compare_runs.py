@@ -1,6 +1,7 @@
-"""Shared by tests/compare_acceleration.py and tests/compare_mortar.py: run a
-scene and read its RESULT lines and statistics table, and compare two runs
-column by column and RESULT line by RESULT line."""
+"""Shared by tests/compare_acceleration.py, tests/compare_mortar.py and
+tests/compare_mortar_casting.py: run a scene and read its RESULT lines and
+statistics table, compare two runs column by column and RESULT line by RESULT
+line, and report."""
 import os
 import subprocess
 import sys
@@ -70,3 +71,11 @@ def compare(a, b, tolerance, work, names, missing_results_fail, absolute=0.0):
             failures.append("RESULT %s: %s (%s) against %s (%s)"
                             % (name, value, names[0], b[0][name], names[1]))
     return compared, failures
+
+
+def report(summary, failures):
+    """Prints the summary line and one line per failure; the exit status."""
+    print(summary)
+    for failure in failures:
+        print("FAILED: " + failure)
+    return 1 if failures else 0
