@@ -113,7 +113,7 @@ def get_entry(text, name):
     return m.group(1)
 
 
-def run_level(binary, scene_text, scene_dir, level, np_, workdir, refine_time):
+def run_level(binary, scene_text, scene_dir, level, np_, workdir, refine_time, halve=()):
     # A scene that does not set an entry has its default (0 refinements, the
     # output written to 'output' every step).
     base = re.search(r"^\s*set\s+Initial global refinements\s*=\s*(\d+)", scene_text, re.M)
@@ -121,6 +121,11 @@ def run_level(binary, scene_text, scene_dir, level, np_, workdir, refine_time):
     tau = float(get_entry(scene_text, "Time step")) / (2**level if refine_time else 1)
     text = set_path(scene_text, "Mesh refinement/Initial global refinements", str(refinements))
     text = set_entry(text, "Time step", repr(tau))
+    for path in halve:
+        value = get_path(text, path, None)
+        if value is None:
+            sys.exit(f"ladder.py: --halve '{path}': the scene does not set it")
+        text = set_path(text, path, repr(float(value) / 2**level))
     text = set_path(text, "Output/Directory", os.path.join(workdir, f"level-{level}"))
     text = set_path(text, "Output/VTU interval", "0")
     prm = os.path.join(scene_dir, f".ladder-level-{level}.prm")
@@ -167,6 +172,9 @@ def main():
     parser.add_argument("--set", action="append", default=[], metavar="PATH=VALUE",
                         help="set 'Subsection/Entry' to VALUE on every level (e.g. "
                              "'Time stepping/Time step function=if(t < 0.5, tau, 2 * tau)')")
+    parser.add_argument("--halve", action="append", default=[], metavar="PATH",
+                        help="divide 'Subsection/Entry' by 2^level too (set it with --set), "
+                             "e.g. 'Time stepping/Target temperature change' for adaptive steps")
     parser.add_argument("--require-last", action="append", default=[], metavar="NAME<VALUE",
                         help="exit code 1 unless RESULT NAME of the finest level is below "
                              "(<) or above (>) VALUE")
@@ -193,7 +201,8 @@ def main():
     with tempfile.TemporaryDirectory() as workdir:
         for level in range(args.levels):
             rows.append(run_level(args.binary, scene_text, os.path.dirname(os.path.abspath(args.scene)),
-                                  level, args.np, workdir, not args.no_refine_time))
+                                  level, args.np, workdir, not args.no_refine_time,
+                                  args.halve))
             print(f"level {level} done in {rows[-1]['wall time']:.2f} s", file=sys.stderr)
 
     have = []

@@ -672,6 +672,10 @@ namespace ContactStefan
               "a rectangle with " + std::to_string(geometry.layer_interfaces.size()) +
                 " layer interfaces has bodies 0.." +
                 std::to_string(geometry.layer_interfaces.size()));
+    require(!time.adaptive || physics.thermal,
+            "Time stepping/Step control",
+            "adaptive steps follow the change of the temperature and the phases: they need "
+            "Physics/Thermal = true");
     // The coupling: what it needs of the temperature unit and of the phases.
     if (physics.plane_stress || physics.generalized_plane_strain)
       {

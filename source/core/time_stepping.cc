@@ -45,6 +45,57 @@ namespace ContactStefan
                         "of a measurement): a step that would pass one is shortened to end "
                         "there; between them the steps are 'Time step' or 'Time step "
                         "function' long.");
+      prm.declare_entry(
+        "Step control",
+        "schedule",
+        Patterns::Selection("schedule|adaptive"),
+        "schedule: the step sizes above (Time step, Time step function, Step end times), "
+        "worked out before the run. adaptive: each step's size follows the change the "
+        "step before made (doc/time_stepping.md): the first step is 'Time step' long; a "
+        "step whose largest temperature change (free nodes) or phase change exceeds its "
+        "target by more than 'Rejection factor' is redone shorter; tau is kept while the "
+        "change stays between 1/'Minimum step growth' and 1 times its target, grows when "
+        "below, shrinks when above. Steps still end exactly at the Step end times and at "
+        "End time. Needs Physics/Thermal; not with a Time step function.");
+      prm.declare_entry("Target temperature change",
+                        "1",
+                        Patterns::Double(),
+                        "Step control = adaptive: the largest change of a node's temperature "
+                        "in one step (K) that the steps aim at; > 0. Nodes with a prescribed "
+                        "temperature do not count.");
+      prm.declare_entry("Target phase change",
+                        "0.5",
+                        Patterns::Double(),
+                        "Step control = adaptive, scenes with a phase change: the largest "
+                        "change of a node's phase index in one step (0 solid ... number of "
+                        "transitions liquid; 1 is a node that melts completely within the "
+                        "step), > 0. 0.5 lets a front cross about half a cell per step.");
+      prm.declare_entry("Rejection factor",
+                        "2",
+                        Patterns::Double(),
+                        "Step control = adaptive: a step whose change exceeds its target by "
+                        "more than this factor is redone with a shorter step; >= 1.");
+      prm.declare_entry("Minimum time step",
+                        "0",
+                        Patterns::Double(),
+                        "Step control = adaptive: the shortest step (s); a step of this size is "
+                        "accepted whatever its change (the run's output counts them). 0: "
+                        "'Time step' / 1000.");
+      prm.declare_entry("Maximum time step",
+                        "0",
+                        Patterns::Double(),
+                        "Step control = adaptive: the longest step (s). 0: End time - Start time.");
+      prm.declare_entry("Minimum step growth",
+                        "1.5",
+                        Patterns::Double(),
+                        "Step control = adaptive: tau grows only by at least this factor (> 1), "
+                        "so that a factorisation, whose fingerprint holds tau, serves several "
+                        "steps.");
+      prm.declare_entry("Maximum step growth",
+                        "2",
+                        Patterns::Double(),
+                        "Step control = adaptive: the largest factor by which tau grows from one "
+                        "step to the next; >= Minimum step growth.");
       prm.declare_entry("Max time steps",
                         "1000000",
                         Patterns::Integer(1),
@@ -63,6 +114,15 @@ namespace ContactStefan
       max_steps          = prm.get_integer("Max time steps");
       time_step_function = Utilities::trim(prm.get("Time step function"));
       step_end_times     = parse_doubles(prm.get("Step end times"), "Time stepping/Step end times");
+      adaptive           = prm.get("Step control") == "adaptive";
+      control.target_temperature_change =
+        get_finite(prm, "Time stepping/", "Target temperature change");
+      control.target_phase_change = get_finite(prm, "Time stepping/", "Target phase change");
+      control.rejection_factor    = get_finite(prm, "Time stepping/", "Rejection factor");
+      control.minimum_time_step   = get_finite(prm, "Time stepping/", "Minimum time step");
+      control.maximum_time_step   = get_finite(prm, "Time stepping/", "Maximum time step");
+      control.minimum_growth      = get_finite(prm, "Time stepping/", "Minimum step growth");
+      control.maximum_growth      = get_finite(prm, "Time stepping/", "Maximum step growth");
       prm.leave_subsection();
       require(time_step > 0, "Time stepping/Time step", "must be > 0, got " + str(time_step));
       require(std::isnormal(time_step),
@@ -85,6 +145,11 @@ namespace ContactStefan
                 "must increase and lie in (Start time, End time] = (" + str(start_time) + ", " +
                   str(end_time) + "], got " + str(step_end_times[k]) +
                   (k == 0 ? std::string() : " after " + str(step_end_times[k - 1])));
+      if (adaptive)
+        {
+          check_step_control();
+          return;
+        }
       // A constant step that obviously needs too many steps is refused at once
       // (the schedule below counts exactly; this only spares working out 1e12
       // steps).
@@ -97,6 +162,59 @@ namespace ContactStefan
                     "time steps' = " + std::to_string(max_steps));
         }
       make_schedule();
+    }
+
+
+
+    // The adaptive controller's entries, each against its range, with the
+    // defaults of 0 replaced (the minimum 'Time step' / 1000, the maximum the
+    // whole run).
+    void TimeStepping::check_step_control()
+    {
+      const std::string p = "Time stepping/";
+      require(time_step_function.empty(),
+              p + "Step control",
+              "adaptive steps do not take a 'Time step function' (it would fix the sizes "
+              "the controller chooses): leave one of them empty");
+      StepControlSettings &c = control;
+      require(c.target_temperature_change > 0,
+              p + "Target temperature change",
+              "must be > 0, got " + str(c.target_temperature_change));
+      require(c.target_phase_change > 0,
+              p + "Target phase change",
+              "must be > 0, got " + str(c.target_phase_change));
+      require(c.rejection_factor >= 1,
+              p + "Rejection factor",
+              "must be >= 1, got " + str(c.rejection_factor));
+      require(c.minimum_growth > 1,
+              p + "Minimum step growth",
+              "must be > 1, got " + str(c.minimum_growth));
+      require(c.maximum_growth >= c.minimum_growth,
+              p + "Maximum step growth",
+              "must be >= Minimum step growth (" + str(c.minimum_growth) + "), got " +
+                str(c.maximum_growth));
+      require(c.minimum_time_step >= 0,
+              p + "Minimum time step",
+              "must be >= 0 (0: Time step / 1000), got " + str(c.minimum_time_step));
+      require(c.maximum_time_step >= 0,
+              p + "Maximum time step",
+              "must be >= 0 (0: End time - Start time), got " + str(c.maximum_time_step));
+      if (c.minimum_time_step == 0)
+        c.minimum_time_step = time_step / 1000;
+      if (c.maximum_time_step == 0)
+        c.maximum_time_step = end_time - start_time;
+      require(c.minimum_time_step <= time_step,
+              p + "Minimum time step",
+              str(c.minimum_time_step) + " is longer than Time step (" + str(time_step) + ")");
+      require(c.maximum_time_step >= time_step,
+              p + "Maximum time step",
+              str(c.maximum_time_step) + " is shorter than Time step (" + str(time_step) + ")");
+      // Time must advance in the shortest step too.
+      require(start_time + c.minimum_time_step > start_time &&
+                end_time - c.minimum_time_step < end_time,
+              p + "Minimum time step",
+              str(c.minimum_time_step) + " is below the floating-point resolution of t near " +
+                str(std::max(std::abs(start_time), std::abs(end_time))));
     }
 
 

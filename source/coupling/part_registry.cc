@@ -11,6 +11,7 @@ namespace ContactStefan
   /* The report of every run: VTU files and the statistics of each field. */                  \
   PART(vtu_part)                                                                               \
   PART(thermal_statistics_part)                                                                \
+  PART(step_control_part)                                                                      \
   PART(interface_heat_part)                                                                    \
   PART(coupling_statistics_part)                                                               \
   PART(mechanical_statistics_part)                                                             \

@@ -116,7 +116,16 @@ namespace ContactStefan
   {
     const EnthalpyStepReport no_thermal_step;
     const CouplingReport     no_coupling;
-    report({0, time, 0., false, no_thermal_step, initial_contact, no_coupling, wall_time});
+    const StepControlReport  no_step_control;
+    report({0,
+            time,
+            0.,
+            false,
+            no_thermal_step,
+            initial_contact,
+            no_coupling,
+            no_step_control,
+            wall_time});
   }
 
 
@@ -129,6 +138,7 @@ namespace ContactStefan
                                     const EnthalpyStepReport &thermal_report,
                                     const ContactStepReport  &contact_report,
                                     const CouplingReport     &coupling_report,
+                                    const StepControlReport  &step_control_report,
                                     const double              wall_time)
   {
     report({step,
@@ -138,6 +148,7 @@ namespace ContactStefan
             thermal_report,
             contact_report,
             coupling_report,
+            step_control_report,
             wall_time});
   }
 

@@ -17,6 +17,7 @@
 
 #include <contact-stefan/core/checked_input.h>
 #include <contact-stefan/core/interface_laws.h>
+#include <contact-stefan/core/step_control.h>
 
 #include <algorithm>
 #include <functional>
@@ -233,8 +234,14 @@ namespace ContactStefan
       // where the difference is only the round-off of the sum): the loop, a
       // resumed run and the checkpoint check read the same numbers.
       std::vector<double> step_sizes, step_times;
+      // Step control = adaptive (doc/time_stepping.md): no schedule is worked
+      // out (step_sizes stays empty); each step's size follows the change the
+      // step before made (core/step_control.h), starting from Time step.
+      bool                adaptive = false;
+      StepControlSettings control;
 
       void make_schedule();
+      void check_step_control();
 
       static void declare(ParameterHandler &prm);
       void        parse(ParameterHandler &prm);

@@ -55,6 +55,28 @@ namespace ContactStefan
                       ContactStepReport  &contact_report,
                       CouplingReport     &coupling_report);
     /**
+     * One time step with its size (time_step.cc, doc/time_stepping.md): the
+     * schedule's, or the adaptive step control's, whose attempts are undone
+     * and redone shorter from the state kept at the step's start until one
+     * stands. Returns whether the step ends the run.
+     */
+    bool   take_time_step(EnthalpyStepReport &thermal_report,
+                          ContactStepReport  &contact_report,
+                          CouplingReport     &coupling_report,
+                          StepControlReport  &control_report);
+    bool   run_finished() const;
+    double adaptive_step_end(bool &shortened);
+    /** What a step's attempt is undone to: what a checkpoint holds of the fields. */
+    struct StepStart
+    {
+      std::vector<Vector> thermal_state, mechanical_state;
+      std::vector<double> thermal_scalars, mechanical_scalars;
+      double              time = 0, time_step = 0;
+      unsigned int        step_number = 0;
+    };
+    void save_step_start(StepStart &start);
+    void restore_step_start(const StepStart &start);
+    /**
      * Set-up and initial state on the current mesh: DoFs, initial enthalpy and
      * displacement, the initial exchange between the fields and the initial
      * equilibrium (a contact step at t0).
@@ -167,6 +189,11 @@ namespace ContactStefan
 
     double       time, time_step = 0;
     unsigned int step_number = 0;
+    /**
+     * Adaptive steps: the size the controller proposes for the next step
+     * (checkpointed; before the first step, Time stepping/Time step).
+     */
+    double proposed_time_step = 0;
     /** Wall time of the run before a resume, and at the last checkpoint. */
     double wall_offset = 0, last_checkpoint_wall = 0;
   };

@@ -60,6 +60,20 @@ namespace ContactStefan
   };
 
   /**
+   * The adaptive step control's account of a step (Time stepping/Step
+   * control = adaptive; core/step_control.h): the attempts redone shorter
+   * before this one stood, the changes this one made (the largest of a free
+   * node's temperature, K, and of a node's phase index), and whether it stood
+   * only because it was at the minimum step.
+   */
+  struct StepControlReport
+  {
+    unsigned int rejected           = 0;
+    double       temperature_change = 0, phase_change = 0;
+    bool         at_minimum = false;
+  };
+
+  /**
    * The run as a part sees it: the scene context that the fields share
    * (core/scene_context.h: scene, materials, functions, mesh, timer, screen),
    * the Output entries, the fields (null: that physics is off; parts read them
@@ -101,6 +115,7 @@ namespace ContactStefan
     const EnthalpyStepReport &thermal;
     const ContactStepReport  &contact;
     const CouplingReport     &coupling;
+    const StepControlReport  &step_control;
     double                    wall_time;
   };
 
@@ -150,6 +165,7 @@ namespace ContactStefan
     enum class Slot
     {
       thermal,              // thermal statistics: steps, iterations, energy, melt area
+      step_control,         // step control: attempts redone, shortest and longest step
       liquid_fraction,      // check 'liquid fraction'
       thermal_consistency,  // thermal statistics: nodes with h outside H(Theta)
       interface_heat,       // interface heat: heat through each conductance interface

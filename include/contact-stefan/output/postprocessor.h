@@ -63,6 +63,7 @@ namespace ContactStefan
                   const EnthalpyStepReport &thermal_report,
                   const ContactStepReport  &contact_report,
                   const CouplingReport     &coupling_report,
+                  const StepControlReport  &step_control_report,
                   const double              wall_time);
     /**
      * A mesh adaptation between two steps changed the total enthalpy by this

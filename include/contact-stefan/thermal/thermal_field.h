@@ -296,6 +296,13 @@ namespace ContactStefan
     double liquid_area(const double transition_temperature) const;
     /** sum_i m_i (liquid fraction of node i): the melt area. */
     double melt_area() const;
+    /**
+     * The largest change of a free node's temperature (K) and of a node's
+     * phase index between the old and the current enthalpy: what the adaptive
+     * step control measures (core/step_control.h). Nodes with a prescribed
+     * temperature do not count: their change is data. Collective.
+     */
+    std::pair<double, double> step_change() const;
     /** A one-line description of what the field will do, for the start of a run. */
     std::string describe() const;
     /**

@@ -69,7 +69,7 @@ namespace ContactStefan
   // of the solidification history are attached to the mesh after the fields'
   // state), so
   // that an older checkpoint is refused by name, not misread.
-  const std::string checkpoint_format = "contact-stefan checkpoint 10";
+  const std::string checkpoint_format = "contact-stefan checkpoint 11";
 
   namespace
   {
@@ -664,8 +664,8 @@ namespace ContactStefan
         // (The parameter text after the numbers of the state: a test forges
         // the first number in scientific notation, the time.)
         archive << format << id << fields_fingerprint() << n_ranks << time << time_step
-                << step_number << thermal_scalars << mechanical_scalars << wall
-                << prm.solution_parameters;
+                << step_number << proposed_time_step << thermal_scalars << mechanical_scalars
+                << wall << prm.solution_parameters;
         archive << *postprocessor;
         out.flush();
         if (!out)
@@ -798,8 +798,8 @@ namespace ContactStefan
         if (fields != fields_fingerprint())
           throw std::runtime_error("it was written by a scene with " + fields + ", this one has " +
                                    fields_fingerprint());
-        archive >> point.n_ranks >> time >> time_step >> step_number >> point.thermal_scalars >>
-          point.mechanical_scalars >> point.wall;
+        archive >> point.n_ranks >> time >> time_step >> step_number >> proposed_time_step >>
+          point.thermal_scalars >> point.mechanical_scalars >> point.wall;
         archive >> parameters;
         differences = parameter_differences(parameters, prm.solution_parameters);
         if (differences.empty())
@@ -842,7 +842,8 @@ namespace ContactStefan
       const auto &sizes = prm.time.step_sizes;
       // A checkpoint at or after the schedule's end: the End time was moved
       // before it (not a damaged file).
-      if (step_number == point.step && step_number > 0 && step_number >= sizes.size())
+      if (!prm.time.adaptive && step_number == point.step && step_number > 0 &&
+          step_number >= sizes.size())
         throw InputError("Checkpoint/Resume",
                          "set 'Time stepping/End time' after the checkpoint's time, or "
                          "start afresh: the checkpoint in '" +
@@ -850,21 +851,35 @@ namespace ContactStefan
                            ", t = " + number(time) + ", where the schedule up to End time = " +
                            number(prm.time.end_time) + " has only " +
                            std::to_string(sizes.size()) + " steps");
-      const bool step_valid =
-        step_number == point.step && step_number > 0 && step_number < sizes.size();
+      // Adaptive steps: no schedule to compare with; the sizes must be what
+      // the controller can choose.
+      const auto &control = prm.time.control;
+      const bool  step_valid =
+        step_number == point.step && step_number > 0 &&
+        (prm.time.adaptive ? step_number <= prm.time.max_steps : step_number < sizes.size());
       const double expected_time =
-        step_valid ? prm.time.step_times[step_number - 1] : prm.time.start_time;
+        !step_valid || prm.time.adaptive ? time : prm.time.step_times[step_number - 1];
       std::string       problem;
       const std::size_t n_thermal_scalars = thermal ? thermal->restart_state().size() : 0;
       const auto       &thermal_scalars   = point.thermal_scalars;
       if (!step_valid)
         problem = "the step " + std::to_string(step_number) + " is not the manifest's step " +
-                  std::to_string(point.step) + " or not one before the schedule's last (" +
-                  std::to_string(sizes.size()) + ")";
-      else if (!(time == expected_time))
+                  std::to_string(point.step) +
+                  (prm.time.adaptive ? " or more than Max time steps" :
+                                       " or not one before the schedule's last (" +
+                                         std::to_string(sizes.size()) + ")");
+      else if (prm.time.adaptive &&
+               !(time > prm.time.start_time && time_step > 0 && std::isfinite(time_step) &&
+                 proposed_time_step >= control.minimum_time_step &&
+                 proposed_time_step <= control.maximum_time_step))
+        problem = "the time " + number(time) + ", the step size " + number(time_step) +
+                  " or the proposed step " + number(proposed_time_step) +
+                  " is not one the adaptive step control can reach (Minimum and Maximum "
+                  "time step)";
+      else if (!prm.time.adaptive && !(time == expected_time))
         problem = "the time t = " + number(time) + " is not the time of step " +
                   std::to_string(step_number) + ", t = " + number(expected_time);
-      else if (!(time_step == sizes[step_number - 1]))
+      else if (!prm.time.adaptive && !(time_step == sizes[step_number - 1]))
         problem = "the step size " + number(time_step) + " is not the schedule's step " +
                   std::to_string(step_number) + ", tau = " + number(sizes[step_number - 1]);
       else if (point.n_ranks == 0 || !std::isfinite(point.wall) || point.wall < 0)

@@ -35,6 +35,7 @@ namespace ContactStefan
     , postprocessor(
         std::make_unique<Postprocessor<dim>>(context, prm.output, prm.refinement.adaptive()))
     , time(parameters.time.start_time)
+    , proposed_time_step(parameters.time.time_step)
   {
     assert_two_dimensional<dim>();
     if (prm.physics.thermal)
@@ -190,41 +191,18 @@ namespace ContactStefan
                             "stopped by " + StopSignals::name(signal) + " before step " +
                               std::to_string(step_number + 1) + " (t = " + number(time) +
                               "); the output holds every step up to it");
-    // The step sizes were worked out before the run (Parameters::TimeStepping::
-    // make_schedule(): constant, a function of t, and step end times).
-    const auto &schedule = prm.time.step_sizes;
-    while (step_number < schedule.size())
+    // The step sizes: worked out before the run (Parameters::TimeStepping::
+    // make_schedule(): constant, a function of t, and step end times), or
+    // chosen step by step by the adaptive step control (time_step.cc).
+    while (!run_finished())
       {
-        const unsigned int births = update_births();
-        time_step                 = schedule[step_number];
-        // Checked at parse time; guarded here so that no run can loop forever.
-        if (!(prm.time.step_times[step_number] > time))
-          throw std::runtime_error("time does not advance at t = " + std::to_string(time) +
-                                   " with tau = " + std::to_string(time_step));
-        time = prm.time.step_times[step_number];
-        ++step_number;
-        const bool last = step_number == schedule.size();
-
-        if (thermal)
-          thermal->begin_time_step(time, time_step);
-        if (mechanical)
-          mechanical->begin_time_step(time, time_step);
         EnthalpyStepReport thermal_report;
         ContactStepReport  contact_report;
         CouplingReport     coupling_report;
-        const unsigned int corrections    = block ? block->n_corrections() : 0;
-        const unsigned int factorisations = block ? block->n_factorisations() : 0;
-        const unsigned int guesses        = block ? mechanical->n_guesses_accepted() : 0;
-        coupling_report.births            = births;
-        coupled_step(thermal_report, contact_report, coupling_report);
-        if (block)
-          {
-            // This step's counts: the report carries them over a restart.
-            coupling_report.block_correction     = true;
-            coupling_report.block_corrections    = block->n_corrections() - corrections;
-            coupling_report.block_factorisations = block->n_factorisations() - factorisations;
-            coupling_report.guesses_accepted     = mechanical->n_guesses_accepted() - guesses;
-          }
+        StepControlReport  control_report;
+        coupling_report.births = update_births();
+        const bool last =
+          take_time_step(thermal_report, contact_report, coupling_report, control_report);
 
         postprocessor->end_step(step_number,
                                 time,
@@ -233,6 +211,7 @@ namespace ContactStefan
                                 thermal_report,
                                 contact_report,
                                 coupling_report,
+                                control_report,
                                 wall_offset + wall_clock.wall_time());
         print_step_line(thermal_report, contact_report, coupling_report);
         if (prm.refinement.adaptive_interval > 0 &&
