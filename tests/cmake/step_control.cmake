@@ -37,11 +37,14 @@ add_test(NAME step_control/neumann-A-rate
   --halve "Time stepping/Target temperature change"
   --require-rate "relative space-time L2 error temperature>=1.1")
 # The undo of a rejected attempt is exact: a step undone and redone with the
-# same size changes no physical column or RESULT line (tests/compare_undo.py).
-# On the casting (contact, melting, the die's wall), the mortar melting scene
-# with a contact-dependent conductance on a mesh adapted every step (3 ranks),
-# the block-corrected thermoelastic plate, and a slab born stress-free under
-# generalized plane strain (births, the out-of-plane strain).
+# same size changes no physical column or RESULT line (tests/compare_undo.py),
+# and one redone half as long equals the run whose step was half as long from
+# the start (what a shorter redo changes: the warm start's extrapolation from
+# the previous step's size, the step's data). On the casting (contact,
+# melting, the die's wall), the mortar melting scene with a contact-dependent
+# conductance on a mesh adapted every step (3 ranks), the block-corrected
+# thermoelastic plate, a slab born stress-free under generalized plane strain
+# (births, the out-of-plane strain), and Neumann A.
 foreach(np 1 2)
   set(suffix "")
   if(np GREATER 1)
@@ -64,13 +67,39 @@ add_test(NAME step_control/undo-mortar-conductance-adaptive-mpi3
   --set "Mesh refinement/Refine fraction=0.3"
   --set "Mesh refinement/Coarsen fraction=0.1"
   ${MORTAR_CONDUCTANCE_LAW})
-set_tests_properties(step_control/undo-mortar-conductance-adaptive-mpi3 PROPERTIES PROCESSORS 2)
+set_tests_properties(step_control/undo-mortar-conductance-adaptive-mpi3 PROPERTIES PROCESSORS 3)
 add_test(NAME step_control/undo-block-correction
   COMMAND /usr/bin/python3 ${T}/compare_undo.py ${BIN} ${T}/scenes/thermoelastic_block_correction.prm
   --step 3 --set "Output/VTU interval=0")
-add_test(NAME step_control/undo-birth-gps
-  COMMAND /usr/bin/python3 ${T}/compare_undo.py ${BIN} ${T}/scenes/birth_freezing_slab_gps.prm
-  --step 3 --set "Time stepping/Time step function=" --set "Output/VTU interval=0")
+foreach(factor 1 0.5)
+  set(suffix "")
+  if(NOT factor EQUAL 1)
+    set(suffix "-shorter")
+  endif()
+  add_test(NAME step_control/undo-birth-gps${suffix}
+    COMMAND /usr/bin/python3 ${T}/compare_undo.py ${BIN} ${T}/scenes/birth_freezing_slab_gps.prm
+    --step 3 --factor ${factor} --set "Time stepping/Time step function="
+    --set "Output/VTU interval=0")
+endforeach()
+# The solvers' work too (--work: both runs start their solvers afresh after
+# step 4 by a checkpoint, as the undo does): step 4 shortened to a quarter, the
+# attempt of step 5 (a whole step) undone and redone half as long. Every
+# iteration count and factorisation of the steps that stand must agree: an
+# undo that forgot the thermal field's restart values (the warm start's
+# previous step size) fails here and nowhere else.
+foreach(np 1 2)
+  set(suffix "")
+  if(np GREATER 1)
+    set(suffix "-mpi${np}")
+  endif()
+  add_test(NAME step_control/undo-casting-shorter-work${suffix}
+    COMMAND /usr/bin/python3 ${T}/compare_undo.py ${BIN} ${CMAKE_SOURCE_DIR}/prm/casting.prm
+    --step 5 --factor 0.5 --previous 0.25 --work --np ${np}
+    --set "Time stepping/End time=12" --set "Output/VTU interval=0")
+  set_tests_properties(step_control/undo-casting-shorter-work${suffix} PROPERTIES PROCESSORS ${np})
+endforeach()
+add_test(NAME step_control/undo-neumann-A-shorter
+  COMMAND /usr/bin/python3 ${T}/compare_undo.py ${BIN} ${P}/neumann_A.prm --step 4 --factor 0.5)
 # Killed after step 8 and resumed from the checkpoint of step 6 (its proposed
 # next step and the rejected attempt of step 1 are in it), adaptive mesh, on 1
 # and on 2 ranks.

@@ -141,11 +141,14 @@ namespace ContactStefan
     const unsigned int corrections    = block ? block->n_corrections() : 0;
     const unsigned int factorisations = block ? block->n_factorisations() : 0;
     const unsigned int guesses        = block ? mechanical->n_guesses_accepted() : 0;
-    // Test hook: the first attempt of this step is undone and redone with
-    // the same size, which must change nothing (tests/cmake/scenes.cmake).
+    // Test hook (tests/compare_undo.py): CONTACT_STEFAN_REJECT_STEP=K[:F] undoes
+    // the first attempt of step K and redoes it F times as long (default 1);
+    // the result must be the run whose step K was that long from the start.
     const char        *forced = std::getenv("CONTACT_STEFAN_REJECT_STEP");
+    char              *rest   = nullptr;
     const unsigned int forced_step =
-      adaptive && forced ? static_cast<unsigned int>(std::strtoul(forced, nullptr, 10)) : 0;
+      adaptive && forced ? static_cast<unsigned int>(std::strtoul(forced, &rest, 10)) : 0;
+    const double forced_factor = rest && *rest == ':' ? std::strtod(rest + 1, nullptr) : 1.;
     for (unsigned int attempt = 0;; ++attempt)
       {
         bool   shortened = false;
@@ -187,7 +190,7 @@ namespace ContactStefan
                                            thermal->phase_change_present());
         StepDecision decision                         = decide_step(prm.time.control, time_step, r);
         if (attempt == 0 && forced_step == step_number)
-          decision = {false, proposed_time_step, false};
+          decision = {false, forced_factor * proposed_time_step, false};
         if (decision.accept)
           {
             control_report.temperature_change = temperature_change;

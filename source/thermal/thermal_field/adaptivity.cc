@@ -1,6 +1,7 @@
 // What the thermal field tells the mesh adaptation (mesh_adaptation.h): where
 // the phase fronts are, and the jump indicator of the temperature
-// (doc/adaptivity.md).
+// (doc/adaptivity.md); and what it tells the adaptive step control: the
+// change of the last step (doc/time_stepping.md).
 #include <contact-stefan/core/q1_kernels.h>
 #include <contact-stefan/thermal/thermal_field.h>
 
@@ -57,6 +58,32 @@ namespace ContactStefan
 
 
 
+  // What the adaptive step control measures (core/step_control.h).
+  template <int dim>
+  std::pair<double, double> ThermalField<dim>::step_change() const
+  {
+    const double *h = entries(enthalpy), *h_old = entries(old_enthalpy);
+    double        temperature_change = 0, phase_change = 0;
+    for (unsigned int i = 0; i < n_owned; ++i)
+      {
+        if (!owned_free[i])
+          continue;
+        const EnthalpyLaw &node_law = owned_node_law(i);
+        // (NaN-safe: a NaN node must reach the controller, which stops the run.)
+        temperature_change =
+          max_with_nan(temperature_change,
+                       std::abs(node_law.temperature(h[i]) - node_law.temperature(h_old[i])));
+        phase_change =
+          max_with_nan(phase_change,
+                       std::abs(node_law.phase_index(h[i]) - node_law.phase_index(h_old[i])));
+      }
+    return {global_max_with_nan(temperature_change, mpi_communicator),
+            global_max_with_nan(phase_change, mpi_communicator)};
+  }
+
+
+
   template void ThermalField<2>::front_points(std::vector<Point<2>> &) const;
   template void ThermalField<2>::error_indicator(dealii::Vector<float> &) const;
+  template std::pair<double, double> ThermalField<2>::step_change() const;
 } // namespace ContactStefan

@@ -993,28 +993,5 @@ namespace ContactStefan
 
 
 
-  template <int dim>
-  std::pair<double, double> ThermalField<dim>::step_change() const
-  {
-    const double *h = entries(enthalpy), *h_old = entries(old_enthalpy);
-    double        temperature_change = 0, phase_change = 0;
-    for (unsigned int i = 0; i < n_owned; ++i)
-      {
-        if (!owned_free[i])
-          continue;
-        const EnthalpyLaw &node_law = owned_node_law(i);
-        temperature_change =
-          std::max(temperature_change,
-                   std::abs(node_law.temperature(h[i]) - node_law.temperature(h_old[i])));
-        phase_change =
-          std::max(phase_change,
-                   std::abs(node_law.phase_index(h[i]) - node_law.phase_index(h_old[i])));
-      }
-    return {Utilities::MPI::max(temperature_change, mpi_communicator),
-            Utilities::MPI::max(phase_change, mpi_communicator)};
-  }
-
-
-
   template class ThermalField<2>;
 } // namespace ContactStefan
