@@ -96,6 +96,13 @@ namespace ContactStefan
                         Patterns::Double(),
                         "Step control = adaptive: the largest factor by which tau grows from one "
                         "step to the next; >= Minimum step growth.");
+      prm.declare_entry("Step reduction after a failure",
+                        "0.25",
+                        Patterns::Double(),
+                        "Step control = adaptive: a step whose contact step, fixed-point "
+                        "coupling or enthalpy relaxation did not converge within its limit is "
+                        "redone this many times as long (in (0, 1)); at the Minimum time step "
+                        "the failure ends the run.");
       prm.declare_entry("Max time steps",
                         "1000000",
                         Patterns::Integer(1),
@@ -123,6 +130,8 @@ namespace ContactStefan
       control.maximum_time_step   = get_finite(prm, "Time stepping/", "Maximum time step");
       control.minimum_growth      = get_finite(prm, "Time stepping/", "Minimum step growth");
       control.maximum_growth      = get_finite(prm, "Time stepping/", "Maximum step growth");
+      control.failure_reduction =
+        get_finite(prm, "Time stepping/", "Step reduction after a failure");
       prm.leave_subsection();
       require(time_step > 0, "Time stepping/Time step", "must be > 0, got " + str(time_step));
       require(std::isnormal(time_step),
@@ -193,6 +202,9 @@ namespace ContactStefan
               p + "Maximum step growth",
               "must be >= Minimum step growth (" + str(c.minimum_growth) + "), got " +
                 str(c.maximum_growth));
+      require(c.failure_reduction > 0 && c.failure_reduction < 1,
+              p + "Step reduction after a failure",
+              "must lie in (0, 1), got " + str(c.failure_reduction));
       require(c.minimum_time_step >= 0,
               p + "Minimum time step",
               "must be >= 0 (0: Time step / 1000), got " + str(c.minimum_time_step));

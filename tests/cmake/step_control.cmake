@@ -107,3 +107,20 @@ resume_test(restart/neumann-A-adaptive-steps 1 1 CONTACT_STEFAN_KILL_AFTER_STEP 
   ${P}/neumann_A.prm ${RESUME_A} ${ADAPTIVE_STEPS})
 resume_test(restart/neumann-A-adaptive-steps-mpi2 2 2 CONTACT_STEFAN_KILL_AFTER_STEP 8
   ${P}/neumann_A.prm ${RESUME_A} ${ADAPTIVE_STEPS})
+# A step whose contact step does not converge within 'Contact/Max iterations'
+# is redone a quarter as long: the subduction scene's first attempt (6e11 s)
+# needs more than 3 contact iterations, so does the redo of 1.5e11 s; the one
+# of 3.75e10 s converges, and the run goes on (6 steps to 1.2e12 s, at most 3
+# contact iterations, energy balance).
+scene(step_control/subduction-contact-failure-redone 1 ${CMAKE_SOURCE_DIR}/prm/subduction.prm
+  subduction_contact_failure_redone
+  "SET:Output/VTU interval=0"
+  "SET:Time stepping/Step control=adaptive"
+  "SET:Time stepping/Target temperature change=1e9"
+  "SET:Time stepping/Target phase change=1e9"
+  "SET:Contact/Max iterations=3"
+  "SET:Time stepping/End time=1.2e12"
+  "SET:Time stepping/Time step=1e12"
+  "RESULT rejected step attempts>1.5"
+  "RESULT max contact iterations<3.5"
+  "RESULT max energy-balance residual<1e-8")

@@ -16,6 +16,7 @@
 #include <iomanip>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 
 namespace ContactStefan
@@ -37,6 +38,19 @@ namespace ContactStefan
    * quantity computed from terms of size s is exact to round_off_factor * eps * s.
    */
   constexpr double round_off_factor = 64;
+
+  /**
+   * A step's iteration that did not converge within its limit (the contact
+   * step's active set, the fixed-point coupling, the enthalpy step's
+   * relaxation). Thrown alike on every rank: each limit is tested on global
+   * counts. Adaptive time steps redo such a step shorter
+   * (doc/time_stepping.md); otherwise it ends the run with its message.
+   */
+  class StepNotConverged : public std::runtime_error
+  {
+  public:
+    using std::runtime_error::runtime_error;
+  };
 
   /**
    * A number for a message: 6 significant digits in any magnitude

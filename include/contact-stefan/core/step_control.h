@@ -23,7 +23,9 @@
 // The band in which tau is kept is what lets a factorisation (its fingerprint
 // holds tau) serve many steps: tau changes only by at least the minimum growth
 // factor upwards, and downwards only once the target is exceeded. Every
-// result is clamped to [minimum, maximum].
+// result is clamped to [minimum, maximum]. A step whose iteration did not
+// converge (StepNotConverged) is redone 'failure reduction' times as long,
+// unless it was at the minimum already (CoupledProblem::take_time_step).
 #ifndef contact_stefan_step_control_h
 #define contact_stefan_step_control_h
 
@@ -40,6 +42,7 @@ namespace ContactStefan
     double maximum_time_step         = 0;   // s, > 0 when used
     double minimum_growth            = 1.5; // tau grows by at least this, or stays
     double maximum_growth            = 2;   // and by at most this per step
+    double failure_reduction         = 0.25; // a step that did not converge: redo this long
   };
 
   struct StepDecision

@@ -65,6 +65,7 @@ namespace ContactStefan
                           CouplingReport     &coupling_report,
                           StepControlReport  &control_report);
     bool   run_finished() const;
+    std::string adaptive_state_problem() const;
     double adaptive_step_end(bool &shortened);
     /** What a step's attempt is undone to: what a checkpoint holds of the fields. */
     struct StepStart

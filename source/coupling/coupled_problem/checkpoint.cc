@@ -851,10 +851,8 @@ namespace ContactStefan
                            ", t = " + number(time) + ", where the schedule up to End time = " +
                            number(prm.time.end_time) + " has only " +
                            std::to_string(sizes.size()) + " steps");
-      // Adaptive steps: no schedule to compare with; the sizes must be what
-      // the controller can choose.
-      const auto &control = prm.time.control;
-      const bool  step_valid =
+      // Adaptive steps: no schedule to compare with (adaptive_state_problem()).
+      const bool step_valid =
         step_number == point.step && step_number > 0 &&
         (prm.time.adaptive ? step_number <= prm.time.max_steps : step_number < sizes.size());
       const double expected_time =
@@ -868,14 +866,8 @@ namespace ContactStefan
                   (prm.time.adaptive ? " or more than Max time steps" :
                                        " or not one before the schedule's last (" +
                                          std::to_string(sizes.size()) + ")");
-      else if (prm.time.adaptive &&
-               !(time > prm.time.start_time && time_step > 0 && std::isfinite(time_step) &&
-                 proposed_time_step >= control.minimum_time_step &&
-                 proposed_time_step <= control.maximum_time_step))
-        problem = "the time " + number(time) + ", the step size " + number(time_step) +
-                  " or the proposed step " + number(proposed_time_step) +
-                  " is not one the adaptive step control can reach (Minimum and Maximum "
-                  "time step)";
+      else if (const std::string p = prm.time.adaptive ? adaptive_state_problem() : ""; !p.empty())
+        problem = p;
       else if (!prm.time.adaptive && !(time == expected_time))
         problem = "the time t = " + number(time) + " is not the time of step " +
                   std::to_string(step_number) + ", t = " + number(expected_time);

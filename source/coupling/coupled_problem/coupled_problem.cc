@@ -666,7 +666,7 @@ namespace ContactStefan
         if (converged)
           break;
         if (it == prm.coupling.max_fixed_point_iterations)
-          throw std::runtime_error(
+          throw StepNotConverged(
             "the fixed-point coupling did not converge in 'Coupling/Max fixed-point "
             "iterations' = " +
             std::to_string(it) + " at t = " + number(time) + " (last changes: u " +

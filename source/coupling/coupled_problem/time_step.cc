@@ -64,6 +64,23 @@ namespace ContactStefan
 
 
 
+  // A resumed run with adaptive steps: no schedule to compare the time state
+  // with; the sizes must be ones the controller can choose. Empty: valid.
+  template <int dim>
+  std::string CoupledProblem<dim>::adaptive_state_problem() const
+  {
+    const auto &control = prm.time.control;
+    if (time > prm.time.start_time && time_step > 0 && std::isfinite(time_step) &&
+        proposed_time_step >= control.minimum_time_step &&
+        proposed_time_step <= control.maximum_time_step)
+      return "";
+    return "the time " + number(time) + ", the step size " + number(time_step) +
+           " or the proposed step " + number(proposed_time_step) +
+           " is not one the adaptive step control can reach (Minimum and Maximum time step)";
+  }
+
+
+
   template <int dim>
   void CoupledProblem<dim>::save_step_start(StepStart &start)
   {
@@ -179,9 +196,39 @@ namespace ContactStefan
         contact_report         = ContactStepReport();
         coupling_report        = CouplingReport();
         coupling_report.births = births;
-        coupled_step(thermal_report, contact_report, coupling_report);
+        // A step whose iteration did not converge (every rank throws alike):
+        // with adaptive steps, redone shorter unless it is at the minimum.
+        const auto &control    = prm.time.control;
+        const bool  at_minimum = time_step <= control.minimum_time_step * (1 + 1e-12);
+        std::string failure;
+        try
+          {
+            coupled_step(thermal_report, contact_report, coupling_report);
+          }
+        catch (const StepNotConverged &e)
+          {
+            if (!adaptive)
+              throw;
+            if (at_minimum)
+              throw StepNotConverged(std::string(e.what()) +
+                                     ", with the step already at 'Time stepping/Minimum "
+                                     "time step' = " +
+                                     number(control.minimum_time_step));
+            failure = e.what();
+          }
         if (!adaptive)
           break;
+        if (!failure.empty())
+          {
+            ++control_report.rejected;
+            proposed_time_step =
+              std::max(control.minimum_time_step, control.failure_reduction * time_step);
+            pcout << "    step " << step_number << " (tau = " << number(time_step)
+                  << ") redone with tau = " << number(proposed_time_step) << ": " << failure
+                  << std::endl;
+            restore_step_start(start);
+            continue;
+          }
 
         const auto [temperature_change, phase_change] = thermal->step_change();
         const double r                                = step_change_ratio(prm.time.control,
@@ -228,6 +275,7 @@ namespace ContactStefan
 
   template bool   CoupledProblem<2>::run_finished() const;
   template double CoupledProblem<2>::adaptive_step_end(bool &);
+  template std::string CoupledProblem<2>::adaptive_state_problem() const;
   template void   CoupledProblem<2>::save_step_start(StepStart &);
   template void   CoupledProblem<2>::restore_step_start(const StepStart &);
   template bool   CoupledProblem<2>::take_time_step(EnthalpyStepReport &,

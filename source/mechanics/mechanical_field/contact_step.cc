@@ -825,7 +825,7 @@ namespace ContactStefan
     for (unsigned int it = 1;; ++it)
       {
         if (it - tightening_solves > contact_prm.max_iterations)
-          throw std::runtime_error(
+          throw StepNotConverged(
             "the contact step did not converge in 'Contact/Max iterations' = " +
             std::to_string(contact_prm.max_iterations) + " iterations at t = " + number(time));
         unsigned int skipped = 0;

@@ -454,10 +454,10 @@ namespace ContactStefan
         if (residual <= step_prm.relaxation_tolerance * scale)
           return m;
       }
-    throw std::runtime_error("the relaxation iteration of the enthalpy step did not converge in "
-                             "'Solver/Relaxation max iterations' = " +
-                             std::to_string(step_prm.relaxation_max_iterations) +
-                             " iterations at t = " + std::to_string(time));
+    throw StepNotConverged("the relaxation iteration of the enthalpy step did not converge in "
+                           "'Solver/Relaxation max iterations' = " +
+                           std::to_string(step_prm.relaxation_max_iterations) +
+                           " iterations at t = " + std::to_string(time));
   }
 
 
