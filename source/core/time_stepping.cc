@@ -5,6 +5,7 @@
 
 #include <contact-stefan/core/checked_input.h>
 #include <contact-stefan/core/parameters.h>
+#include <contact-stefan/core/time_round_off.h>
 
 #include <algorithm>
 #include <cmath>
@@ -260,15 +261,12 @@ namespace ContactStefan
             }
         }
       // The round-off of the sum t of the steps so far, and the allowance within
-      // which a step is stretched to a stop: 1e-9 of the step plus that
-      // round-off (which after 1e5 steps of 1e-5 exceeds the first and would
-      // leave a sliver of a last step).
+      // which a step is stretched to a stop (core/time_round_off.h).
       const auto round_off = [&](const double t) {
-        return 4. * std::numeric_limits<double>::epsilon() * (step_sizes.size() + 1) *
-               std::max(std::abs(t), std::abs(end_time));
+        return time_sum_round_off(step_sizes.size(), t, end_time);
       };
       const auto allowance = [&](const double tau, const double t) {
-        return 1e-9 * tau + round_off(t);
+        return stop_allowance(tau, step_sizes.size(), t, end_time);
       };
       step_sizes.clear();
       step_times.clear();

@@ -11,6 +11,7 @@
 // start their solvers afresh; then the step is tried again, shorter. Nothing
 // of a rejected attempt reaches the output: the report is made only for the
 // attempt that stands.
+#include <contact-stefan/core/time_round_off.h>
 #include <contact-stefan/coupling/coupled_problem.h>
 #include <contact-stefan/output/run_guard.h>
 
@@ -42,9 +43,8 @@ namespace ContactStefan
     const auto   next      = std::upper_bound(times.begin(), times.end(), time);
     const double stop      = next != times.end() ? *next : prm.time.end_time;
     const double tau       = std::min(proposed_time_step, prm.time.control.maximum_time_step);
-    const double allowance = 1e-9 * tau + 4. * std::numeric_limits<double>::epsilon() *
-                                            (step_number + 1) *
-                                            std::max(std::abs(time), std::abs(prm.time.end_time));
+    // (As the schedule stretches a step to a stop: core/time_round_off.h.)
+    const double allowance = stop_allowance(tau, step_number, time, prm.time.end_time);
     shortened = false;
     if (time + tau > stop - allowance)
       {
@@ -199,7 +199,10 @@ namespace ContactStefan
         // A step whose iteration did not converge (every rank throws alike):
         // with adaptive steps, redone shorter unless it is at the minimum.
         const auto &control    = prm.time.control;
-        const bool  at_minimum = time_step <= control.minimum_time_step * (1 + 1e-12);
+        // (The controller's own test of the minimum: a step it would not
+        // shorten whatever its change.)
+        const bool at_minimum =
+          decide_step(control, time_step, std::numeric_limits<double>::infinity()).accept;
         std::string failure;
         try
           {
