@@ -51,6 +51,8 @@ COLUMNS = [
     ("max relative stress L2 error", "sigma vert", "{:>10.3e}", True),
     ("max relative stress L2 error (cell centres)", "sigma cell", "{:>10.3e}", True),
     ("max relative stress L2 error (recovered)", "sigma rec", "{:>10.3e}", True),
+    ("max relative heat flux L2 error (cell centres)", "q cell", "{:>10.3e}", True),
+    ("max relative heat flux L2 error (recovered)", "q rec", "{:>10.3e}", True),
 ]
 
 
@@ -128,7 +130,10 @@ def run_level(binary, scene_text, scene_dir, level, np_, workdir, refine_time, h
         text = set_path(text, path, repr(float(value) / 2**level))
     text = set_path(text, "Output/Directory", os.path.join(workdir, f"level-{level}"))
     text = set_path(text, "Output/VTU interval", "0")
-    prm = os.path.join(scene_dir, f".ladder-level-{level}.prm")
+    # Beside the scene, so that its relative includes and meshes resolve; named
+    # by the process, so that two ladders over scenes of one folder (two ctest
+    # jobs) do not write and delete each other's file.
+    prm = os.path.join(scene_dir, f".ladder-{os.getpid()}-level-{level}.prm")
     with open(prm, "w") as f:
         f.write(text)
     try:

@@ -27,6 +27,7 @@ namespace ContactStefan
   /* The checks, chosen by their entries in 'Exact solution' (with any Type). */               \
   PART(liquid_fraction_part)                                                                   \
   PART(stress_part)                                                                            \
+  PART(heat_flux_part)                                                                         \
   PART(section_normal_force_part)                                                              \
   PART(contact_pressure_part)
   // clang-format on

@@ -51,6 +51,7 @@
 #include <deal.II/numerics/data_out.h>
 #include <deal.II/numerics/data_postprocessor.h>
 
+#include <contact-stefan/core/body_recovery.h>
 #include <contact-stefan/core/common.h>
 #include <contact-stefan/core/enthalpy_law.h>
 #include <contact-stefan/core/interface_conductance.h>
@@ -135,6 +136,20 @@ namespace ContactStefan
      * stay alive in this object until the next call.
      */
     void add_output(DataOut<dim> &data_out) const;
+    /**
+     * The heat flux -k K grad(Theta) at the centre of each owned cell (zero
+     * elsewhere), with the cell's conductivity as the step used it.
+     */
+    std::vector<std::array<double, 2>> cell_centre_heat_flux() const;
+    /**
+     * Visit every vertex of every owned cell with its vertex-rule weight and
+     * the recovered heat flux of the cell's body there (the L2 error of the
+     * recovered field by the vertex rule). Collective (the recovery).
+     */
+    void for_each_recovered_vertex_heat_flux(
+      const std::function<
+        void(const Point<dim> &, double, const std::array<double, 2> &, const Point<dim> &)> &visit)
+      const;
 
     // --- coupling (doc/coupling.md) -------------------------------------------------
     // Per-cell vertex arrays indexed by active cell index (owned cells only);
@@ -700,6 +715,9 @@ namespace ContactStefan
     /** Output fields, alive until the next add_output(). */
     mutable Vector                                output_phase_index, output_liquid_fraction;
     mutable std::array<dealii::Vector<double>, 2> output_heat_flux; // cell data
+    // The recovered heat flux: each body's own nodes (built at the first use).
+    mutable std::unique_ptr<BodyRecovery<dim>> heat_flux_recovery;
+    void recover_heat_flux(const std::vector<std::array<double, 2>> &flux) const;
     mutable std::vector<std::shared_ptr<DataPostprocessor<dim>>> output_slot_sums; // SlotSum
   };
 } // namespace ContactStefan

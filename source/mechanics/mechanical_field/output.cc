@@ -5,6 +5,7 @@
 
 #include <deal.II/numerics/data_postprocessor.h>
 
+#include <contact-stefan/core/body_recovery.h>
 #include <contact-stefan/core/q1_kernels.h>
 #include <contact-stefan/core/slot_sum.h>
 #include <contact-stefan/mechanics/mechanical_field.h>
@@ -38,46 +39,6 @@ namespace ContactStefan
 
     private:
       const std::map<unsigned int, unsigned int> &slot_of_body;
-    };
-
-    // Two scalars stored in the x and y components of the cell's body slot
-    // (the recovered nodal fields of recover_nodal_pair()).
-    template <int dim>
-    class BodyPair : public DataPostprocessor<dim>
-    {
-    public:
-      BodyPair(const std::map<unsigned int, unsigned int> &slots,
-               const std::vector<std::string>             &names)
-        : slot_of_body(slots)
-        , names(names)
-      {}
-      void evaluate_vector_field(const DataPostprocessorInputs::Vector<dim> &inputs,
-                                 std::vector<dealii::Vector<double>> &computed) const override
-      {
-        const auto         cell = inputs.template get_cell<dim>();
-        const unsigned int c0   = slot_of_body.at(cell->material_id()) * dim;
-        for (unsigned int q = 0; q < computed.size(); ++q)
-          for (unsigned int k = 0; k < names.size(); ++k)
-            computed[q](k) = inputs.solution_values[q][c0 + k];
-      }
-      std::vector<std::string> get_names() const override
-      {
-        return names;
-      }
-      std::vector<DataComponentInterpretation::DataComponentInterpretation>
-      get_data_component_interpretation() const override
-      {
-        return std::vector<DataComponentInterpretation::DataComponentInterpretation>(
-          names.size(), DataComponentInterpretation::component_is_scalar);
-      }
-      UpdateFlags get_needed_update_flags() const override
-      {
-        return update_values;
-      }
-
-    private:
-      const std::map<unsigned int, unsigned int> &slot_of_body;
-      const std::vector<std::string>              names;
     };
 
     // The von Mises stress of the in-plane stress and sigma_zz.
@@ -208,41 +169,14 @@ namespace ContactStefan
   MechanicalField<dim>::recover_nodal_pair(const std::vector<std::array<double, 2>> &cell_values,
                                            Vector                                   &nodal) const
   {
-    // Lumped mass: the vertex rule's weight of each vertex (a quarter of the
-    // cell's area on a parallelogram).
-    const hp::QCollection<dim> vertex_rule(QTrapezoid<dim>{});
-    hp::FEValues<dim>          hp_values(fe, vertex_rule, update_JxW_values);
-    Vector                     weighted(owned, mpi_communicator), mass(owned, mpi_communicator);
-    std::vector<types::global_dof_index> dofs;
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned())
-        {
-          hp_values.reinit(cell);
-          const FEValues<dim> &fv = hp_values.get_present_fe_values();
-          const unsigned int   n  = fv.get_fe().n_dofs_per_cell();
-          const unsigned int   c0 = slot_of_body.at(cell->material_id()) * dim;
-          dofs.resize(n);
-          cell->get_dof_indices(dofs);
-          dealii::Vector<double> local_weighted(n), local_mass(n);
-          for (unsigned int i = 0; i < n; ++i)
-            {
-              // FE_Q(1): the index within the base element is the vertex.
-              const auto [component, vertex] = fv.get_fe().system_to_component_index(i);
-              local_mass(i)                  = fv.JxW(vertex);
-              local_weighted(i) =
-                fv.JxW(vertex) * cell_values[cell->active_cell_index()][component - c0];
-            }
-          hanging_node_constraints.distribute_local_to_global(local_weighted, dofs, weighted);
-          hanging_node_constraints.distribute_local_to_global(local_mass, dofs, mass);
-        }
-    weighted.compress(VectorOperation::add);
-    mass.compress(VectorOperation::add);
-    nodal.reinit(owned, mpi_communicator);
-    for (const auto dof : owned)
-      if (mass[dof] > 0)
-        nodal[dof] = weighted[dof] / mass[dof];
-    nodal.compress(VectorOperation::insert);
-    hanging_node_constraints.distribute(nodal);
+    recover_pair_in_slots(dof_handler,
+                          hanging_node_constraints,
+                          slot_of_body,
+                          dim,
+                          cell_values,
+                          owned,
+                          mpi_communicator,
+                          nodal);
   }
 
 
@@ -587,7 +521,7 @@ namespace ContactStefan
     for (unsigned int k = 0; k < 4; ++k)
       {
         output_postprocessors.push_back(
-          std::make_unique<BodyPair<dim>>(slot_of_body, point_names[k]));
+          std::make_unique<BodyPair<dim>>(slot_of_body, dim, point_names[k]));
         data_out.add_data_vector(dof_handler, output_recovered[k], *output_postprocessors.back());
       }
   }
