@@ -1215,6 +1215,8 @@ def main():
     sample_note = ""
     if args.sample < 1:
         parser.error("--sample must be at least 1")
+    if args.sample_offset is not None and args.sample == 1:
+        parser.error("--sample-offset needs --sample N with N > 1")
     if args.sample > 1:
         offset = args.sample_offset
         if offset is None:
@@ -1225,6 +1227,10 @@ def main():
         mutations = [m for k, m in enumerate(mutations) if k % args.sample == offset]
         sample_note = ("sample: %d of %d mutations (--sample %d --sample-offset %d; "
                        "--sample 1 runs all)" % (len(mutations), total, args.sample, offset))
+    # A selection that runs nothing would pass without having checked anything.
+    if not mutations:
+        parser.error("no mutation selected (--filter %r%s)" % (
+            args.filter, ", " + sample_note if sample_note else ""))
 
     if sample_note:
         print(sample_note, flush=True)

@@ -87,6 +87,15 @@ namespace ContactStefan
           }
         fe.push_back(FESystem<dim>(elements, multiplicities));
       }
+    mesh_change = triangulation.signals.any_change.connect([this]() { mesh_changed = true; });
+  }
+
+
+
+  template <int dim>
+  BodyRecovery<dim>::~BodyRecovery()
+  {
+    mesh_change.disconnect();
   }
 
 
@@ -94,16 +103,20 @@ namespace ContactStefan
   template <int dim>
   void BodyRecovery<dim>::recover(const std::vector<std::array<double, 2>> &cell_values)
   {
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned())
-        cell->set_active_fe_index(slot_of_body.at(cell->material_id()));
-    dof_handler.distribute_dofs(fe);
-    owned = dof_handler.locally_owned_dofs();
-    DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
-    hanging_node_constraints.clear();
-    hanging_node_constraints.reinit(relevant);
-    DoFTools::make_hanging_node_constraints(dof_handler, hanging_node_constraints);
-    hanging_node_constraints.close();
+    if (mesh_changed)
+      {
+        for (const auto &cell : dof_handler.active_cell_iterators())
+          if (cell->is_locally_owned())
+            cell->set_active_fe_index(slot_of_body.at(cell->material_id()));
+        dof_handler.distribute_dofs(fe);
+        owned = dof_handler.locally_owned_dofs();
+        DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
+        hanging_node_constraints.clear();
+        hanging_node_constraints.reinit(relevant);
+        DoFTools::make_hanging_node_constraints(dof_handler, hanging_node_constraints);
+        hanging_node_constraints.close();
+        mesh_changed = false;
+      }
     Vector nodal;
     recover_pair_in_slots(dof_handler,
                           hanging_node_constraints,

@@ -28,6 +28,8 @@
 #include <deal.II/numerics/data_out.h>
 #include <deal.II/numerics/data_postprocessor.h>
 
+#include <boost/signals2/connection.hpp>
+
 #include <contact-stefan/core/common.h>
 
 #include <array>
@@ -102,8 +104,8 @@ namespace ContactStefan
 
   /**
    * A recovered pair on a DoFHandler of its own: FE_Q(1)^2 in each body's
-   * slot. recover() rebuilds the DoFs for the current mesh (the output steps
-   * are few; nothing to keep in step with adaptivity between them).
+   * slot. recover() distributes the DoFs again only after the mesh changed
+   * (the triangulation's any_change signal).
    */
   template <int dim>
   class BodyRecovery
@@ -112,6 +114,7 @@ namespace ContactStefan
     BodyRecovery(const Triangulation<dim>        &triangulation,
                  const std::vector<unsigned int> &body_ids,
                  const MPI_Comm                   mpi_communicator);
+    ~BodyRecovery();
 
     /** Project the centre values (one pair per active cell). Collective. */
     void recover(const std::vector<std::array<double, 2>> &cell_values);
@@ -139,6 +142,8 @@ namespace ContactStefan
     IndexSet                             owned, relevant;
     Vector                               ghosted;
     std::unique_ptr<BodyPair<dim>>       postprocessor;
+    bool                                 mesh_changed = true;
+    boost::signals2::connection          mesh_change;
   };
 } // namespace ContactStefan
 

@@ -62,7 +62,10 @@ namespace ContactStefan
       }
     data_out.add_data_vector(output_heat_flux[0], "cell_heat_flux_x", DataOut<dim>::type_cell_data);
     data_out.add_data_vector(output_heat_flux[1], "cell_heat_flux_y", DataOut<dim>::type_cell_data);
-    recover_heat_flux(flux);
+    {
+      TimerOutput::Scope t(timer, "output: heat flux");
+      recover_heat_flux(flux);
+    }
     heat_flux_recovery->add_output(data_out, {"heat_flux_x", "heat_flux_y"});
   }
 
