@@ -10,6 +10,7 @@
 #include <deal.II/hp/fe_values.h>
 
 #include <contact-stefan/core/body_recovery.h>
+#include <contact-stefan/core/slot_sum.h>
 
 namespace ContactStefan
 {
@@ -70,23 +71,10 @@ namespace ContactStefan
     , mpi_communicator(mpi_communicator)
     , dof_handler(triangulation)
   {
-    // Element b: FE_Q(1)^2 in slot b, FE_Nothing^2 in every other slot.
     const unsigned int n_slots = body_ids.size();
     for (unsigned int s = 0; s < n_slots; ++s)
       slot_of_body[body_ids[s]] = s;
-    const FE_Q<dim>       q1(1);
-    const FE_Nothing<dim> nothing;
-    for (unsigned int b = 0; b < n_slots; ++b)
-      {
-        std::vector<const FiniteElement<dim> *> elements;
-        std::vector<unsigned int>               multiplicities;
-        for (unsigned int s = 0; s < n_slots; ++s)
-          {
-            elements.push_back(s == b ? static_cast<const FiniteElement<dim> *>(&q1) : &nothing);
-            multiplicities.push_back(2);
-          }
-        fe.push_back(FESystem<dim>(elements, multiplicities));
-      }
+    fe          = slot_elements<dim>(n_slots, 2);
     mesh_change = triangulation.signals.any_change.connect([this]() { mesh_changed = true; });
   }
 

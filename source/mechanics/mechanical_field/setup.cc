@@ -25,6 +25,7 @@
 
 #include <deal.II/numerics/vector_tools.h>
 
+#include <contact-stefan/core/slot_sum.h>
 #include <contact-stefan/interfaces/body_interface.h>
 #include <contact-stefan/interfaces/contact.h>
 #include <contact-stefan/mechanics/mechanical_field.h>
@@ -81,19 +82,7 @@ namespace ContactStefan
     old_ezz.assign(n_slots, 0.);
     for (unsigned int s = 0; s < n_slots; ++s)
       slot_of_body[prm.body_ids[s]] = s;
-    const FE_Q<dim>       q1(1);
-    const FE_Nothing<dim> nothing;
-    for (unsigned int b = 0; b < n_slots; ++b)
-      {
-        std::vector<const FiniteElement<dim> *> elements;
-        std::vector<unsigned int>               multiplicities;
-        for (unsigned int s = 0; s < n_slots; ++s)
-          {
-            elements.push_back(s == b ? static_cast<const FiniteElement<dim> *>(&q1) : &nothing);
-            multiplicities.push_back(dim);
-          }
-        fe.push_back(FESystem<dim>(elements, multiplicities));
-      }
+    fe = slot_elements<dim>(n_slots, dim);
     // Only a scene with a body that is stress-free at solidification keeps
     // references per material point.
     if (prm.solidification_history_active())

@@ -17,6 +17,7 @@
 #include <deal.II/fe/fe_system.h>
 
 #include <contact-stefan/core/checked_input.h>
+#include <contact-stefan/core/slot_sum.h>
 #include <contact-stefan/thermal/thermal_field.h>
 
 #include <algorithm>
@@ -137,21 +138,7 @@ namespace ContactStefan
         if (n_slots == 1)
           fe_collection.push_back(fe);
         else
-          {
-            const FE_Nothing<dim> nothing;
-            for (unsigned int b = 0; b < n_slots; ++b)
-              {
-                std::vector<const FiniteElement<dim> *> elements;
-                std::vector<unsigned int>               multiplicities;
-                for (unsigned int s = 0; s < n_slots; ++s)
-                  {
-                    elements.push_back(s == b ? static_cast<const FiniteElement<dim> *>(&fe) :
-                                                &nothing);
-                    multiplicities.push_back(1);
-                  }
-                fe_collection.push_back(FESystem<dim>(elements, multiplicities));
-              }
-          }
+          fe_collection = slot_elements<dim>(n_slots, 1);
       }
     if (slots != n_slots)
       throw std::logic_error("the thermal slots changed with the mesh");
