@@ -137,12 +137,12 @@ def per_step_at(curve, dofs):
                     (math.log(t1) - math.log(t0)) / (math.log(n1) - math.log(n0)))
 
 
-def stefan(binary, levels, workdir, interval, buffer, repeat):
+def stefan(binary, levels, workdir, interval, buffer, repeat, margin=0):
     """Neumann case A. The adaptive run at level L against the global run at
     level L (the error to reach) and the global runs at levels 0 ... L (the
     cost of a step at a given number of DoFs)."""
     rows, curves = [], {"global": [], "adaptive": []}
-    summary = []
+    summary, margin_summary = [], []
     for level in range(1, levels + 1):
         tau = repr(0.0625 / 2**level)
         g = run_scene(binary, "stefan", {"Mesh refinement/Initial global refinements": str(level),
@@ -162,7 +162,19 @@ def stefan(binary, levels, workdir, interval, buffer, repeat):
                                          "Mesh refinement/Front buffer": str(buffer),
                                          **adaptive_settings(level, interval)}, workdir,
                       f"adaptive-{level}", repeat=repeat)
-        for kind, r in (("global", g), ("adaptive", a)):
+        runs = [("global", g), ("adaptive", a)]
+        if margin > 0:
+            # The same, checked after every step but adapted only when a front
+            # comes within `margin` cells of the edge of its refined zone.
+            m = run_scene(binary, "stefan", {"Time stepping/Time step": tau,
+                                             "Mesh refinement/Coarsen fraction": "0.02",
+                                             "Mesh refinement/Front buffer": str(buffer),
+                                             "Mesh refinement/Front margin": str(margin),
+                                             **adaptive_settings(level, 1)}, workdir,
+                          f"adaptive-margin-{level}", repeat=repeat)
+            runs.append((f"adaptive, margin {margin}", m))
+            curves.setdefault(f"adaptive, margin {margin}", [])
+        for kind, r in runs:
             e = r["relative space-time L2 error temperature"]
             curves[kind].append((dofs_of(r), r["wall time"], e))
             rows.append([str(level), kind, f"{dofs_of(r):.0f}", f"{e:.4e}",
@@ -176,12 +188,27 @@ def stefan(binary, levels, workdir, interval, buffer, repeat):
         summary.append((level, error_ratio, a["wall time"] / g["wall time"],
                         per_step(a), dofs_of(a),
                         per_step_at(step_cost, dofs_of(a))))
+        if margin > 0:
+            rows.append(["", f"ratio, margin {margin}", f"{dofs_of(g) / dofs_of(m):.2f}",
+                         f"{m['relative space-time L2 error temperature'] / g['relative space-time L2 error temperature']:.4f}",
+                         "", "", "", f"{g['wall time'] / m['wall time']:.2f}"])
+            margin_summary.append((level, m["relative space-time L2 error temperature"] /
+                                   g["relative space-time L2 error temperature"],
+                                   m["wall time"] / g["wall time"], per_step(m), dofs_of(m),
+                                   per_step_at(step_cost, dofs_of(m)), m["mesh adaptations"],
+                                   a["mesh adaptations"]))
     notes = []
     for level, error_ratio, time_ratio, adapted_step, dofs, same_dofs in summary:
         notes.append(f"level {level}: adaptive error {100 * (error_ratio - 1):+.2f} % against "
                      f"global, wall time {time_ratio:.3f} of global; an adapted step costs "
                      f"{adapted_step / same_dofs:.2f}x a global step of the same DoFs "
                      f"({1e3 * same_dofs:.2f} ms at {dofs:.0f} DoFs and the same tau, interpolated)")
+    for level, error_ratio, time_ratio, adapted_step, dofs, same_dofs, n, n_interval in margin_summary:
+        notes.append(f"level {level}, front margin {margin}: adaptive error "
+                     f"{100 * (error_ratio - 1):+.2f} % against global, wall time "
+                     f"{time_ratio:.3f} of global, {n:.0f} adaptations (every {interval} steps: "
+                     f"{n_interval:.0f}); an adapted step costs {adapted_step / same_dofs:.2f}x a "
+                     f"global step of the same DoFs")
     global ERROR_RATIOS
     ERROR_RATIOS = [(level, ratio) for level, ratio, *_ in summary]
     return (["level", "mesh", "DoFs (time-avg.)", "space-time L2 error", "front error / local h",
@@ -231,7 +258,19 @@ def coupled(binary, levels, workdir, pictures, repeat=1):
                                           str(level)}, workdir, f"global-{level}", repeat=repeat)
         a = run_scene(binary, "coupled", adaptive_settings(level, interval=2, initial=1),
                       workdir, f"adaptive-{level}", repeat=repeat)
-        for kind, r in (("global", g), ("adaptive", a)):
+        runs = [("global", g), ("adaptive", a)]
+        if margin > 0:
+            # The same, checked after every step but adapted only when a front
+            # comes within `margin` cells of the edge of its refined zone.
+            m = run_scene(binary, "stefan", {"Time stepping/Time step": tau,
+                                             "Mesh refinement/Coarsen fraction": "0.02",
+                                             "Mesh refinement/Front buffer": str(buffer),
+                                             "Mesh refinement/Front margin": str(margin),
+                                             **adaptive_settings(level, 1)}, workdir,
+                          f"adaptive-margin-{level}", repeat=repeat)
+            runs.append((f"adaptive, margin {margin}", m))
+            curves.setdefault(f"adaptive, margin {margin}", [])
+        for kind, r in runs:
             curves[kind].append((dofs_of(r), r["wall time"], deviation(r)))
             rows.append([str(level), kind, f"{dofs_of(r):.0f}", f"{r['melt area']:.6e}",
                          f"{r['contact force interface 0-1']:.6e}", f"{deviation(r):.2e}",
@@ -280,8 +319,8 @@ def plot(name, curves, ylabel, path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     fig, axes = plt.subplots(1, 2, figsize=(10, 3.8))
-    for kind, marker in (("global", "o-"), ("adaptive", "s-")):
-        pts = curves[kind]
+    markers = ["o-", "s-", "^-", "v-"]
+    for (kind, pts), marker in zip(curves.items(), markers):
         axes[0].loglog([p[0] for p in pts], [p[2] for p in pts], marker, label=kind)
         axes[1].loglog([p[1] for p in pts], [p[2] for p in pts], marker, label=kind)
     axes[0].set_xlabel("DoFs (time-averaged where the mesh changes)")
@@ -308,6 +347,10 @@ def main():
                    help="stefan: adapt every this many steps (default %(default)s)")
     p.add_argument("--front-buffer", type=int, default=FRONT_BUFFER,
                    help="stefan: 'Mesh refinement/Front buffer' (default %(default)s)")
+    p.add_argument("--front-margin", type=int, default=0,
+                   help="stefan: also run each adaptive level checked after every step but "
+                        "adapted only when a front nears the edge of its refined zone "
+                        "('Mesh refinement/Front margin'; default 0: not run)")
     p.add_argument("--repeat", type=int, default=3,
                    help="runs of each configuration; the smallest wall time counts")
     p.add_argument("--binary", default=DEFAULT_BINARY)
@@ -327,7 +370,7 @@ def main():
             if problem == "stefan":
                 headers, rows, curves, label, notes = stefan(
                     args.binary, args.levels or 4, workdir, args.interval, args.front_buffer,
-                    args.repeat)
+                    args.repeat, args.front_margin)
             elif problem == "hertz":
                 headers, rows, curves, label, notes = hertz(args.binary, (args.levels or 3) + 2, workdir,
                                                             args.repeat)

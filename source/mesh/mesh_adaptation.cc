@@ -79,11 +79,18 @@ namespace ContactStefan
   {
     // The relative slack only keeps a point exactly on the rim (a node at a
     // cell's corner is half a diameter from its centre) inside.
-    const double radius = (buffer + 0.5) * diameter * (1 + 1e-10);
+    return near(centre, (buffer + 0.5) * diameter * (1 + 1e-10));
+  }
+
+
+
+  template <int dim>
+  bool FeatureCloud<dim>::near(const Point<dim> &p, const double radius) const
+  {
     for (unsigned int d = 0; d < dim; ++d)
-      if (centre[d] < lower[d] - radius || centre[d] > upper[d] + radius)
+      if (p[d] < lower[d] - radius || p[d] > upper[d] + radius)
         return false;
-    return distance(centre) <= radius;
+    return distance(p) <= radius;
   }
 
 

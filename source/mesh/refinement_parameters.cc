@@ -104,6 +104,24 @@ namespace ContactStefan
                         "Cells around a front cell (in widths of the cell marked) that are "
                         "refined with it: cover the distance the front travels between two "
                         "adaptations.");
+      prm.declare_entry("Front margin",
+                        "0",
+                        Patterns::Integer(0, 100),
+                        "0: adapt after every Adaptive refinement interval steps. A positive "
+                        "value m: after every interval, adapt only if a phase front or an "
+                        "active contact zone has come within m cells of Maximum level of a "
+                        "cell below Maximum level (it is about to leave the zone refined "
+                        "around it); otherwise keep the mesh and everything built on it. "
+                        "The test needs only the current mesh and state, so a resumed run "
+                        "decides as the uninterrupted one. Meanwhile the indicators' "
+                        "refinement elsewhere waits for the next adaptation. Without fronts "
+                        "and contact zones to mark, every interval adapts. On Neumann A at "
+                        "level 4 (Front buffer = 4, checked every step), m = 2 adapted 13 "
+                        "times instead of 76 (every 3 steps), in 0.36 of that run's time, for "
+                        "a space-time error 2.6 % instead of 0.3 % above the global mesh's "
+                        "(doc/adaptivity.md, section 5). At most Front buffer (and Contact "
+                        "buffer, where contact zones are "
+                        "marked).");
       prm.declare_entry("Mark contact zones",
                         "true",
                         Patterns::Bool(),
@@ -151,6 +169,17 @@ namespace ContactStefan
       front_buffer        = prm.get_integer("Front buffer");
       mark_contact        = prm.get_bool("Mark contact zones");
       contact_buffer      = prm.get_integer("Contact buffer");
+      front_margin        = prm.get_integer("Front margin");
+      require(!mark_fronts || front_margin <= front_buffer,
+              "Mesh refinement/Front margin",
+              "is " + std::to_string(front_margin) + ", more than Front buffer (" +
+                std::to_string(front_buffer) +
+                "): the refined zone would be left at once and every interval would adapt");
+      require(!mark_contact || front_margin <= contact_buffer,
+              "Mesh refinement/Front margin",
+              "is " + std::to_string(front_margin) + ", more than Contact buffer (" +
+                std::to_string(contact_buffer) +
+                "): the refined zone would be left at once and every interval would adapt");
       prm.leave_subsection();
     }
   } // namespace Parameters

@@ -17,6 +17,12 @@ resume_test(restart/neumann-A-adaptive 1 1 CONTACT_STEFAN_KILL_AFTER_STEP 8
   ${P}/neumann_A.prm ${RESUME_A})
 resume_test(restart/neumann-A-adaptive-mpi2 2 2 CONTACT_STEFAN_KILL_AFTER_STEP 8
   ${P}/neumann_A.prm ${RESUME_A})
+# With a front margin the decision to adapt is taken from the mesh and state
+# alone: the resumed run skips and adapts at the same steps.
+resume_test(restart/neumann-A-front-margin 1 1 CONTACT_STEFAN_KILL_AFTER_STEP 8
+  ${P}/neumann_A.prm ${RESUME_A} "SET:Mesh refinement/Front margin=2")
+resume_test(restart/neumann-A-front-margin-mpi2-to-1 2 1 CONTACT_STEFAN_KILL_AFTER_STEP 8
+  ${P}/neumann_A.prm ${RESUME_A} "SET:Mesh refinement/Front margin=2")
 # The truncated Newton method's path (Gauss-Seidel order, snapping decisions)
 # depends on the DoF order: the thermal DoFs are numbered hierarchically, an
 # order that depends on the mesh alone, not on the history of cell indices that

@@ -92,6 +92,7 @@ namespace ContactStefan
      * p4est's balance refined one side of an interface only.
      */
     AdaptationReport mark_for_adaptation();
+    bool             features_inside_refined_zone();
     void             execute_with_transfer(const bool transfer);
     void             execute_and_repair(const bool transfer);
     void             adapt_initial_mesh(ContactStepReport &initial_contact);

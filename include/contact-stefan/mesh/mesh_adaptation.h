@@ -68,6 +68,8 @@ namespace ContactStefan
      * (k = 1 on a square mesh: the cells two across, 2 < 1.5 sqrt(2) widths).
      */
     bool within(const Point<dim> &centre, const double diameter, const unsigned int buffer) const;
+    /** Whether a point lies within `radius` of p (the bounding box first). */
+    bool near(const Point<dim> &p, const double radius) const;
 
   private:
     void build();

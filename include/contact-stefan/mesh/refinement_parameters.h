@@ -37,6 +37,8 @@ namespace ContactStefan
       double       temperature_weight, displacement_weight;
       bool         mark_fronts, mark_contact;
       unsigned int front_buffer, contact_buffer; // in cells
+      // in finest cells; 0: adapt at every interval
+      unsigned int front_margin;
 
       bool adaptive() const
       {

@@ -215,7 +215,8 @@ namespace ContactStefan
                                 wall_offset + wall_clock.wall_time());
         print_step_line(thermal_report, contact_report, coupling_report);
         if (prm.refinement.adaptive_interval > 0 &&
-            step_number % prm.refinement.adaptive_interval == 0 && !last)
+            step_number % prm.refinement.adaptive_interval == 0 && !last &&
+            !features_inside_refined_zone())
           adapt_mesh();
         // After the adaptation: a resumed run continues on the adapted mesh,
         // as the uninterrupted one does.
@@ -245,6 +246,54 @@ namespace ContactStefan
     pcout << "RESULT wall time = " << wall_offset + wall_clock.wall_time() << std::endl;
     timer.print_wall_time_statistics(comm);
     return postprocessor->failed_diagnostics();
+  }
+
+
+
+  // Mesh refinement/Front margin: whether the adaptation due after this step
+  // can wait because every front and contact point still lies well inside the
+  // zone refined to Maximum level around it -- no cell below that level has
+  // its centre within m finest cells (plus half its own diameter) of a
+  // feature point. Decided from the current mesh and state alone (no memory
+  // of the last adaptation), so that a resumed run decides as the
+  // uninterrupted one. No feature to follow: the interval decides.
+  template <int dim>
+  bool CoupledProblem<dim>::features_inside_refined_zone()
+  {
+    const auto &r = prm.refinement;
+    if (r.front_margin == 0)
+      return false;
+    TimerOutput::Scope      t(timer, "adapt: front margin");
+    const MPI_Comm          comm = triangulation.get_communicator();
+    std::vector<Point<dim>> points, contact;
+    if (thermal && r.mark_fronts && thermal->phase_change_present())
+      thermal->front_points(points);
+    if (mechanical && r.mark_contact)
+      {
+        mechanical->contact_points(contact);
+        points.insert(points.end(), contact.begin(), contact.end());
+      }
+    const FeatureCloud<dim> features(points, comm);
+    if (features.empty())
+      return false;
+    double finest = std::numeric_limits<double>::infinity();
+    for (const auto &cell : triangulation.active_cell_iterators())
+      if (cell->is_locally_owned() && static_cast<unsigned int>(cell->level()) >= r.max_level)
+        finest = std::min(finest, cell->diameter());
+    finest    = Utilities::MPI::min(finest, comm);
+    bool near = false;
+    for (const auto &cell : triangulation.active_cell_iterators())
+      if (cell->is_locally_owned() && static_cast<unsigned int>(cell->level()) < r.max_level &&
+          features.near(cell->center(), r.front_margin * finest + 0.5 * cell->diameter()))
+        {
+          near = true;
+          break;
+        }
+    near = Utilities::MPI::logical_or(near, comm);
+    if (!near && prm.output.verbosity >= 1)
+      pcout << "    adaptation skipped: fronts and contact zones at least " << r.front_margin
+            << " cells inside the refined zone" << std::endl;
+    return !near;
   }
 
 
