@@ -258,19 +258,7 @@ def coupled(binary, levels, workdir, pictures, repeat=1):
                                           str(level)}, workdir, f"global-{level}", repeat=repeat)
         a = run_scene(binary, "coupled", adaptive_settings(level, interval=2, initial=1),
                       workdir, f"adaptive-{level}", repeat=repeat)
-        runs = [("global", g), ("adaptive", a)]
-        if margin > 0:
-            # The same, checked after every step but adapted only when a front
-            # comes within `margin` cells of the edge of its refined zone.
-            m = run_scene(binary, "stefan", {"Time stepping/Time step": tau,
-                                             "Mesh refinement/Coarsen fraction": "0.02",
-                                             "Mesh refinement/Front buffer": str(buffer),
-                                             "Mesh refinement/Front margin": str(margin),
-                                             **adaptive_settings(level, 1)}, workdir,
-                          f"adaptive-margin-{level}", repeat=repeat)
-            runs.append((f"adaptive, margin {margin}", m))
-            curves.setdefault(f"adaptive, margin {margin}", [])
-        for kind, r in runs:
+        for kind, r in (("global", g), ("adaptive", a)):
             curves[kind].append((dofs_of(r), r["wall time"], deviation(r)))
             rows.append([str(level), kind, f"{dofs_of(r):.0f}", f"{r['melt area']:.6e}",
                          f"{r['contact force interface 0-1']:.6e}", f"{deviation(r):.2e}",

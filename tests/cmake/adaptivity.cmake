@@ -49,6 +49,11 @@ scene(adaptive/neumann-A-front-margin-mpi2 2 ${P}/neumann_A.prm neumann_A_front_
   "RESULT relative space-time L2 error temperature<0.0105"
   "RESULT mesh adaptations>3"
   "RESULT mesh adaptations<9")
+# Longest wait = 1 interval: no adaptation may be skipped, and the run is the
+# one adapted after every step (its reference).
+scene(adaptive/neumann-A-front-margin-longest-wait 1 ${P}/neumann_A.prm neumann_A_adaptive
+  ${ADAPTIVE_A} "SET:Mesh refinement/Front margin=2" "SET:Mesh refinement/Longest wait=1"
+  ${ADAPTIVE_A_BOUNDS})
 # Refinement only: every adaptation conserves the enthalpy to round-off. (13 of
 # the 14 adaptations change the mesh; one finds every flagged cell at the
 # maximum level and leaves the mesh alone, which is not counted.)

@@ -39,6 +39,7 @@ namespace ContactStefan
       unsigned int front_buffer, contact_buffer; // in cells
       // in finest cells; 0: adapt at every interval
       unsigned int front_margin;
+      unsigned int longest_wait; // in intervals, with a front margin
 
       bool adaptive() const
       {

@@ -254,21 +254,27 @@ namespace ContactStefan
   // can wait because every front and contact point still lies well inside the
   // zone refined to Maximum level around it -- no cell below that level has
   // its centre within m finest cells (plus half its own diameter) of a
-  // feature point. Decided from the current mesh and state alone (no memory
-  // of the last adaptation), so that a resumed run decides as the
-  // uninterrupted one. No feature to follow: the interval decides.
+  // feature point. Decided from the current mesh, state and step number alone
+  // (no memory of the last adaptation), so that a resumed run decides as the
+  // uninterrupted one. No feature to follow, a kind of feature not marked, or
+  // a step of the Longest wait: the interval decides.
   template <int dim>
   bool CoupledProblem<dim>::features_inside_refined_zone()
   {
     const auto &r = prm.refinement;
-    if (r.front_margin == 0)
+    if (r.front_margin == 0 || step_number % (r.longest_wait * r.adaptive_interval) == 0)
+      return false;
+    // A kind of feature the scene has but does not mark is followed by the
+    // indicators alone: those adaptations must not wait.
+    const bool fronts = thermal && thermal->phase_change_present();
+    if ((fronts && !r.mark_fronts) || (mechanical && !r.mark_contact))
       return false;
     TimerOutput::Scope      t(timer, "adapt: front margin");
     const MPI_Comm          comm = triangulation.get_communicator();
     std::vector<Point<dim>> points, contact;
-    if (thermal && r.mark_fronts && thermal->phase_change_present())
+    if (fronts)
       thermal->front_points(points);
-    if (mechanical && r.mark_contact)
+    if (mechanical)
       {
         mechanical->contact_points(contact);
         points.insert(points.end(), contact.begin(), contact.end());
@@ -280,6 +286,7 @@ namespace ContactStefan
     for (const auto &cell : triangulation.active_cell_iterators())
       if (cell->is_locally_owned() && static_cast<unsigned int>(cell->level()) >= r.max_level)
         finest = std::min(finest, cell->diameter());
+    // (No cell at Maximum level yet: infinite, and every interval adapts.)
     finest    = Utilities::MPI::min(finest, comm);
     bool near = false;
     for (const auto &cell : triangulation.active_cell_iterators())
