@@ -54,6 +54,15 @@ scene(adaptive/neumann-A-front-margin-mpi2 2 ${P}/neumann_A.prm neumann_A_front_
 scene(adaptive/neumann-A-front-margin-longest-wait 1 ${P}/neumann_A.prm neumann_A_adaptive
   ${ADAPTIVE_A} "SET:Mesh refinement/Front margin=2" "SET:Mesh refinement/Longest wait=1"
   ${ADAPTIVE_A_BOUNDS})
+# Fronts present but not marked (Mark phase fronts = false) are followed by the
+# indicator alone, so the margin must not skip: a stationary contact zone once
+# let every adaptation after step 4 wait while the melt area doubled (4
+# adaptations instead of 19).
+scene(adaptive/front-margin-unmarked-fronts 1 ${CMAKE_SOURCE_DIR}/prm/coupled_melting_contact.prm
+  coupled_front_margin_unmarked "SET:Mesh refinement/Adaptive refinement interval=1"
+  "SET:Mesh refinement/Initial adaptive refinements=1" "SET:Mesh refinement/Maximum level=2"
+  "SET:Mesh refinement/Mark phase fronts=false" "SET:Mesh refinement/Front margin=1"
+  "RESULT mesh adaptations>18")
 # Refinement only: every adaptation conserves the enthalpy to round-off. (13 of
 # the 14 adaptations change the mesh; one finds every flagged cell at the
 # maximum level and leaves the mesh alone, which is not counted.)
