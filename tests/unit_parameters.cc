@@ -10,6 +10,7 @@
 
 #include <contact-stefan/coupling/all_parameters.h>
 
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <set>
@@ -138,11 +139,41 @@ namespace
   }
 } // namespace
 
+// The dipping interface's x at a depth (Geometry/Interface dip at base): the
+// straight interface to the last bit as the generator always placed it, the
+// bent one against an independent midpoint rule.
+void check_dipping_interface()
+{
+  using namespace ContactStefan;
+  const double D = 1e5, top = 1e5;
+  for (const double d : {0., 12345.6, 5e4, D})
+    check(dipping_interface_x(top, 30, 0, D, d) == top + d * (1 / std::tan(30 * numbers::PI / 180)),
+          "a straight dipping interface keeps its vertices to the last bit");
+  check(std::abs(dipping_interface_x(top, 30, 30, D, D) - dipping_interface_x(top, 30, 0, D, D)) <
+          1e-9 * D,
+        "a bend from 30 to 30 degrees is the straight interface");
+  // Midpoint rule on 10^5 intervals of dx/dd = cot(30 + 60 (d/D)^2) degrees.
+  const unsigned int n = 100000;
+  double             x = top;
+  for (unsigned int i = 0; i < n; ++i)
+    {
+      const double s = (i + 0.5) * D / n;
+      x += D / n / std::tan((30 + 60 * (s / D) * (s / D)) * numbers::PI / 180);
+    }
+  check(std::abs(dipping_interface_x(top, 30, 90, D, D) - x) < 1e-6 * (x - top),
+        "the bent interface's foot matches an independent quadrature");
+  check(dipping_interface_x(top, 30, 90, D, D) - dipping_interface_x(top, 30, 90, D, D - 1) < 1e-3,
+        "an interface bent to 90 degrees meets the base at a right angle");
+}
+
+
+
 int main(int argc, char **argv)
 {
   Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   for (int i = 1; i < argc; ++i)
     check_scene(argv[i]);
   check_fingerprint_changes(argv[argc - 1]);
+  check_dipping_interface();
   return UnitTest::finish();
 }

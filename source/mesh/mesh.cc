@@ -545,8 +545,9 @@ namespace ContactStefan
             }
     }
 
-    // The rectangle [x0, x1] x [y0, y1] cut by a straight interface from
-    // (xt, y1) down to y0, dipping at `dip` degrees towards +x. Each row of
+    // The rectangle [x0, x1] x [y0, y1] cut by an interface from (xt, y1)
+    // down to y0, dipping at `dip` degrees towards +x (straight, or steepening
+    // to dip_at_base at y0: dipping_interface_x). Each row of
     // nodes is spaced uniformly on both sides of the interface, so the interface
     // is a mesh line; the nx columns are split in proportion to the bodies' mean
     // widths. Body 0 lies left of/below the interface, body 1 right of/above it.
@@ -555,13 +556,15 @@ namespace ContactStefan
                                 const Point<2>   &upper_right,
                                 const double      xt,
                                 const double      dip,
+                                const double      dip_at_base,
                                 const unsigned    nx,
                                 const unsigned    ny)
     {
-      const double       x0 = lower_left[0], x1 = upper_right[0];
-      const double       y0 = lower_left[1], y1 = upper_right[1];
-      const double       run       = 1 / std::tan(dip * numbers::PI / 180);
-      const auto         fault_x   = [&](const double y) { return xt + (y1 - y) * run; };
+      const double x0 = lower_left[0], x1 = upper_right[0];
+      const double y0 = lower_left[1], y1 = upper_right[1];
+      const auto   fault_x = [&](const double y) {
+        return dipping_interface_x(xt, dip, dip_at_base, y1 - y0, y1 - y);
+      };
       const double       mean_left = 0.5 * (fault_x(y1) + fault_x(y0)) - x0;
       const long         share     = std::lround(nx * mean_left / (x1 - x0));
       const unsigned int n_left =
@@ -684,6 +687,7 @@ namespace ContactStefan
                                  g.upper_right,
                                  g.interface_top_x,
                                  g.interface_dip,
+                                 g.interface_dip_at_base,
                                  g.subdivisions[0],
                                  g.subdivisions[1]);
           check_mesh(coarse, "the dipping-interface mesh");

@@ -30,6 +30,14 @@ namespace ContactStefan
 {
   using namespace dealii;
 
+  /**
+   * x of a dipping interface (Geometry/Mesh = dipping interface) at `depth`
+   * below its top: straight at `dip` degrees if dip_at_base is 0, else with
+   * the dip growing with the square of the depth to dip_at_base at `height`.
+   */
+  double
+  dipping_interface_x(double top_x, double dip, double dip_at_base, double height, double depth);
+
   namespace Parameters
   {
     struct Geometry
@@ -59,7 +67,7 @@ namespace ContactStefan
       } mesh_type;
       Point<2>                  lower_left, upper_right;
       double                    inner_radius, outer_radius;
-      double                    interface_top_x, interface_dip;
+      double                    interface_top_x, interface_dip, interface_dip_at_base;
       std::vector<unsigned int> subdivisions;
       std::vector<double>       layer_interfaces;
       std::string               mesh_file;
