@@ -93,6 +93,7 @@ namespace ContactStefan
      */
     AdaptationReport mark_for_adaptation();
     bool             features_inside_refined_zone();
+    void feature_points(std::vector<Point<dim>> &fronts, std::vector<Point<dim>> &contacts) const;
     void             execute_with_transfer(const bool transfer);
     void             execute_and_repair(const bool transfer);
     void             adapt_initial_mesh(ContactStepReport &initial_contact);

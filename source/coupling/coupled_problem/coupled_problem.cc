@@ -271,14 +271,10 @@ namespace ContactStefan
       return false;
     TimerOutput::Scope      t(timer, "adapt: front margin");
     const MPI_Comm          comm = triangulation.get_communicator();
+    // (Every kind present is marked here: the points mark_for_adaptation() uses.)
     std::vector<Point<dim>> points, contact;
-    if (fronts)
-      thermal->front_points(points);
-    if (mechanical)
-      {
-        mechanical->contact_points(contact);
-        points.insert(points.end(), contact.begin(), contact.end());
-      }
+    feature_points(points, contact);
+    points.insert(points.end(), contact.begin(), contact.end());
     const FeatureCloud<dim> features(points, comm);
     if (features.empty())
       return false;
@@ -301,6 +297,22 @@ namespace ContactStefan
       pcout << "    adaptation skipped: fronts and contact zones at least " << r.front_margin
             << " cells inside the refined zone" << std::endl;
     return !near;
+  }
+
+
+
+  // The points the marking refines around (this rank's): phase fronts and
+  // active contact nodes, each where the scene has them and marks them.
+  template <int dim>
+  void CoupledProblem<dim>::feature_points(std::vector<Point<dim>> &fronts,
+                                           std::vector<Point<dim>> &contacts) const
+  {
+    fronts.clear();
+    contacts.clear();
+    if (thermal && prm.refinement.mark_fronts && thermal->phase_change_present())
+      thermal->front_points(fronts);
+    if (mechanical && prm.refinement.mark_contact)
+      mechanical->contact_points(contacts);
   }
 
 
@@ -329,10 +341,7 @@ namespace ContactStefan
         add(prm.refinement.displacement_weight);
       }
     std::vector<Point<dim>> front_points, contact_points;
-    if (thermal && prm.refinement.mark_fronts && thermal->phase_change_present())
-      thermal->front_points(front_points);
-    if (mechanical && prm.refinement.mark_contact)
-      mechanical->contact_points(contact_points);
+    feature_points(front_points, contact_points);
     const AdaptationReport report = mark_cells(triangulation,
                                                prm.refinement,
                                                indicator,
