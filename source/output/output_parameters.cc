@@ -4,10 +4,104 @@
 #include <contact-stefan/core/checked_input.h>
 #include <contact-stefan/output/output_parameters.h>
 
+#include <algorithm>
+#include <array>
+#include <cctype>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
 
 namespace ContactStefan
 {
+  namespace
+  {
+    // 'a x + b y = c': each coefficient optional (1) and followed by an
+    // optional '*', terms joined by '+' or '-', each of x and y at most once,
+    // spaces between the parts but not inside a number: (a, b, c), with a or
+    // b not finite if the text is not of that form, c not finite if the
+    // right-hand side is not a finite number.
+    std::array<double, 3> parse_section_line(const std::string &text)
+    {
+      const double bad        = std::numeric_limits<double>::quiet_NaN();
+      const auto   skip_space = [&](std::size_t &i) {
+        while (i < text.size() && std::isspace(static_cast<unsigned char>(text[i])))
+          ++i;
+      };
+      // A decimal number at i without sign (no hexadecimal, inf or nan).
+      const auto number = [&](std::size_t &i, double &value) {
+        std::size_t end = i;
+        while (end < text.size() && std::strchr("0123456789.eE+-", text[end]) != nullptr &&
+               (end == i || std::strchr("+-", text[end]) == nullptr ||
+                std::strchr("eE", text[end - 1]) != nullptr))
+          ++end;
+        if (end == i || text[i] == '+' || text[i] == '-')
+          return false;
+        const std::string digits = text.substr(i, end - i);
+        std::size_t       used   = 0;
+        try
+          {
+            value = std::stod(digits, &used);
+          }
+        catch (const std::exception &)
+          {
+            return false;
+          }
+        i = end;
+        return used == digits.size() && std::isfinite(value);
+      };
+      double      coefficient[2] = {0., 0.};
+      bool        seen[2]        = {false, false};
+      std::size_t i              = 0;
+      skip_space(i);
+      while (i < text.size() && text[i] != '=')
+        {
+          double sign = 1;
+          if (text[i] == '+' || text[i] == '-')
+            {
+              sign = text[i++] == '-' ? -1. : 1.;
+              skip_space(i);
+            }
+          else if (seen[0] || seen[1])
+            return {{bad, bad, 0.}}; // terms are joined by signs
+          double factor = 1;
+          if (i < text.size() && text[i] != 'x' && text[i] != 'y')
+            {
+              if (!number(i, factor))
+                return {{bad, bad, 0.}};
+              skip_space(i);
+              if (i < text.size() && text[i] == '*')
+                {
+                  ++i;
+                  skip_space(i);
+                }
+            }
+          if (i >= text.size() || (text[i] != 'x' && text[i] != 'y'))
+            return {{bad, bad, 0.}};
+          const unsigned int variable = text[i++] == 'x' ? 0 : 1;
+          if (seen[variable])
+            return {{bad, bad, 0.}};
+          seen[variable]        = true;
+          coefficient[variable] = sign * factor;
+          skip_space(i);
+        }
+      if (i >= text.size() || (!seen[0] && !seen[1]))
+        return {{bad, bad, 0.}};
+      ++i; // '='
+      skip_space(i);
+      double c    = bad;
+      double sign = 1;
+      if (i < text.size() && (text[i] == '+' || text[i] == '-'))
+        sign = text[i++] == '-' ? -1. : 1.;
+      if (!number(i, c))
+        c = bad;
+      skip_space(i);
+      if (i != text.size())
+        c = bad;
+      return {{coefficient[0], coefficient[1], sign * c}};
+    }
+  } // namespace
+
   namespace Parameters
   {
     using namespace Input;
@@ -38,12 +132,18 @@ namespace ContactStefan
                         Patterns::Anything(),
                         "Mesh lines across which the run integrates the stress vector "
                         "sigma n after every step (a section force, N/m; n = +x for "
-                        "'x = c', +y for 'y = c'), separately over the faces of the cells "
+                        "'x = c', +y for 'y = c', (a, b) / |(a, b)| for 'a x + b y = c'), "
+                        "separately over the faces of the cells "
                         "on either side of the line and from both stress outputs (the "
                         "cell-centre values and the recovered nodal field; doc/output.md): "
-                        "a comma-separated list such as 'y = 0.25, y = 1.5, x = 0.5'. Each "
-                        "must be a line of the coarse mesh (it cuts no cell). The forces at "
-                        "the end are RESULT lines; with 'Exact solution/Section normal "
+                        "a comma-separated list such as 'y = 0.25, y = 1.5, x = 0.5, "
+                        "x - 0.5 y = 0.25'. Each "
+                        "must be a line of the coarse mesh (it cuts no cell; its vertices lie on "
+                        "it to 1e-10 of a cell's diameter: give a, b, c to full precision). "
+                        "The forces at "
+                        "the end are RESULT lines (normal: along n; tangential: along the "
+                        "line towards increasing x, or increasing y on x = c); with "
+                        "'Exact solution/Section normal "
                         "force' their largest error over the steps is too.");
       prm.declare_entry("VTU compression",
                         "best speed",
@@ -85,29 +185,33 @@ namespace ContactStefan
       section_lines.clear();
       for (const std::string &entry : Utilities::split_string_list(lines, ','))
         {
-          const auto  equals = entry.find('=');
-          std::string axis   = Utilities::trim(entry.substr(0, equals));
-          require(equals != std::string::npos && (axis == "x" || axis == "y"),
-                  "Output/Section lines",
-                  "'" + entry + "' is not of the form 'x = value' or 'y = value'");
           SectionLine line;
-          line.axis               = axis == "x" ? 0 : 1;
-          const std::string value = Utilities::trim(entry.substr(equals + 1));
-          std::size_t       used  = 0;
-          try
-            {
-              line.value = std::stod(value, &used);
-            }
-          catch (const std::exception &)
-            {
-              used = 0;
-            }
-          require(!value.empty() && used == value.size() && std::isfinite(line.value),
+          line.name = entry;
+          line.name.erase(std::remove_if(line.name.begin(),
+                                         line.name.end(),
+                                         [](const unsigned char c) { return std::isspace(c); }),
+                          line.name.end());
+          const auto [a, b, c] = parse_section_line(entry);
+          require(std::isfinite(a) && std::isfinite(b),
                   "Output/Section lines",
-                  "'" + entry + "': '" + value + "' is not a finite number");
-          line.name = axis + "=" + value;
+                  "'" + entry + "' is not of the form 'x = c', 'y = c' or 'a x + b y = c'");
+          require(std::isfinite(c),
+                  "Output/Section lines",
+                  "'" + entry + "': the right-hand side is not a finite number");
+          const double length = std::hypot(a, b);
+          require(length > 0 && std::isfinite(length),
+                  "Output/Section lines",
+                  "'" + entry + "': the coefficients of x and y must not both be zero");
+          line.normal = Tensor<1, 2>({a / length, b / length});
+          line.value  = c / length;
+          // The same line, written with other coefficients, to round-off.
+          const auto same = [&](const SectionLine &other, const double orientation) {
+            return (other.normal - orientation * line.normal).norm() <= 1e-12 &&
+                   std::abs(other.value - orientation * line.value) <=
+                     1e-12 * std::max({1., std::abs(other.value), std::abs(line.value)});
+          };
           for (const auto &other : section_lines)
-            require(other.axis != line.axis || other.value != line.value,
+            require(!same(other, 1.) && !same(other, -1.),
                     "Output/Section lines",
                     "'" + entry + "' is the line '" + other.name + "' again");
           section_lines.push_back(line);

@@ -70,25 +70,26 @@ namespace ContactStefan
         for (unsigned int side = 0; side < 2; ++side)
           if (forces[l].length[side] > 0)
             {
-              const unsigned int axis = lines[l].axis;
-              // The exact force at the line's point on the axis: (c, 0) for
-              // x = c, (0, c) for y = c.
-              Point<dim> on_line;
-              on_line[axis]      = lines[l].value;
-              const double force = exact->value(on_line);
+              // The exact force at the line's point nearest the origin,
+              // value n: (c, 0) for x = c, (0, c) for y = c.
+              const Tensor<1, dim> &n = lines[l].normal;
+              // (+ 0.: no negative zero where n has a zero component)
+              const Point<dim> on_line(lines[l].value * n[0] + 0., lines[l].value * n[1] + 0.);
+              const double     force = exact->value(on_line);
               s.max_exact        = std::max(s.max_exact, std::abs(force));
               s.max_error_cell =
-                max_with_nan(s.max_error_cell, std::abs(forces[l].cell_centre[side][axis] - force));
+                max_with_nan(s.max_error_cell, std::abs((forces[l].cell_centre[side] * n) - force));
               s.max_error_recovered =
                 max_with_nan(s.max_error_recovered,
-                             std::abs(forces[l].recovered[side][axis] - force));
+                             std::abs((forces[l].recovered[side] * n) - force));
               ++s.sides_checked;
-              if (forces[l].uniform_row(side))
+              // (inclined lines report the plain sum: not counted)
+              if (lines[l].axis_parallel() && forces[l].uniform_row(side))
                 {
                   ++s.sides_uniform;
                   s.max_error_cell_uniform =
                     max_with_nan(s.max_error_cell_uniform,
-                                 std::abs(forces[l].cell_centre[side][axis] - force));
+                                 std::abs((forces[l].cell_centre[side] * n) - force));
                 }
             }
       run.functions.check_finite_values(run.mpi_communicator);
@@ -134,11 +135,12 @@ namespace ContactStefan
                         "",
                         Patterns::Anything(),
                         "Empty, or the exact normal force (N/m) across the lines of "
-                            "'Output/Section lines', a function of x, y, t evaluated at (c, 0) "
-                            "for the line x = c and at (0, c) for y = c: the run reports the "
-                            "largest error of the section forces of the cell-centre stresses "
-                            "and of the recovered nodal stresses over the lines, their sides and "
-                            "the steps, relative to the largest exact force (any Type).");
+                        "'Output/Section lines', a function of x, y, t evaluated at the line's "
+                        "point nearest the origin ((c, 0) for the line x = c, (0, c) for "
+                        "y = c, c (a, b) / (a^2 + b^2) for a x + b y = c): the run reports the "
+                        "largest error of the section forces of the cell-centre stresses "
+                        "and of the recovered nodal stresses over the lines, their sides and "
+                        "the steps, relative to the largest exact force (any Type).");
       prm.leave_subsection();
     };
     info.parse = [](ParameterHandler &prm, const SceneParameters &, const bool) {

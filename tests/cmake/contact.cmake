@@ -151,6 +151,30 @@ add_test(NAME unit/body_interface
 scene(contact/inclined-interface-17-mpi2 2 ${T}/scenes/inclined_interface.prm
   inclined_interface_17 "SET:Geometry/Mesh file=${CMAKE_CURRENT_BINARY_DIR}/inclined_17.msh"
   "RESULT min contact pressure at active nodes>0.009999999999")
+# Inclined section lines (Output/Section lines 'a x + b y = c') on the 45-degree
+# mesh (N = 4), where sigma = -p I: the interface x - y = 0.5 (length sqrt 2, a
+# body on each side), the middle grid line of each trapezoid, x - 0.5 y = 0.25 and
+# x - 0.5 y = 1.25 (length sqrt 1.25), and y = 0.5 across both (length 2). The
+# normal force is -p times the length, the tangential zero, for both outputs.
+# The exact force is a function evaluated at each line's point nearest the
+# origin: (0.25, -0.25), (0.2, -0.1), (1, -0.5) and (0, 0.5).
+set(INCLINED_SECTIONS
+  "SET:Output/Section lines=x - y = 0.5, x - 0.5 y = 0.25, 1 * x - 0.5 * y = 1.25, y = 0.5"
+  "SET:Exact solution/Section normal force=if(y > 0, -0.02, if(abs(y + 0.25) < 0.01, -0.01 * sqrt(2), -0.01 * sqrt(1.25)))"
+  "RESULT section sides compared>7"
+  "RESULT section sides on rows of equal cells<1"
+  "RESULT max relative section normal force error (cell centres)<1e-12"
+  "RESULT max relative section normal force error (recovered)<1e-12"
+  "RESULT section force x-y=0.5 minus side: tangential (cell centres)<1e-14"
+  "RESULT section force x-y=0.5 minus side: tangential (cell centres)>-1e-14"
+  "RESULT section force x-y=0.5 plus side: tangential (recovered)<1e-14"
+  "RESULT section force x-y=0.5 plus side: tangential (recovered)>-1e-14")
+scene(stress_recovery/section-force-inclined 1 ${T}/scenes/inclined_interface.prm
+  inclined_interface_45_sections "SET:Geometry/Mesh file=${CMAKE_CURRENT_BINARY_DIR}/inclined_45.msh"
+  ${INCLINED_SECTIONS})
+scene(stress_recovery/section-force-inclined-mpi2 2 ${T}/scenes/inclined_interface.prm
+  inclined_interface_45_sections "SET:Geometry/Mesh file=${CMAKE_CURRENT_BINARY_DIR}/inclined_45.msh"
+  ${INCLINED_SECTIONS})
 
 # An obstacle meeting a tied interface: the obstacle force is fixed by equilibrium.
 scene(contact/tied-on-obstacle 1 ${T}/scenes/tied_on_obstacle.prm tied_on_obstacle

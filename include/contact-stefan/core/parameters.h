@@ -14,6 +14,7 @@
 
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/point.h>
+#include <deal.II/base/tensor.h>
 
 #include <contact-stefan/core/checked_input.h>
 #include <contact-stefan/core/interface_laws.h>
@@ -256,14 +257,48 @@ namespace ContactStefan
     };
 
     /**
-     * A straight mesh line x = value (axis 0) or y = value (axis 1) across
-     * which the run integrates sigma n (doc/output.md, section forces).
+     * A straight mesh line n . x = value, n a unit normal, across which the
+     * run integrates sigma n (doc/output.md, section forces): 'x = c' has
+     * n = +x, 'y = c' n = +y, 'a x + b y = c' n = (a, b) / |(a, b)|.
      */
     struct SectionLine
     {
-      unsigned int axis  = 1;
-      double       value = 0;
-      std::string  name; // "y=0.75"
+      Tensor<1, 2> normal = Tensor<1, 2>({0., 1.});
+      double       value  = 0;
+      std::string  name; // the entry without spaces: "y=0.75", "x-y=0.5"
+      /** n . p */
+      double along_normal(const Point<2> &p) const
+      {
+        return normal * p;
+      }
+      /**
+       * The unit tangent for the tangential force: n turned by 90 degrees,
+       * towards increasing x (increasing y on a line x = c).
+       */
+      Tensor<1, 2> tangent() const
+      {
+        // (0. - z, not -z: no negative zeros, so that the tangential force
+        // of 'x = c' and 'y = c' is a component of the force to the last bit)
+        const Tensor<1, 2> t({0. - normal[1], normal[0]});
+        return (t[0] > 0 || (t[0] == 0 && t[1] > 0)) ? t : Tensor<1, 2>({0. - t[0], 0. - t[1]});
+      }
+      /**
+       * Names of the sides n . x < value and n . x > value: left/right of
+       * x = c, below/above y = c, 'minus side'/'plus side' of other lines.
+       */
+      std::string side_name(const unsigned int side) const
+      {
+        if (normal == Tensor<1, 2>({1., 0.}))
+          return side == 0 ? "left" : "right";
+        if (normal == Tensor<1, 2>({0., 1.}))
+          return side == 0 ? "below" : "above";
+        return side == 0 ? "minus side" : "plus side";
+      }
+      /** Whether the line is x = c or y = c (n = +x or +y). */
+      bool axis_parallel() const
+      {
+        return normal == Tensor<1, 2>({1., 0.}) || normal == Tensor<1, 2>({0., 1.});
+      }
     };
 
   } // namespace Parameters

@@ -234,9 +234,13 @@ namespace ContactStefan
       std::array<double, 2>         length     = {{0., 0.}};
       std::array<double, 2>         min_extent = {{HUGE_VAL, HUGE_VAL}};
       std::array<double, 2>         max_extent = {{0., 0.}};
-      bool                          uniform_row(const unsigned int side) const
+      // Whether every cell of the row is a parallelogram (the identity of
+      // doc/output.md holds on rows of equal parallelograms; with its load
+      // term, on lines x = c and y = c).
+      std::array<bool, 2> affine = {{true, true}};
+      bool                uniform_row(const unsigned int side) const
       {
-        return max_extent[side] - min_extent[side] <= 1e-10 * max_extent[side];
+        return affine[side] && max_extent[side] - min_extent[side] <= 1e-10 * max_extent[side];
       }
     };
     std::vector<SectionForce>

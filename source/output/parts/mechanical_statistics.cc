@@ -309,17 +309,16 @@ namespace ContactStefan
         for (unsigned int side = 0; side < 2; ++side)
           if (forces[l].length[side] > 0)
             {
-              const std::string where = "section force " + lines[l].name + " " +
-                                        (side == 0 ? (lines[l].axis == 0 ? "left" : "below") :
-                                                     (lines[l].axis == 0 ? "right" : "above"));
-              const unsigned int axis = lines[l].axis, other = 1 - axis;
+              const std::string where =
+                "section force " + lines[l].name + " " + lines[l].side_name(side);
+              const Tensor<1, 2> n = lines[l].normal, t = lines[l].tangent();
               const auto         add = [&](const std::string &what, const double value) {
                 results.add(Slot::section_forces, where + ": " + what, value);
               };
-              add("normal (cell centres)", forces[l].cell_centre[side][axis]);
-              add("tangential (cell centres)", forces[l].cell_centre[side][other]);
-              add("normal (recovered)", forces[l].recovered[side][axis]);
-              add("tangential (recovered)", forces[l].recovered[side][other]);
+              add("normal (cell centres)", forces[l].cell_centre[side] * n);
+              add("tangential (cell centres)", forces[l].cell_centre[side] * t);
+              add("normal (recovered)", forces[l].recovered[side] * n);
+              add("tangential (recovered)", forces[l].recovered[side] * t);
             }
     }
 
