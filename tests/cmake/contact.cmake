@@ -155,7 +155,8 @@ scene(contact/inclined-interface-17-mpi2 2 ${T}/scenes/inclined_interface.prm
 # mesh (N = 4), where sigma = -p I: the interface x - y = 0.5 (length sqrt 2, a
 # body on each side), the middle grid line of each trapezoid, x - 0.5 y = 0.25 and
 # x - 0.5 y = 1.25 (length sqrt 1.25), and y = 0.5 across both (length 2). The
-# normal force is -p times the length, the tangential zero, for both outputs.
+# normal force is -p times the length, the tangential zero, for both outputs
+# (but the cell-centre tangential force of y = 0.5, below).
 # The exact force is a function evaluated at each line's point nearest the
 # origin: (0.25, -0.25), (0.2, -0.1), (1, -0.5) and (0, 0.5).
 set(INCLINED_SECTIONS
@@ -168,7 +169,13 @@ set(INCLINED_SECTIONS
   "RESULT section force x-y=0.5 minus side: tangential (cell centres)<1e-14"
   "RESULT section force x-y=0.5 minus side: tangential (cell centres)>-1e-14"
   "RESULT section force x-y=0.5 plus side: tangential (recovered)<1e-14"
-  "RESULT section force x-y=0.5 plus side: tangential (recovered)>-1e-14")
+  "RESULT section force x-y=0.5 plus side: tangential (recovered)>-1e-14"
+  # y = 0.5 keeps its load term: the row's end node on the right side carries
+  # half a cell's traction, p h / 2 = 1.25e-3 (doc/output.md, inclined lines).
+  "RESULT section force y=0.5 below: tangential (cell centres)>0.0012499999999"
+  "RESULT section force y=0.5 below: tangential (cell centres)<0.0012500000001"
+  "RESULT section force y=0.5 above: tangential (cell centres)<-0.0012499999999"
+  "RESULT section force y=0.5 above: tangential (cell centres)>-0.0012500000001")
 scene(stress_recovery/section-force-inclined 1 ${T}/scenes/inclined_interface.prm
   inclined_interface_45_sections "SET:Geometry/Mesh file=${CMAKE_CURRENT_BINARY_DIR}/inclined_45.msh"
   ${INCLINED_SECTIONS})
