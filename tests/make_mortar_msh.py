@@ -9,6 +9,7 @@ the lower block's side of the interface, 15 the upper block's.
   make_mortar_msh.py OUTPUT --lower NX,NY --upper NX,NY [--width W] [--height H]
                      [--perturb lower|upper] [--bump A] [--shift S] [--merge]
                      [--split-lower X] [--lift L] [--rotate DEG] [--centre]
+                     [--upper-width WU]
 
 --perturb moves the interior interface nodes of one block along x by up to 0.3
 of its cell width (x_i += 0.3 h sin(7 i)), with the column of nodes above or
@@ -24,7 +25,9 @@ two interfaces, 1-2 and 2-3, whose sides meet at x = X. --lift L moves the
 upper block up by L (a gap). --rotate DEG turns the whole mesh by DEG degrees
 about the middle of the interface (W/2, H). --centre moves the mesh left by W/2,
 so that the middle of the interface is at x = 0 (lines 10 and 11 at x = -W/2 and
-W/2). The test meshes are generated, never committed."""
+W/2). --upper-width WU makes the upper block [S, S + WU] wide (a block on a
+longer base, for the sliding tests). The test meshes are generated, never
+committed."""
 import argparse
 import math
 
@@ -60,19 +63,21 @@ def main():
     parser.add_argument("--lift", type=float, default=0.0)
     parser.add_argument("--rotate", type=float, default=0.0)
     parser.add_argument("--centre", action="store_true")
+    parser.add_argument("--upper-width", type=float, default=None)
     args = parser.parse_args()
     W, H = args.width, args.height
     interface = lambda x: H + args.bump * math.sin(math.pi * x / W)
     lx, ly = (int(v) for v in args.lower.split(","))
     ux, uy = (int(v) for v in args.upper.split(","))
     lower = block(lx, ly, W, 0.0, lambda x: 0.0, interface, args.perturb == "lower")
-    upper = block(ux, uy, W, args.shift, lambda x: interface(x) + args.lift,
+    WU = W if args.upper_width is None else args.upper_width
+    upper = block(ux, uy, WU, args.shift, lambda x: interface(x) + args.lift,
                   lambda x: 2 * H + args.lift, args.perturb == "upper")
 
     elements = []  # (type, physical, nodes) with 1-based node numbers
 
-    if args.merge and (lx != ux or args.perturb != "none" or args.shift != 0):
-        parser.error("--merge needs equal NX, no --perturb and no --shift")
+    if args.merge and (lx != ux or args.perturb != "none" or args.shift != 0 or WU != W):
+        parser.error("--merge needs equal NX, no --perturb, --shift or --upper-width")
 
     def add_block(nodes, nx, ny, offset, body, bottom_id, top_id):
         def index(i, j):

@@ -12,7 +12,9 @@
 // - the dual basis is biorthogonal on a partly covered edge;
 // - curved sides (two polygons on one circle): force balance to round-off,
 //   a weighted gap of O(h^2);
-// - a master side beyond the search distance is not paired.
+// - a master side beyond the search distance is not paired;
+// - large sliding: a side coupled where a displacement moved it keeps the
+//   weights of the moved side and the weighted gap of its mesh positions.
 #include <contact-stefan/interfaces/contact.h>
 #include <contact-stefan/interfaces/mortar.h>
 
@@ -215,6 +217,41 @@ int main()
     for (const auto &node : c.slave)
       ok = ok && close(node.gap / node.D, 0.01, 1e-13);
     check(ok, "master side 0.01 above: weighted gap / D = 0.01 at every slave node");
+  }
+
+  // Large sliding: the slave side coupled where a displacement (0.37, 0.004)
+  // moved it, with its mesh positions as the reference. The pairing, D and M
+  // are those of the moved side; the weighted gap is that of the mesh
+  // positions (0.01 / D_j, as above), so that the condition on the total
+  // displacement keeps its form (mortar.h); the moved side alone would give
+  // 0.006.
+  {
+    auto       mesh_side = line(uniform(0, 1, 5), 0, true);
+    const auto master    = line(uniform(-0.1, 1.7, 6), 0.01, false);
+    auto       moved     = mesh_side;
+    for (auto &x : moved.nodes)
+      x = {{x[0] + 0.37, x[1] + 0.004}};
+    for (auto &x : moved.inside)
+      x = {{x[0] + 0.37, x[1] + 0.004}};
+    auto sliding            = moved;
+    sliding.reference       = mesh_side.nodes;
+    const auto c            = Mortar::couple(sliding, master, parameters);
+    const auto c_moved      = Mortar::couple(moved, master, parameters);
+    const auto c_mesh       = Mortar::couple(mesh_side, master, parameters);
+    bool       same_weights = true, reference_gap = true, moved_gap = true, pairing_moved = false;
+    for (unsigned int j = 0; j < c.slave.size(); ++j)
+      {
+        same_weights = same_weights && c.slave[j].D == c_moved.slave[j].D &&
+                       c.slave[j].M == c_moved.slave[j].M && c.slave[j].W == c_moved.slave[j].W;
+        reference_gap = reference_gap && close(c.slave[j].gap / c.slave[j].D, 0.01, 1e-13);
+        moved_gap     = moved_gap && close(c_moved.slave[j].gap / c_moved.slave[j].D, 0.006, 1e-12);
+        pairing_moved = pairing_moved || c.slave[j].M.size() != c_mesh.slave[j].M.size() ||
+                        c.slave[j].M.front().first != c_mesh.slave[j].M.front().first;
+      }
+    check(same_weights && pairing_moved,
+          "large sliding: D, M, W of the moved side (another pairing than on the mesh)");
+    check(reference_gap && moved_gap,
+          "large sliding: weighted gap / D of the mesh positions, 0.01 (moved side alone 0.006)");
   }
 
   // A partly covered slave edge: the master ends at x = 0.3 inside the

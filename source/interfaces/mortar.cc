@@ -332,10 +332,15 @@ namespace ContactStefan
           // sum_k M_jk = D_j: relative positions, free of the round-off of
           // the coordinates' size. A gap below 1e-12 of the edges at the node
           // is round-off of coinciding sides and is 0 (a node-to-node pair).
+          // In a deformed configuration the mesh positions X (mortar.h).
+          const std::vector<Vector2> &X_slave =
+            slave.reference.empty() ? slave.nodes : slave.reference;
+          const std::vector<Vector2> &X_master =
+            master.reference.empty() ? master.nodes : master.reference;
           Vector2 weighted{{0., 0.}};
           for (const auto &[k, m] : node.M)
             for (unsigned int i = 0; i < 2; ++i)
-              weighted[i] += m * (master.nodes[k][i] - slave.nodes[v][i]);
+              weighted[i] += m * (X_master[k][i] - X_slave[v][i]);
           node.gap = dot(node.normal, weighted);
           if (std::abs(node.gap) <= 1e-12 * node.edge_length * node.D)
             node.gap = 0;

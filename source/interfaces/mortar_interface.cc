@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <stdexcept>
 #include <tuple>
 
 namespace ContactStefan
@@ -18,31 +19,48 @@ namespace ContactStefan
   namespace
   {
     // One face of a side, as every rank receives it: its two nodes
-    // (positions and DoFs) and its cell's centre.
+    // (positions where the side is coupled, mesh positions X, and DoFs) and
+    // its cell's centre (moved with the face's mean displacement).
     struct MortarFace
     {
-      std::array<Mortar::Vector2, 2>                      x;
+      std::array<Mortar::Vector2, 2>                      x, X;
+      Mortar::Vector2                                     inside_on_mesh;
       std::array<std::vector<types::global_dof_index>, 2> dofs;
       Mortar::Vector2                                     inside;
     };
 
     // The faces of one side from all ranks, in an order that does not depend
-    // on the partition (by midpoint, then by the ends), as a polyline whose
-    // nodes are numbered in that order; a node is known by its first DoF.
+    // on the partition or on the displacement (by the midpoint of the mesh
+    // positions, then by the ends), as a polyline whose nodes are numbered in
+    // that order; a node is known by its first DoF. With 'deformed' the side's
+    // nodes are the faces' x and its reference the mesh positions X.
     void gather_side(const std::vector<MortarFace>                     &own,
                      const unsigned int                                 n_dofs,
                      const MPI_Comm                                     comm,
+                     const bool                                         deformed,
                      Mortar::Side                                      &side,
+                     std::vector<Mortar::Vector2>                      &inside_on_mesh,
                      std::vector<std::vector<types::global_dof_index>> &node_dofs)
     {
-      // Flattened: 6 coordinates and 2 n_dofs DoFs per face.
+      // Flattened: 12 coordinates and 2 n_dofs DoFs per face.
+      constexpr unsigned int               n_coordinates = 12;
       std::vector<double>                  coordinates;
       std::vector<types::global_dof_index> dofs;
       for (const MortarFace &f : own)
         {
-          coordinates.insert(
-            coordinates.end(),
-            {f.x[0][0], f.x[0][1], f.x[1][0], f.x[1][1], f.inside[0], f.inside[1]});
+          coordinates.insert(coordinates.end(),
+                             {f.x[0][0],
+                              f.x[0][1],
+                              f.x[1][0],
+                              f.x[1][1],
+                              f.X[0][0],
+                              f.X[0][1],
+                              f.X[1][0],
+                              f.X[1][1],
+                              f.inside[0],
+                              f.inside[1],
+                              f.inside_on_mesh[0],
+                              f.inside_on_mesh[1]});
           for (const auto &d : f.dofs)
             dofs.insert(dofs.end(), d.begin(), d.end());
         }
@@ -50,23 +68,25 @@ namespace ContactStefan
       const auto              all_coordinates = Utilities::MPI::all_gather(comm, coordinates);
       const auto              all_dofs        = Utilities::MPI::all_gather(comm, dofs);
       for (unsigned int r = 0; r < all_coordinates.size(); ++r)
-        for (unsigned int f = 0; 6 * f < all_coordinates[r].size(); ++f)
+        for (unsigned int f = 0; n_coordinates * f < all_coordinates[r].size(); ++f)
           {
-            const double                  *c = &all_coordinates[r][6 * f];
+            const double                  *c = &all_coordinates[r][n_coordinates * f];
             const types::global_dof_index *d = &all_dofs[r][2 * n_dofs * f];
             MortarFace                     face;
             face.x      = {{{{c[0], c[1]}}, {{c[2], c[3]}}}};
-            face.inside = {{c[4], c[5]}};
+            face.X              = {{{{c[4], c[5]}}, {{c[6], c[7]}}}};
+            face.inside         = {{c[8], c[9]}};
+            face.inside_on_mesh = {{c[10], c[11]}};
             face.dofs   = {{std::vector<types::global_dof_index>(d, d + n_dofs),
                             std::vector<types::global_dof_index>(d + n_dofs, d + 2 * n_dofs)}};
             faces.push_back(std::move(face));
           }
       std::sort(faces.begin(), faces.end(), [](const MortarFace &a, const MortarFace &b) {
         const auto key = [](const MortarFace &f) {
-          return std::make_tuple(f.x[0][0] + f.x[1][0],
-                                 f.x[0][1] + f.x[1][1],
-                                 f.x[0][0],
-                                 f.x[0][1]);
+          return std::make_tuple(f.X[0][0] + f.X[1][0],
+                                 f.X[0][1] + f.X[1][1],
+                                 f.X[0][0],
+                                 f.X[0][1]);
         };
         return key(a) < key(b);
       });
@@ -80,12 +100,15 @@ namespace ContactStefan
               if (inserted)
                 {
                   side.nodes.push_back(f.x[v]);
+                  if (deformed)
+                    side.reference.push_back(f.X[v]);
                   node_dofs.push_back(f.dofs[v]);
                 }
               edge[v] = it->second;
             }
           side.edges.push_back(edge);
           side.inside.push_back(f.inside);
+          inside_on_mesh.push_back(f.inside_on_mesh);
         }
     }
 
@@ -115,13 +138,15 @@ namespace ContactStefan
   template <int dim>
   MortarInterface couple_mortar_interface(const DoFHandler<dim>                       &dof_handler,
                                           const std::pair<unsigned int, unsigned int> &pair,
-                                          const Parameters::InterfacePair             &law)
+                                          const Parameters::InterfacePair             &law,
+                                          const MortarConfiguration *configuration)
   {
     using Law              = Parameters::InterfacePair;
     const std::string path = "Contact/" + Law::section(pair.first, pair.second) + "/";
     MortarInterface   mi;
     mi.name = "interface " + std::to_string(pair.first) + "-" + std::to_string(pair.second);
     mi.body = {{pair.first, pair.second}};
+    mi.deformed = law.mortar_large_sliding && configuration && !configuration->displacement.empty();
     std::array<std::vector<MortarFace>, 2> own;
     unsigned int                           n_dofs = 0;
     for (const auto &cell : dof_handler.active_cell_iterators())
@@ -133,24 +158,51 @@ namespace ContactStefan
                   cell->face(face)->boundary_id() == law.mortar_boundaries[s])
                 {
                   MortarFace f;
+                  // With large sliding: where the configuration moved the node.
+                  Mortar::Vector2 mean_displacement{{0., 0.}};
                   for (unsigned int fv = 0; fv < 2; ++fv)
                     {
                       const unsigned int v = GeometryInfo<dim>::face_to_cell_vertices(face, fv);
-                      f.x[fv]              = {{cell->vertex(v)[0], cell->vertex(v)[1]}};
-                      f.dofs[fv]           = node_dofs<dim>(cell, v);
-                      n_dofs               = f.dofs[fv].size();
+                      f.X[fv]              = {{cell->vertex(v)[0], cell->vertex(v)[1]}};
+                      f.x[fv]              = f.X[fv];
+                      if (mi.deformed)
+                        {
+                          const auto it =
+                            configuration->displacement.find({mi.body[s], f.X[fv][0], f.X[fv][1]});
+                          if (it == configuration->displacement.end())
+                            throw std::logic_error("the sliding configuration of " + mi.name +
+                                                   " has no displacement of the node at (" +
+                                                   std::to_string(f.X[fv][0]) + ", " +
+                                                   std::to_string(f.X[fv][1]) + ")");
+                          for (unsigned int i = 0; i < 2; ++i)
+                            {
+                              f.x[fv][i] += it->second[i];
+                              mean_displacement[i] += 0.5 * it->second[i];
+                            }
+                        }
+                      f.dofs[fv] = node_dofs<dim>(cell, v);
+                      n_dofs     = f.dofs[fv].size();
                     }
-                  f.inside = {{cell->center()[0], cell->center()[1]}};
+                  f.inside_on_mesh = {{cell->center()[0], cell->center()[1]}};
+                  f.inside         = {{cell->center()[0] + mean_displacement[0],
+                                       cell->center()[1] + mean_displacement[1]}};
                   own[s].push_back(f);
                 }
     const MPI_Comm comm = dof_handler.get_triangulation().get_communicator();
     n_dofs              = Utilities::MPI::max(n_dofs, comm);
     for (unsigned int s = 0; s < 2; ++s)
-      gather_side(own[s], n_dofs, comm, mi.sides[s], mi.dofs[s]);
+      gather_side(own[s], n_dofs, comm, mi.deformed, mi.sides[s], mi.inside_on_mesh[s], mi.dofs[s]);
 
-    // The slave side: 'finer' takes the shorter mean edge (k if equal).
-    const double h_k = Mortar::mean_edge_length(mi.sides[0]),
-                 h_l = Mortar::mean_edge_length(mi.sides[1]);
+    // The slave side: 'finer' takes the shorter mean edge (k if equal), on
+    // the mesh (a deformation must not swap the sides).
+    const auto on_mesh = [](const Mortar::Side &side) {
+      Mortar::Side mesh_side = side;
+      if (!side.reference.empty())
+        mesh_side.nodes = side.reference;
+      return mesh_side;
+    };
+    const double h_k = Mortar::mean_edge_length(on_mesh(mi.sides[0])),
+                 h_l = Mortar::mean_edge_length(on_mesh(mi.sides[1]));
     mi.slave         = law.mortar_slave == Law::MortarSlave::k ? 0 :
                        law.mortar_slave == Law::MortarSlave::l ? 1 :
                                                                  (h_l < h_k ? 1 : 0);
@@ -208,5 +260,6 @@ namespace ContactStefan
 
   template MortarInterface couple_mortar_interface<2>(const DoFHandler<2> &,
                                                       const std::pair<unsigned int, unsigned int> &,
-                                                      const Parameters::InterfacePair &);
+                                                      const Parameters::InterfacePair &,
+                                                      const MortarConfiguration *);
 } // namespace ContactStefan

@@ -191,6 +191,15 @@ namespace ContactStefan
 
 
 
+  template <int dim>
+  void Postprocessor<dim>::record_sliding(const double relative_enthalpy_change)
+  {
+    for (const auto &[name, part] : parts)
+      part->record_sliding(relative_enthalpy_change);
+  }
+
+
+
   // The run's own checks that do not stop it (its output is complete and
   // finite) but that a researcher must know of before using its numbers.
   template <int dim>

@@ -464,3 +464,51 @@ add_test(NAME scenes/casting-mortar-conductance-matching-equals-nodal-mpi2
           ${CASTING_CONDUCTANCE_ARGS})
 set_tests_properties(scenes/casting-mortar-conductance-matching-equals-nodal-mpi2
   PROPERTIES PROCESSORS 2)
+
+# M7: large sliding (Mortar sliding = large). A block 0.5 wide (5 x 4 cells)
+# slides 0.93 m in ten steps along a base 2 m long (8 x 2 cells) while it
+# presses on it and is in perfect thermal contact with it, then stays for a
+# step and for a very long step (the steady state). The sliding run's last
+# step equals the run of the block meshed where it ends, not moved, to the
+# order of the elastic displacement (1e-10 of the sizes) in every physical
+# column, contact and temperature alike, serial and on 2 ranks; paired on the
+# mesh (Mortar sliding = small) the last step is off by far more
+# (tests/compare_sliding.py, which checks both).
+mortar_mesh(sliding --width 2 --lower 8,2 --upper 5,4 --upper-width 0.5 --shift 0.3)
+mortar_mesh(sliding_end --width 2 --lower 8,2 --upper 5,4 --upper-width 0.5 --shift 1.23)
+add_custom_target(mortar_sliding_meshes ALL DEPENDS ${M}/mortar_sliding.msh
+  ${M}/mortar_sliding_end.msh)
+foreach(np 1 2)
+  set(suffix "")
+  if(np GREATER 1)
+    set(suffix "-mpi${np}")
+  endif()
+  add_test(NAME mortar/sliding-large${suffix}
+    COMMAND /usr/bin/python3 ${T}/compare_sliding.py ${BIN} ${T}/scenes/mortar_sliding.prm
+            ${M}/mortar_sliding.msh ${M}/mortar_sliding_end.msh --still "0; -1e-3" --np ${np})
+  set_tests_properties(mortar/sliding-large${suffix} PROPERTIES PROCESSORS ${np})
+endforeach()
+# Sliding with adaptivity (the contact zone refined every step, the coupling
+# found on each new mesh and again where the block has slid to): 1, 2 and 3
+# ranks give the same statistics; a run killed on 2 ranks resumes on 3 as the
+# uninterrupted one goes on.
+set(MORTAR_SLIDING_ADAPTIVE
+  "SET:Geometry/Mesh file=${M}/mortar_sliding.msh"
+  "SET:Mesh refinement/Adaptive refinement interval=1"
+  "SET:Mesh refinement/Maximum level=2"
+  "SET:Mesh refinement/Refine fraction=0.3"
+  "SET:Mesh refinement/Coarsen fraction=0.1"
+  "SET:Mesh refinement/Mark contact zones=true")
+foreach(np 1 2 3)
+  set(suffix "")
+  if(np GREATER 1)
+    set(suffix "-mpi${np}")
+  endif()
+  scene(mortar/sliding-adaptive${suffix} ${np} ${T}/scenes/mortar_sliding.prm
+    mortar_sliding_adaptive ${MORTAR_SLIDING_ADAPTIVE}
+    "RESULT mesh adaptations>5.5"
+    "RESULT max energy-balance residual<1e-12"
+    "RESULT mortar weight defect interface 1-2<1e-14")
+endforeach()
+resume_test(restart/mortar-sliding-adaptive-mpi2-to-3 2 3 CONTACT_STEFAN_KILL_AFTER_STEP 6
+  ${T}/scenes/mortar_sliding.prm ${MORTAR_SLIDING_ADAPTIVE} "SET:Checkpoint/Interval (steps)=4")

@@ -101,6 +101,9 @@ namespace ContactStefan
       } mortar_slave;
       double mortar_search_distance; // m; 0: the longest edge of the two sides
       double mortar_min_coverage;    // of a slave node's support, to get a condition
+      // 'Mortar sliding = large': the pairing follows the displacement, coupled
+      // again before every step in the configuration of the step's start.
+      bool mortar_large_sliding;
 
       static std::string section(const unsigned int k, const unsigned int l);
       static void        declare(ParameterHandler &prm);
@@ -269,6 +272,15 @@ namespace ContactStefan
                         "covered edge extrapolates the master edge past its end (a node "
                         "covered to a fraction c carries a pressure of order 1/c^2); such a "
                         "node is left free instead.");
+      prm.declare_entry("Mortar sliding",
+                        "small",
+                        Patterns::Selection("small|large"),
+                        "With Discretisation = mortar: 'small', the sides are paired once on "
+                        "the mesh (they may slide against each other by a fraction of an edge); "
+                        "'large', they are paired again before every step where the "
+                        "displacement of the step's start has moved them (a body sliding "
+                        "along another: the set-up of both fields is redone every step; "
+                        "doc/contact.md). Needs Physics/Mechanics = true.");
     }
 
     inline void
@@ -297,6 +309,7 @@ namespace ContactStefan
                                                MortarSlave::finer;
       mortar_search_distance  = prm.get_double("Mortar search distance");
       mortar_min_coverage     = prm.get_double("Mortar minimum coverage");
+      mortar_large_sliding    = prm.get("Mortar sliding") == "large";
       const std::string ids   = prm.get("Mortar boundaries");
       if (discretisation == Discretisation::mortar)
         {
@@ -309,10 +322,16 @@ namespace ContactStefan
           mortar_boundaries = {{list[0], list[1]}};
         }
       else
-        Input::require(ids.empty(),
-                       path + "/Mortar boundaries",
-                       "is set but Discretisation = nodal: set Discretisation = mortar or "
-                       "remove it");
+        {
+          Input::require(ids.empty(),
+                         path + "/Mortar boundaries",
+                         "is set but Discretisation = nodal: set Discretisation = mortar or "
+                         "remove it");
+          Input::require(!mortar_large_sliding,
+                         path + "/Mortar sliding",
+                         "is 'large' but Discretisation = nodal: a nodal interface pairs its "
+                         "nodes for good; set Discretisation = mortar or Mortar sliding = small");
+        }
     }
 
     inline void Contact::parse(ParameterHandler &prm)

@@ -104,6 +104,31 @@ namespace ContactStefan
      */
     void after_mesh_change();
     /**
+     * Large sliding (Contact/Interface k-l/Mortar sliding = large,
+     * doc/contact.md): after every step (and before the first step of a
+     * mesh set up on the mesh), the mortar sides are coupled again where the
+     * displacement u has moved them, by couple_where_displaced(); then the
+     * derived state is re-derived as after a mesh change. With record, the
+     * change of the total enthalpy goes to the report.
+     */
+    void follow_sliding_interfaces(const bool record);
+    /**
+     * The mesh and the DoFs stay; both fields are set up again in the
+     * configuration of u (their constraints and sparsity follow the new
+     * pairing) and keep their primary state. Invariant between steps: the
+     * coupling is that of the displacement the fields hold, so that a
+     * checkpoint's u gives a resumed run the same coupling.
+     */
+    void couple_where_displaced();
+    bool large_sliding() const
+    {
+      return mechanical && mechanical->large_sliding();
+    }
+    /** The configuration both fields couple large-sliding sides in (empty: the mesh). */
+    MortarConfiguration sliding_configuration;
+    /** Whether the current coupling is that of the current u (false after a set-up on the mesh). */
+    bool coupled_where_displaced = false;
+    /**
      * Checkpoint/restart (checkpoint.cc, doc/adaptivity.md): the mesh, the
      * primary state of both fields, the time state, the postprocessor's
      * accumulated results and the statistics file, written atomically into

@@ -35,6 +35,14 @@
 // the two sides, D_j lambda_j n_j and -sum_j M_jk lambda_j n_j, sum to zero on
 // any interface, curved or not.
 //
+// Large sliding: the sides may be given in a deformed configuration x = X +
+// u_0 (u_0 the displacement at the start of a step) while the condition
+// stays one on the total displacement u = u_0 + du. Linearised about x,
+//   n_j.(x_j + du_j - sum_k (M_jk/D_j)(x_k + du_k)) <= g_j
+// is n_j.(u_j - sum_k (M_jk/D_j) u_k) <= g_j + n_j.sum_k M_jk (X_k - X_j)/D_j:
+// the same form with the weighted gap of the mesh positions X and the
+// normals and weights of x.
+//
 // For a heat flux across the interface the same segments give pair weights
 // W_jk (the trapezoidal rule of int N_j N_k on each segment, with the master
 // hat functions at the segment's two projected ends): non-negative, with row
@@ -61,6 +69,14 @@ namespace ContactStefan
       std::vector<std::array<unsigned int, 2>> edges;
       /** A point of the cell of each edge, on the side of the body. */
       std::vector<Vector2> inside;
+      /**
+       * The nodes' positions on the mesh, if the side is given in a deformed
+       * configuration (large sliding, doc/contact.md): the pairing, the
+       * normals and D, M, W come from 'nodes', the weighted gap from these,
+       * so that the condition stays one on the total displacement (below).
+       * Empty: 'nodes' are the mesh positions.
+       */
+      std::vector<Vector2> reference;
     };
 
     /** What a slave node's condition needs. */
@@ -68,7 +84,8 @@ namespace ContactStefan
     {
       Vector2 normal{{0., 0.}}; // averaged outward unit normal of the slave side
       double  D   = 0;          // int psi_j over the covered part of its edges
-      double  gap = 0;          // gtilde_j = n_j . (sum_k M_jk x_k - D_j x_j), 0 below 1e-12 h D_j
+      double  gap = 0;          // gtilde_j = n_j . (sum_k M_jk X_k - D_j X_j), 0 below 1e-12 h D_j
+                                // (X: the reference positions, Side::reference)
       /** (master node, M_jk), by master node. */
       std::vector<std::pair<unsigned int, double>> M;
       /**

@@ -55,6 +55,7 @@
 #include <contact-stefan/core/scene_context.h>
 #include <contact-stefan/core/scene_functions.h>
 #include <contact-stefan/interfaces/body_interface.h>
+#include <contact-stefan/interfaces/mortar_interface.h>
 #include <contact-stefan/linear_algebra/linear_solver.h>
 #include <contact-stefan/mechanics/contact_step_parameters.h>
 #include <contact-stefan/mechanics/solidification_history.h>
@@ -158,6 +159,24 @@ namespace ContactStefan
     ContactStepReport     solve();
     std::vector<Vector *> primary_state(); // {u, u_old}, owned vectors
     void                  after_transfer();
+    /**
+     * Large sliding (doc/contact.md): where set_up_dofs() couples the mortar
+     * sides of 'Mortar sliding = large' interfaces (null or empty: on the
+     * mesh). The coupled problem owns it and fills it with
+     * mortar_side_displacements() before every step.
+     */
+    void set_mortar_configuration(const MortarConfiguration *configuration)
+    {
+      mortar_configuration = configuration;
+    }
+    /**
+     * The displacement u (the last step's) of every node of this rank's
+     * cells on a side of a 'Mortar sliding = large' interface, by body and
+     * mesh position; clears 'configuration' first.
+     */
+    void mortar_side_displacements(MortarConfiguration &configuration) const;
+    /** Whether a mortar interface has 'Mortar sliding = large'. */
+    bool large_sliding() const;
     /**
      * Forget factorisations, preconditioners and the last solution, as a new
      * set-up does. A checkpoint calls it (after re-deriving the state with
@@ -729,6 +748,7 @@ namespace ContactStefan
     std::vector<NormalCondition>         normal_conditions;
     std::map<std::string, MortarSummary> mortar_summary;
     std::vector<NormalCondition>         mortar_cache;
+    const MortarConfiguration           *mortar_configuration = nullptr;
     std::vector<std::string>     contact_groups;
     /**
      * The conditions imposed by the last build_contact_constraints(), by (x DoF

@@ -226,6 +226,13 @@ namespace ContactStefan
     /** A mesh adaptation changed the total enthalpy by this (relative) amount. */
     virtual void record_adaptation(const double, const bool)
     {}
+    /**
+     * Large sliding: the mortar sides were coupled again before a step
+     * (CoupledProblem::follow_sliding_interfaces()), which changed the total
+     * enthalpy by this (relative) amount.
+     */
+    virtual void record_sliding(const double)
+    {}
     /** Its columns of the row (not collective: every value is known on every rank). */
     virtual void add_columns(StatisticsRow &, const StepData &) const
     {}

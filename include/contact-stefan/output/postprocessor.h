@@ -70,6 +70,11 @@ namespace ContactStefan
      * (relative) amount; coarsened: it coarsened cells (else refinement only).
      */
     void record_adaptation(const double relative_enthalpy_change, const bool coarsened);
+    /**
+     * The large-sliding mortar sides were coupled again before a step, which
+     * changed the total enthalpy by this (relative) amount.
+     */
+    void record_sliding(const double relative_enthalpy_change);
     /** The RESULT lines. */
     void print_results(const unsigned int n_steps, const double time) const;
     /** The self-checks the run failed, one sentence each (empty: none failed). */

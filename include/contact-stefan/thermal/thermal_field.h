@@ -60,6 +60,7 @@
 #include <contact-stefan/core/scene_context.h>
 #include <contact-stefan/core/scene_functions.h>
 #include <contact-stefan/interfaces/body_interface.h>
+#include <contact-stefan/interfaces/mortar_interface.h>
 #include <contact-stefan/linear_algebra/linear_solver.h>
 #include <contact-stefan/thermal/enthalpy_step_parameters.h>
 
@@ -119,6 +120,15 @@ namespace ContactStefan
     EnthalpyStepReport    solve();
     std::vector<Vector *> primary_state(); // {h, h_old}, owned vectors
     void                  after_transfer();
+    /**
+     * Large sliding (doc/contact.md): where set_up_dofs() couples the mortar
+     * sides of 'Mortar sliding = large' interfaces (null or empty: on the
+     * mesh), the configuration the mechanical field's set-up uses too.
+     */
+    void set_mortar_configuration(const MortarConfiguration *configuration)
+    {
+      mortar_configuration = configuration;
+    }
     /**
      * Forget factorisations, preconditioners and the last solution, as a new
      * set-up does. A checkpoint calls it (after re-deriving the state with
@@ -557,6 +567,7 @@ namespace ContactStefan
     bool                              have_interface_contact = false;
     /** Scheme = fixed point and an h that depends on temperatures or phases. */
     bool            iterate_conductances = false;
+    const MortarConfiguration *mortar_configuration = nullptr;
     IndexSet        owned, relevant;
 
     /**

@@ -18,6 +18,7 @@
 #include <contact-stefan/output/run_guard.h>
 
 #include <csignal>
+#include <cstdint>
 #include <cstdio>
 
 namespace ContactStefan
@@ -46,6 +47,12 @@ namespace ContactStefan
                                                           prm.linear_solvers,
                                                           prm.output.section_lines);
     postprocessor->attach(thermal.get(), mechanical.get(), prm.parts);
+    if (mechanical && mechanical->large_sliding())
+      {
+        mechanical->set_mortar_configuration(&sliding_configuration);
+        if (thermal)
+          thermal->set_mortar_configuration(&sliding_configuration);
+      }
   }
 
 
@@ -201,6 +208,10 @@ namespace ContactStefan
         CouplingReport     coupling_report;
         StepControlReport  control_report;
         coupling_report.births = update_births();
+        // A mesh set up afresh (the first step, a resumed run) is coupled on
+        // the mesh: first where the displacement puts it.
+        if (large_sliding() && !coupled_where_displaced)
+          follow_sliding_interfaces(false);
         const bool last =
           take_time_step(thermal_report, contact_report, coupling_report, control_report);
 
@@ -214,6 +225,11 @@ namespace ContactStefan
                                 control_report,
                                 wall_offset + wall_clock.wall_time());
         print_step_line(thermal_report, contact_report, coupling_report);
+        // Large sliding: the next step is coupled where this one left the
+        // sides (before the adaptation and the checkpoint, so that both see
+        // the coupling of the displacement they carry).
+        if (large_sliding() && !last)
+          follow_sliding_interfaces(true);
         if (prm.refinement.adaptive_interval > 0 &&
             step_number % prm.refinement.adaptive_interval == 0 && !last &&
             !features_inside_refined_zone())
@@ -474,6 +490,80 @@ namespace ContactStefan
 
 
 
+  template <int dim>
+  void CoupledProblem<dim>::follow_sliding_interfaces(const bool record)
+  {
+    TimerOutput::Scope t(timer, "setup: sliding interfaces");
+    const double       before = thermal ? thermal->total_enthalpy() : 0.;
+    couple_where_displaced();
+    after_mesh_change();
+    // (Not recorded: the first coupling of a mesh set up on the mesh, whose
+    // derived state was never the run's.)
+    if (!record)
+      return;
+    const double after  = thermal ? thermal->total_enthalpy() : 0.;
+    const double change = before != 0 ? (after - before) / std::abs(before) : after - before;
+    postprocessor->record_sliding(change);
+    if (prm.output.verbosity >= 2)
+      pcout << "    sliding interfaces coupled again"
+            << (thermal ? ", relative enthalpy change " + number(change) : std::string())
+            << std::endl;
+  }
+
+
+
+  template <int dim>
+  void CoupledProblem<dim>::couple_where_displaced()
+  {
+    mechanical->mortar_side_displacements(sliding_configuration);
+    // The DoFs of an unchanged mesh are numbered again as before (the
+    // numbering is deterministic); checked, since the state is kept by index.
+    const auto numbering = [](const auto &dof_handler) {
+      std::uint64_t                        hash = dof_handler.n_dofs();
+      std::vector<types::global_dof_index> dofs;
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        if (cell->is_locally_owned())
+          {
+            dofs.resize(cell->get_fe().n_dofs_per_cell());
+            cell->get_dof_indices(dofs);
+            for (const auto d : dofs)
+              hash = hash * 1099511628211ULL + d + 1;
+          }
+      return hash;
+    };
+    std::vector<Vector> saved;
+    std::uint64_t       numbered_before = 0, numbered_after = 0;
+    if (thermal)
+      {
+        numbered_before = numbering(thermal->get_dof_handler());
+        for (const Vector *v : thermal->primary_state())
+          saved.push_back(*v);
+      }
+    numbered_before = numbered_before * 31 + numbering(mechanical->get_dof_handler());
+    for (const Vector *v : mechanical->primary_state())
+      saved.push_back(*v);
+    if (thermal)
+      thermal->setup_dofs();
+    mechanical->setup_dofs();
+    if (thermal)
+      numbered_after = numbering(thermal->get_dof_handler());
+    numbered_after = numbered_after * 31 + numbering(mechanical->get_dof_handler());
+    // (Collective: a rank alone must not stop.)
+    AssertThrow(!Utilities::MPI::logical_or(numbered_before != numbered_after,
+                                            triangulation.get_communicator()),
+                ExcMessage("the DoFs were numbered differently when the sliding interfaces "
+                           "were coupled again"));
+    unsigned int i = 0;
+    if (thermal)
+      for (Vector *v : thermal->primary_state())
+        *v = saved[i++];
+    for (Vector *v : mechanical->primary_state())
+      *v = saved[i++];
+    coupled_where_displaced = true;
+  }
+
+
+
   // Initial adaptive refinement: each round marks on the initial state (its
   // temperature and fronts, the initial equilibrium's displacement and contact
   // zone), refines, and sets the initial state afresh on the new mesh (the
@@ -533,7 +623,16 @@ namespace ContactStefan
                 << std::endl;
         return;
       }
+    // Large sliding: the new mesh is set up on the mesh (its new side nodes
+    // have no place in the configuration yet), then coupled where the
+    // transferred displacement puts it, before its derived state is made.
+    sliding_configuration.displacement.clear();
     execute_and_repair(true);
+    if (large_sliding())
+      {
+        TimerOutput::Scope t(timer, "setup: sliding interfaces");
+        couple_where_displaced();
+      }
     after_mesh_change();
     const double after  = thermal ? thermal->total_enthalpy() : 0.;
     const double change = before != 0 ? (after - before) / std::abs(before) : after - before;

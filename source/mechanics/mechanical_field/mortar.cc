@@ -40,7 +40,8 @@ namespace ContactStefan
       {
         if (law.discretisation != Law::Discretisation::mortar)
           continue;
-        const MortarInterface mi = couple_mortar_interface<dim>(dof_handler, pair, law);
+        const MortarInterface mi =
+          couple_mortar_interface<dim>(dof_handler, pair, law, mortar_configuration);
         mortar_summary[mi.name] = {mi.body[mi.slave],
                                    mi.coupling.n_segments,
                                    mi.coupling.uncovered_length,
@@ -60,7 +61,7 @@ namespace ContactStefan
             c.body_l      = pair.second;
             c.tied        = false;
             c.boundary_id = 0;
-            c.position    = Point<2>(S.nodes[j][0], S.nodes[j][1]);
+            c.position    = mi.slave_position(j);
             c.vertex      = numbers::invalid_unsigned_int;
             c.dofs_k      = {{mi.slave_dofs()[j][0], mi.slave_dofs()[j][1]}};
             c.has_partner = false;
@@ -81,6 +82,58 @@ namespace ContactStefan
           }
       }
     relevant.add_indices(masters);
+  }
+
+
+
+  template <int dim>
+  bool MechanicalField<dim>::large_sliding() const
+  {
+    for (const auto &[pair, law] : prm.interface_pairs)
+      if (law.discretisation == Parameters::InterfacePair::Discretisation::mortar &&
+          law.mortar_large_sliding)
+        return true;
+    return false;
+  }
+
+
+
+  // The configuration a large-sliding interface is coupled in: u at the
+  // vertices of this rank's cells on its sides (the vertices of owned cells
+  // are locally relevant), by body and mesh position, as
+  // couple_mortar_interface() looks them up for the faces it gathers.
+  template <int dim>
+  void MechanicalField<dim>::mortar_side_displacements(MortarConfiguration &configuration) const
+  {
+    configuration.displacement.clear();
+    // From u itself: right after a mesh change the ghosted copy is not made
+    // yet (after_transfer() makes it).
+    Vector u(owned, relevant, mpi_communicator);
+    u = displacement;
+    for (const auto &[pair, law] : prm.interface_pairs)
+      {
+        if (law.discretisation != Parameters::InterfacePair::Discretisation::mortar ||
+            !law.mortar_large_sliding)
+          continue;
+        const std::array<unsigned int, 2> body{{pair.first, pair.second}};
+        for (const auto &cell : dof_handler.active_cell_iterators())
+          if (cell->is_locally_owned())
+            for (const unsigned int face : cell->face_indices())
+              if (cell->face(face)->at_boundary())
+                for (unsigned int s = 0; s < 2; ++s)
+                  if (cell->material_id() == body[s] &&
+                      cell->face(face)->boundary_id() == law.mortar_boundaries[s])
+                    {
+                      const auto dofs = vertex_dofs<dim>(cell);
+                      for (unsigned int fv = 0; fv < GeometryInfo<dim>::vertices_per_face; ++fv)
+                        {
+                          const unsigned int v = GeometryInfo<dim>::face_to_cell_vertices(face, fv);
+                          configuration
+                            .displacement[{body[s], cell->vertex(v)[0], cell->vertex(v)[1]}] = {
+                            {u[dofs[v][0]], u[dofs[v][1]]}};
+                        }
+                    }
+      }
   }
 
 
@@ -120,5 +173,7 @@ namespace ContactStefan
 
 
   template void MechanicalField<2>::couple_mortar_interfaces();
+  template bool MechanicalField<2>::large_sliding() const;
+  template void MechanicalField<2>::mortar_side_displacements(MortarConfiguration &) const;
   template void MechanicalField<2>::check_mortar_junctions() const;
 } // namespace ContactStefan

@@ -13,9 +13,18 @@
 // or not. It checks the integrals on the run's own meshes; it does not see a
 // force that another condition at the same node adds (such nodes are refused,
 // MechanicalField::check_mortar_junctions).
+//
+// With large sliding (Mortar sliding = large) also how often the sides were
+// coupled again and the largest relative change of the total enthalpy that a
+// new coupling made: in perfect thermal contact the slave side's enthalpies
+// are those its new masters interpolate (the slave surface takes the
+// temperature of the master surface it now faces), which the energy balance
+// of a step does not see, as with an adaptation.
 #include <contact-stefan/output/part.h>
 
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace ContactStefan
 {
@@ -24,11 +33,13 @@ namespace ContactStefan
     struct MortarState
     {
       std::map<std::string, double> max_defect;
+      unsigned int                  sliding_couplings  = 0;
+      double                        max_sliding_change = 0;
 
       template <class Archive>
       void serialize(Archive &ar, const unsigned int)
       {
-        ar &max_defect;
+        ar &max_defect &sliding_couplings &max_sliding_change;
       }
     };
 
@@ -50,9 +61,28 @@ namespace ContactStefan
           }
       }
 
+      void record_sliding(const double relative_enthalpy_change) override
+      {
+        if (!std::isfinite(relative_enthalpy_change))
+          throw std::runtime_error("the total enthalpy is not finite after the sliding "
+                                   "interfaces were coupled again before step " +
+                                   std::to_string(this->state.sliding_couplings + 1));
+        ++this->state.sliding_couplings;
+        this->state.max_sliding_change =
+          std::max(this->state.max_sliding_change, std::abs(relative_enthalpy_change));
+      }
+
       void add_results(ResultLines &results, const unsigned int, const double) const override
       {
         const MechanicalField<dim> &field = *this->run.mechanical;
+        if (field.large_sliding())
+          {
+            results.add(Slot::mortar, "mortar sliding couplings", this->state.sliding_couplings);
+            if (this->run.thermal)
+              results.add(Slot::mortar,
+                          "max relative enthalpy change through sliding",
+                          this->state.max_sliding_change);
+          }
         for (const auto &[group, summary] : field.get_mortar_summary())
           {
             results.add(Slot::mortar, "mortar slave body " + group, summary.slave_body);

@@ -132,18 +132,19 @@ namespace ContactStefan
             if (law.discretisation != Law::Discretisation::mortar ||
                 law.thermal_contact != Law::ThermalContact::perfect)
               continue;
-            const MortarInterface mi = couple_mortar_interface<dim>(dof_handler, pair, law);
+            const MortarInterface mi =
+              couple_mortar_interface<dim>(dof_handler, pair, law, mortar_configuration);
             // The whole coupling is the same on every rank: record every
             // line's slave and masters (by position, for the message) to
             // refuse a node that two lines would name.
             for (unsigned int j = 0; j < mi.slave_side().nodes.size(); ++j)
               if (mi.conditioned[j] && !on_dirichlet.count(mi.slave_dofs()[j][0]))
                 {
-                  const auto &x = mi.slave_side().nodes[j];
+                  const Point<2> x = mi.slave_position(j);
                   slave_of[mi.slave_dofs()[j][0]].push_back({mi.name, {{x[0], x[1]}}, pair});
                   for (const auto &[m, value] : mi.coupling.slave[j].M)
                     {
-                      const auto &y = mi.sides[1 - mi.slave].nodes[m];
+                      const Point<2> y = mi.mesh_position(1 - mi.slave, m);
                       master_of[mi.master_dofs()[m][0]].push_back({mi.name, {{y[0], y[1]}}, pair});
                     }
                 }
@@ -243,8 +244,8 @@ namespace ContactStefan
         if (!ci.mortar)
           continue;
         const std::pair<unsigned int, unsigned int> pair(ci.body_k, ci.body_l);
-        const MortarInterface                       mi =
-          couple_mortar_interface<dim>(dof_handler, pair, prm.interface_pair(ci.body_k, ci.body_l));
+        const MortarInterface                       mi = couple_mortar_interface<dim>(
+          dof_handler, pair, prm.interface_pair(ci.body_k, ci.body_l), mortar_configuration);
         for (unsigned int j = 0; j < mi.slave_side().nodes.size(); ++j)
           {
             if (!mi.conditioned[j])
@@ -253,7 +254,7 @@ namespace ContactStefan
             MortarConductanceNode    node;
             node.interface  = i;
             node.node       = j;
-            node.position   = Point<dim>(mi.slave_side().nodes[j][0], mi.slave_side().nodes[j][1]);
+            node.position   = mi.slave_position(j);
             node.dof        = mi.slave_dofs()[j][0];
             node.D          = sn.D;
             node.slave_is_k = mi.slave == 0;
@@ -273,8 +274,9 @@ namespace ContactStefan
             for (unsigned int e = 0; e < S.edges.size(); ++e)
               for (const unsigned int v : S.edges[e])
                 {
-                  const Point<dim> x(S.nodes[v][0], S.nodes[v][1]),
-                    inside(S.inside[e][0], S.inside[e][1]);
+                  const Point<dim> x = mi.mesh_position(side, v),
+                                   inside(mi.inside_on_mesh[side][e][0],
+                                          mi.inside_on_mesh[side][e][1]);
                   points.emplace(mi.dofs[side][v][0], x + interface_side_offset * (inside - x));
                 }
           }
