@@ -5,6 +5,8 @@ where it ends (doc/contact.md, doc/benchmarks.md M7).
     compare_sliding.py BINARY SCENE.prm SLIDING.msh STATIC.msh --still VALUE
                        [--np N] [--tolerance T] [--control-factor F]
                        [--set PATH=VALUE ...]
+    compare_sliding.py BINARY SCENE.prm SLIDING.msh --unmoved VALUE [--np N]
+                       [--tolerance T]
 
 Runs three times:
   sliding  SCENE as written, mesh SLIDING.msh: the block slides along the base
@@ -24,8 +26,15 @@ digits), and so must the RESULT lines of the final state (END_RESULTS: the
 contact force and energy, the temperature's L2 'error'), relative. The
 control must differ from 'static' by more than F times T (default 1e4) both in
 some mechanical column and in the temperature: a run that ignored the
-sliding, in either field, would fail. Exit 0 on success, 1 with one line per failed
-check otherwise.
+sliding, in either field, would fail. With --unmoved the block is not slid ('Mechanical boundary 13/Value' =
+VALUE, a push so small that the coupling where the displacement puts the
+sides is the mesh's to round-off) and the run ends at t = 13, without the
+steady step: 'Mortar sliding = large' on N ranks must then give what 'small'
+gives serially at every step, in every physical column and RESULT line
+(within T, default 1e-9): the fields' state survives the set-up again after
+every step (the final temperature carries its history, which a lost or stale
+state changes by kelvins; the steady state alone would not show it).
+Exit 0 on success, 1 with one line per failed check otherwise.
 """
 import argparse
 import os
@@ -36,7 +45,7 @@ import tempfile
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "benchmarks"))
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from ladder import set_path  # noqa: E402
-from compare_runs import report, run_scene  # noqa: E402
+from compare_runs import compare, report, run_scene  # noqa: E402
 
 # Columns that count work or time, not physics, or that follow the mesh
 # (the DoF counts are equal, but the segment count depends on the pairing).
@@ -45,7 +54,7 @@ END_RESULTS = ["contact force interface 1-2", "elastic energy", "active contact 
                "L2 error temperature", "relative L2 error temperature"]
 THERMAL = "L2 error temperature"
 WORK = re.compile(r"wall|solver|calls|factoris|solves|skipped|reused|iterations|dofs|segments|"
-                  r"^step$|^time$|^contact_work$|^energy_residual$")
+                  r"through sliding|^step$|^time$|^contact_work$|^energy_residual$")
 
 
 def last_row_differences(a, b):
@@ -68,9 +77,10 @@ def main():
     parser.add_argument("binary")
     parser.add_argument("scene")
     parser.add_argument("sliding_mesh")
-    parser.add_argument("static_mesh")
-    parser.add_argument("--still", required=True,
-                        help="Mechanical boundary 13's Value without the slide")
+    parser.add_argument("static_mesh", nargs="?")
+    parser.add_argument("--still", help="Mechanical boundary 13's Value without the slide")
+    parser.add_argument("--unmoved", help="Mechanical boundary 13's Value of the unmoved "
+                        "comparison")
     parser.add_argument("--np", type=int, default=1)
     parser.add_argument("--tolerance", type=float, default=1e-9)
     parser.add_argument("--control-factor", type=float, default=1e4)
@@ -90,6 +100,26 @@ def main():
                 scene = set_path(scene, path, value)
             return run_scene(args.binary, scene, os.path.join(work, name), np, name)
 
+        if args.unmoved is not None:
+            # Without the final steady step: the last step's temperature then
+            # carries the whole history (the statistics have no temperature
+            # column, the final RESULT lines do).
+            unmoved = [("Boundary conditions/Mechanical boundary 13/Value", args.unmoved),
+                       ("Time stepping/End time", "13"),
+                       ("Time stepping/Time step function", "")]
+            large = run("large", args.sliding_mesh, args.np, unmoved)
+            small = run("small", args.sliding_mesh, 1,
+                        unmoved + [("Contact/Interface 1-2/Mortar sliding", "small")])
+            compared, failures = compare(large, small, args.tolerance, WORK,
+                                         ("large", "small"), False, 1e-15)
+            if "RESULT mortar sliding couplings" not in large[2]:
+                failures.append("the large-sliding run did not couple again")
+            return report("unmoved, large sliding on %d rank(s) against small: %d columns at "
+                          "every step and RESULT lines within %.3g" % (args.np, compared,
+                                                                       args.tolerance),
+                          failures)
+        if args.still is None or args.static_mesh is None:
+            parser.error("give STATIC.msh and --still (or --unmoved)")
         sliding = run("sliding", args.sliding_mesh, args.np, [])
         static = run("static", args.static_mesh, 1,
                      [("Boundary conditions/Mechanical boundary 13/Value", args.still)])

@@ -146,7 +146,11 @@ namespace ContactStefan
     MortarInterface   mi;
     mi.name = "interface " + std::to_string(pair.first) + "-" + std::to_string(pair.second);
     mi.body = {{pair.first, pair.second}};
-    mi.deformed = law.mortar_large_sliding && configuration && !configuration->displacement.empty();
+    // (Decided by all ranks together: a rank that owns no cell of a side has
+    // no displacement to give, but gathers the moved sides like the others.)
+    const MPI_Comm comm = dof_handler.get_triangulation().get_communicator();
+    mi.deformed         = law.mortar_large_sliding && configuration &&
+                  Utilities::MPI::logical_or(!configuration->displacement.empty(), comm);
     std::array<std::vector<MortarFace>, 2> own;
     unsigned int                           n_dofs = 0;
     for (const auto &cell : dof_handler.active_cell_iterators())
@@ -188,8 +192,7 @@ namespace ContactStefan
                                        cell->center()[1] + mean_displacement[1]}};
                   own[s].push_back(f);
                 }
-    const MPI_Comm comm = dof_handler.get_triangulation().get_communicator();
-    n_dofs              = Utilities::MPI::max(n_dofs, comm);
+    n_dofs = Utilities::MPI::max(n_dofs, comm);
     for (unsigned int s = 0; s < 2; ++s)
       gather_side(own[s], n_dofs, comm, mi.deformed, mi.sides[s], mi.inside_on_mesh[s], mi.dofs[s]);
 
@@ -242,6 +245,14 @@ namespace ContactStefan
         mi.weight_defect = std::max(mi.weight_defect, std::abs(1 - sum));
       }
     const unsigned int s = mi.slave;
+    if (mi.n_conditions == 0 && mi.deformed)
+      throw InputError(path + "Mortar sliding",
+                       "after the displacement moved the sides, no node of body " +
+                         std::to_string(mi.body[s]) + "'s side faces body " +
+                         std::to_string(mi.body[1 - s]) + "'s side within " +
+                         std::to_string(parameters.search_distance) +
+                         " m: one body has slid off the other (or lifted off it by more than "
+                         "'Mortar search distance')");
     if (mi.n_conditions == 0)
       throw InputError(path + "Mortar boundaries",
                        "no node of body " + std::to_string(mi.body[s]) + "'s side (id " +

@@ -488,7 +488,22 @@ foreach(np 1 2)
             ${M}/mortar_sliding.msh ${M}/mortar_sliding_end.msh --still "0; -1e-3" --np ${np})
   set_tests_properties(mortar/sliding-large${suffix} PROPERTIES PROCESSORS ${np})
 endforeach()
-# Sliding with adaptivity (the contact zone refined every step, the coupling
+# The same scene not slid (pushed by 1e-12 only): coupled again after every
+# step, it must give what the coupling on the mesh gives at every step, the
+# temperature's history included (the fields keep their state through the
+# set-up again), serial and on 2 ranks.
+foreach(np 1 2)
+  set(suffix "")
+  if(np GREATER 1)
+    set(suffix "-mpi${np}")
+  endif()
+  add_test(NAME mortar/sliding-unmoved${suffix}
+    COMMAND /usr/bin/python3 ${T}/compare_sliding.py ${BIN} ${T}/scenes/mortar_sliding.prm
+            ${M}/mortar_sliding.msh --unmoved "0; -1e-12" --np ${np})
+  set_tests_properties(mortar/sliding-unmoved${suffix} PROPERTIES PROCESSORS ${np})
+endforeach()
+# Sliding with adaptivity (the contact zone refined every step on both
+# sides, around the block's nodes and the base's points they face, the coupling
 # found on each new mesh and again where the block has slid to): 1, 2 and 3
 # ranks give the same statistics; a run killed on 2 ranks resumes on 3 as the
 # uninterrupted one goes on.

@@ -135,6 +135,10 @@ namespace ContactStefan
     // The slave node's number in its MortarInterface (the same on every rank
     // and in both fields): the key of its InterfaceContactState.
     unsigned int mortar_node = 0;
+    // Large sliding: the mesh point of the master side that the node faces
+    // now, sum_m w_m X_m (the contact zone the adaptation refines is there
+    // on the master's mesh); else the node's own position.
+    Point<2> facing;
   };
 
   template <int dim>

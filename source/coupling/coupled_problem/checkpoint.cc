@@ -67,9 +67,9 @@ namespace ContactStefan
   // parameters include the laws per interface, Contact/Interface k-l; 8: the
   // postprocessor's state is each part's state by its name; 9: the references
   // of the solidification history are attached to the mesh after the fields'
-  // state), so
+  // state; 12: the mortar statistics count the large-sliding couplings), so
   // that an older checkpoint is refused by name, not misread.
-  const std::string checkpoint_format = "contact-stefan checkpoint 11";
+  const std::string checkpoint_format = "contact-stefan checkpoint 12";
 
   namespace
   {

@@ -12,7 +12,12 @@ namespace ContactStefan
     points.clear();
     for (const auto &c : normal_conditions)
       if (c.kind != NormalCondition::Kind::roller && owned.is_element(c.dofs_k[0]) && is_active(c))
-        points.emplace_back(c.position[0], c.position[1]);
+        {
+          points.emplace_back(c.position[0], c.position[1]);
+          // Large sliding: also where the master side is pressed, on its mesh.
+          if (c.mortar && c.facing != c.position)
+            points.emplace_back(c.facing[0], c.facing[1]);
+        }
   }
 
 

@@ -71,8 +71,11 @@ namespace ContactStefan
             c.mortar      = true;
             c.mortar_gap  = node.gap / node.D;
             c.mortar_node = j;
+            c.facing      = mi.deformed ? Point<2>() : c.position;
             for (const auto &[m, value] : node.M)
               {
+                if (mi.deformed)
+                  c.facing += (value / node.D) * mi.mesh_position(1 - mi.slave, m);
                 const auto &dofs = mi.master_dofs()[m];
                 c.masters.emplace_back(std::array<std::uint64_t, 2>{{dofs[0], dofs[1]}},
                                        value / node.D);
