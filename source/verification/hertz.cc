@@ -15,6 +15,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 namespace ContactStefan
 {
@@ -60,26 +62,47 @@ namespace ContactStefan
         const double         E_star = composite_modulus();
         const Contact::Hertz hertz(P, parameters.cylinder_radius, E_star);
         double               contact_length = 0, p0 = 0, error2 = 0, norm2 = 0;
+        // Active nodes whose support lies wholly outside the exact contact
+        // zone: a node whose lumped length w reaches the edge may rightly be
+        // active, one farther out carries a spurious pressure.
+        unsigned int outside = 0;
         for (const auto &[x, p, w] : local)
           {
             contact_length += (p > 0 ? w : 0.);
+            outside += (p > 0 && std::abs(x) > hertz.half_width + w);
             p0 = max_with_nan(p0, p);
             error2 += w * (p - hertz.pressure(x)) * (p - hertz.pressure(x));
             norm2 += w * hertz.pressure(x) * hertz.pressure(x);
           }
         contact_length = Utilities::MPI::sum(contact_length, comm);
+        outside        = Utilities::MPI::sum(outside, comm);
         p0             = global_max_with_nan(p0, comm);
         error2         = Utilities::MPI::sum(error2, comm);
         norm2          = Utilities::MPI::sum(norm2, comm);
         // The computed half-width is half the lumped length of the active nodes.
-        const double a   = 0.5 * contact_length;
-        const auto   add = [&](const std::string &name, const double value) {
+        // It is an O(h) measure that can only move in steps of a node's
+        // weight, so it jumps with the node positions.
+        const double a = 0.5 * contact_length;
+        // A second measure from the same nodal pressures: at a smooth contact
+        // edge the pressure vanishes like the square root of the distance to
+        // the edge, so p^2 is linear there. The edge on each side is where the
+        // line through p^2 of the outermost active node and its inner
+        // neighbour reaches zero, kept between that node and the first
+        // inactive one (which the discrete solution says is not in contact).
+        // Where the contact reaches the end of the interface, or fewer than
+        // two nodes are active, the outermost active node is the edge.
+        const double a_edge = contact_edge_half_width(local, comm);
+        const auto   add    = [&](const std::string &name, const double value) {
           results.add(ResultLines::Slot::hertz, name, value);
         };
         add("Hertz force P", P);
         add("Hertz half-width", a);
         add("Hertz exact half-width", hertz.half_width);
         add("Hertz half-width relative error", std::abs(a - hertz.half_width) / hertz.half_width);
+        add("Hertz contact edge half-width", a_edge);
+        add("Hertz contact edge half-width relative error",
+            std::abs(a_edge - hertz.half_width) / hertz.half_width);
+        add("Hertz active nodes outside the exact contact zone", outside);
         add("Hertz peak pressure", p0);
         add("Hertz exact peak pressure", hertz.peak_pressure);
         add("Hertz peak pressure relative error",
@@ -93,6 +116,38 @@ namespace ContactStefan
       }
 
     private:
+      // Half the distance between the two contact edges (see add_results),
+      // from the contact nodes (position, pressure, weight) of all ranks.
+      static double contact_edge_half_width(const std::vector<std::array<double, 3>> &local,
+                                            const MPI_Comm                            comm)
+      {
+        std::vector<std::pair<double, double>> nodes; // (x, p), all ranks
+        for (const auto &part : Utilities::MPI::all_gather(comm, local))
+          for (const auto &[x, p, w] : part)
+            nodes.emplace_back(x, p);
+        std::sort(nodes.begin(), nodes.end());
+        std::vector<std::size_t> active;
+        for (std::size_t i = 0; i < nodes.size(); ++i)
+          if (nodes[i].second > 0)
+            active.push_back(i);
+        if (active.empty())
+          return 0.;
+        // The edge beyond active node i, whose inner neighbour is i - step and
+        // outer neighbour i + step.
+        const auto edge = [&](const std::size_t i, const int step) {
+          const double x = nodes[i].first, p = nodes[i].second;
+          const long   in = static_cast<long>(i) - step, out = static_cast<long>(i) + step;
+          if (out < 0 || out >= static_cast<long>(nodes.size()) || in < 0 ||
+              in >= static_cast<long>(nodes.size()) || !(nodes[in].second > p))
+            return x;
+          const double x_in = nodes[in].first, p_in = nodes[in].second;
+          const double x0    = x + p * p * (x - x_in) / (p_in * p_in - p * p);
+          const double x_out = nodes[out].first;
+          return step > 0 ? std::min(x0, x_out) : std::max(x0, x_out);
+        };
+        return 0.5 * (edge(active.back(), 1) - edge(active.front(), -1));
+      }
+
       // An obstacle node of Body, or a node of the interface of Body and
       // Second body.
       bool counts(const NormalCondition &c) const

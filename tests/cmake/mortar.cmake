@@ -320,23 +320,45 @@ resume_test(restart/mortar-thermal-adaptive-mpi2-to-3 2 3 CONTACT_STEFAN_KILL_AF
 # M5: Hertz contact of two elastic half-planes across a non-matching
 # interface (the gap is the cylinder's profile), h_top / h_bottom = 1/3, 1
 # and 3 (base cells 0.25 against 1/12), adapted every step to the contact
-# zone (level 9) and to the displacement jumps. The bounds are what the code
-# reaches (doc/benchmarks.md M5: a within 0.02-0.45 %, p0 within 0.13-0.49 %
-# with 18 000-32 000 DoFs); the issue's 0.2 % at 25 000 DoFs is not met.
+# zone (level 9, Contact buffer 2 in the scene) and to the displacement jumps. With the
+# coarser side as the slave (Mortar slave = k at 1/3, l at 3) the issue's
+# target holds: the half-width (from the contact edges) and the peak pressure
+# within 0.2 % of the closed form with fewer than 25 000 DoFs, no active node
+# outside the exact contact zone, and at most one active-set iteration more
+# per step than the matching mesh's 4 (benchmarks/mortar_hertz.py,
+# doc/benchmarks.md M5). With the finer side as the slave (the default rule)
+# the peak pressure is 0.54 % and 0.23 % off: the '-finer-slave' tests keep
+# that measurement's bounds.
 mortar_mesh(hertz_1_3 --width 4 --height 2 --centre --lower 16,8 --upper 48,24)
 mortar_mesh(hertz_1_1 --width 4 --height 2 --centre --lower 16,8 --upper 16,8)
 mortar_mesh(hertz_3_1 --width 4 --height 2 --centre --lower 48,24 --upper 16,8)
 add_custom_target(mortar_hertz_meshes ALL DEPENDS ${M}/mortar_hertz_1_3.msh
   ${M}/mortar_hertz_1_1.msh ${M}/mortar_hertz_3_1.msh)
-foreach(ratio 1_3 1_1 3_1)
+set(MORTAR_HERTZ
+  "RESULT Hertz active nodes outside the exact contact zone<0.5"
+  "RESULT mortar weight defect interface 1-2<1e-14")
+foreach(case 1_3:k 1_1:finer 3_1:l 1_3:finer 3_1:finer)
+  string(REPLACE ":" ";" case ${case})
+  list(GET case 0 ratio)
+  list(GET case 1 slave)
+  set(suffix "")
+  if(slave STREQUAL "finer" AND NOT ratio STREQUAL "1_1")
+    set(suffix "-finer-slave")
+    set(bounds "RESULT Hertz contact edge half-width relative error<0.007"
+      "RESULT Hertz peak pressure relative error<0.006"
+      "RESULT displacement dofs<26000")
+  else()
+    set(bounds "RESULT Hertz contact edge half-width relative error<0.002"
+      "RESULT Hertz peak pressure relative error<0.002"
+      "RESULT max contact iterations<5.5"
+      "RESULT displacement dofs<25000")
+  endif()
   string(REPLACE "_" "-" label ${ratio})
-  scene(mortar/hertz-${label} 1 ${T}/scenes/mortar_hertz.prm mortar_hertz_${ratio}
+  scene(mortar/hertz-${label}${suffix} 1 ${T}/scenes/mortar_hertz.prm mortar_hertz_${ratio}${suffix}
     "SET:Geometry/Mesh file=${M}/mortar_hertz_${ratio}.msh"
-    "RESULT Hertz half-width relative error<0.006"
-    "RESULT Hertz peak pressure relative error<0.006"
-    "RESULT Hertz pressure profile relative L2 error<0.01"
-    "RESULT mortar weight defect interface 1-2<1e-14"
-    "RESULT displacement dofs<35000")
+    "SET:Contact/Interface 1-2/Mortar slave=${slave}"
+    ${MORTAR_HERTZ} ${bounds}
+    "RESULT Hertz pressure profile relative L2 error<0.008")
 endforeach()
 
 # M6: a conductance across a mortar interface (Thermal contact = conductance,

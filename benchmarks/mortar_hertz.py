@@ -1,0 +1,162 @@
+#!/usr/bin/python3
+"""Hertz contact of two elastic bodies across a non-matching interface
+(benchmark M5 of doc/benchmarks.md): error against the closed form, DoFs,
+active-set iterations and run time, over mesh ratios, slave choices and
+adaptive levels.
+
+    /usr/bin/python3 benchmarks/mortar_hertz.py [BUILD_DIR] [--levels 6,7,8,9]
+                     [--buffer 2] [--plot doc/figures/mortar_hertz.png]
+
+The scene is tests/scenes/mortar_hertz.prm: two blocks [-2, 2] x [0, 2]
+(E = 1, nu = 0.3) and [-2, 2] x [2, 4] (E = 2, nu = 0.25), meshed independently
+by tests/make_mortar_msh.py with base cells 0.25 and 1/12, the interface gap the
+profile of a cylinder of radius 1, adapted after every step to the contact zone
+up to 'Mesh refinement/Maximum level' (each level given) with 'Contact buffer'
+as given. For h_top/h_bottom = 1/3 and 3 it runs both slave choices: the finer
+side (the default rule) and the coarser side ('Mortar slave' = k or l); for
+ratio 1 the default. It also runs the matching mesh (shared nodes, node-to-node
+interface) as the reference for the active-set iterations. Each row: the final
+displacement DoFs, the contact-node spacing, the half-width error of both
+measures (the lumped length of the active nodes; the contact edges where p^2
+extrapolates to zero, doc/benchmarks.md M5), the peak-pressure and profile
+errors, the most active-set iterations in a step, and the run's wall time (one
+run each, one after the other; compare ratios, not absolute times).
+
+--plot draws the peak-pressure and half-width (edge) errors against the DoFs
+(needs Debian's python3-matplotlib).
+"""
+import argparse
+import os
+import re
+import subprocess
+import sys
+import tempfile
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, "benchmarks"))
+from ladder import set_path  # noqa: E402
+
+SCENE = os.path.join(ROOT, "tests/scenes/mortar_hertz.prm")
+MESHER = os.path.join(ROOT, "tests/make_mortar_msh.py")
+COARSE, FINE = "16,8", "48,24"
+# (label, lower cells, upper cells, the coarser side's body letter)
+RATIOS = [("1/3", COARSE, FINE, "k"), ("1", COARSE, COARSE, None), ("3", FINE, COARSE, "l")]
+QUANTITIES = ["displacement dofs", "contact mesh width", "Hertz half-width relative error",
+              "Hertz contact edge half-width relative error",
+              "Hertz peak pressure relative error", "Hertz pressure profile relative L2 error",
+              "max contact iterations"]
+
+
+def run(binary, work, name, mesh_file, level, buffer, slave=None, nodal=False):
+    with open(SCENE) as f:
+        text = f.read()
+    text = set_path(text, "Geometry/Mesh file", mesh_file)
+    text = set_path(text, "Mesh refinement/Maximum level", str(level))
+    text = set_path(text, "Mesh refinement/Contact buffer", str(buffer))
+    text = set_path(text, "Output/Directory", name)
+    if slave:
+        text = set_path(text, "Contact/Interface 1-2/Mortar slave", slave)
+    if nodal:
+        text = set_path(text, "Contact/Interface 1-2/Discretisation", "nodal")
+        text = set_path(text, "Contact/Interface 1-2/Mortar boundaries", "")
+    scene = os.path.join(work, name + ".prm")
+    with open(scene, "w") as f:
+        f.write(text)
+    start = time.time()
+    out = subprocess.run([binary, scene], cwd=work, check=True, capture_output=True,
+                         text=True).stdout
+    elapsed = time.time() - start
+    values = {q: float(re.search(r"^RESULT %s = (\S+)" % re.escape(q), out, re.M).group(1))
+              for q in QUANTITIES}
+    values["wall"] = elapsed
+    return values
+
+
+def row(label, slave, level, v):
+    print("| %s | %s | %d | %d | %.1e | %.2f %% | %.2f %% | %.2f %% | %.2f %% | %d | %.1f |"
+          % (label, slave, level, v["displacement dofs"], v["contact mesh width"],
+             100 * v["Hertz half-width relative error"],
+             100 * v["Hertz contact edge half-width relative error"],
+             100 * v["Hertz peak pressure relative error"],
+             100 * v["Hertz pressure profile relative L2 error"],
+             v["max contact iterations"], v["wall"]))
+
+
+def plot(results, path):
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        print("no matplotlib (use Debian's /usr/bin/python3): no picture")
+        return
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.2))
+    for ax, quantity, title in [
+            (axes[0], "Hertz peak pressure relative error", "peak pressure p0"),
+            (axes[1], "Hertz contact edge half-width relative error",
+             "half-width a (contact edges)")]:
+        for (label, slave), rows in results.items():
+            if label == "matching":
+                continue
+            dofs = [v["displacement dofs"] for _, v in rows]
+            errors = [max(v[quantity], 1e-6) for _, v in rows]
+            style = "-o" if "coarser" in slave or "(=)" in slave else "--s"
+            ax.loglog(dofs, errors, style, label="h_top/h_bottom = %s, slave %s" % (label, slave))
+        ax.axhline(2e-3, color="grey", lw=0.8)
+        ax.axvline(25000, color="grey", lw=0.8)
+        ax.set_xlabel("displacement DoFs (levels %s)" % ", ".join(
+            str(level) for level, _ in next(iter(results.values()))))
+        ax.set_ylabel("relative error")
+        ax.set_title(title)
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0].legend(fontsize=7)
+    fig.suptitle("Hertz across a non-matching mortar interface (grey: 0.2 %, 25 000 DoFs)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    print("wrote", path)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("build", nargs="?", default=os.path.join(ROOT, "build"))
+    parser.add_argument("--levels", default="6,7,8,9")
+    parser.add_argument("--buffer", type=int, default=2)
+    parser.add_argument("--plot")
+    args = parser.parse_args()
+    binary = os.path.join(os.path.abspath(args.build), "contact-stefan")
+    levels = [int(v) for v in args.levels.split(",")]
+    print("| h_top/h_bottom | slave | level | DoFs | contact spacing | a error (lumped) "
+          "| a error (edges) | p0 error | profile L2 error | most PDAS iterations in a step "
+          "| run (s) |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    results = {}
+    with tempfile.TemporaryDirectory() as work:
+        for label, lower, upper, coarser in RATIOS:
+            mesh = os.path.join(work, "ratio_%s.msh" % label.replace("/", "_"))
+            subprocess.run([sys.executable, MESHER, mesh, "--width", "4", "--height", "2",
+                            "--centre", "--lower", lower, "--upper", upper], check=True)
+            choices = [("finer", "finer (=)" if coarser is None else "finer")]
+            if coarser:
+                choices.append((coarser, coarser + " (coarser)"))
+            for slave, name in choices:
+                rows = results.setdefault((label, name), [])
+                for level in levels:
+                    v = run(binary, work, "run", mesh, level, args.buffer, slave)
+                    rows.append((level, v))
+                    row(label, name, level, v)
+        merged = os.path.join(work, "matching.msh")
+        subprocess.run([sys.executable, MESHER, merged, "--width", "4", "--height", "2",
+                        "--centre", "--lower", COARSE, "--upper", COARSE, "--merge"],
+                       check=True)
+        rows = results.setdefault(("matching", "node-to-node"), [])
+        for level in levels:
+            v = run(binary, work, "run", merged, level, args.buffer, nodal=True)
+            rows.append((level, v))
+            row("1 (shared nodes)", "node-to-node", level, v)
+    if args.plot:
+        plot(results, args.plot)
+
+
+if __name__ == "__main__":
+    main()
