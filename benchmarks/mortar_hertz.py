@@ -5,7 +5,8 @@ active-set iterations and run time, over mesh ratios, slave choices and
 adaptive levels.
 
     /usr/bin/python3 benchmarks/mortar_hertz.py [BUILD_DIR] [--levels 6,7,8,9]
-                     [--buffer 2] [--plot doc/figures/mortar_hertz.png]
+                     [--buffer 2] [--time-step 0.1] [--matching-only]
+                     [--signed] [--plot doc/figures/mortar_hertz.png]
 
 The scene is tests/scenes/mortar_hertz.prm: two blocks [-2, 2] x [0, 2]
 (E = 1, nu = 0.3) and [-2, 2] x [2, 4] (E = 2, nu = 0.25), meshed independently
@@ -19,8 +20,14 @@ interface) as the reference for the active-set iterations. Each row: the final
 displacement DoFs, the contact-node spacing, the half-width error of both
 measures (the lumped length of the active nodes; the contact edges where p^2
 extrapolates to zero, doc/benchmarks.md M5), the peak-pressure and profile
-errors, the most active-set iterations in a step, and the run's wall time (one
+errors, the most active-set iterations in a step, the active nodes outside the
+exact contact zone, and the run's wall time (one
 run each, one after the other; compare ratios, not absolute times).
+
+--time-step sets the step (the load is the same function of t up to t = 1;
+0.05 doubles the adaptations, which also refine the bulk), --matching-only runs
+the matching mesh alone (the converged answer of these finite blocks, doc M5),
+--signed prints the half-width (edges) and peak-pressure errors with their sign.
 
 --plot draws the peak-pressure and half-width (edge) errors against the DoFs
 (needs Debian's python3-matplotlib).
@@ -45,16 +52,17 @@ RATIOS = [("1/3", COARSE, FINE, "k"), ("1", COARSE, COARSE, None), ("3", FINE, C
 QUANTITIES = ["displacement dofs", "contact mesh width", "Hertz half-width relative error",
               "Hertz contact edge half-width relative error",
               "Hertz peak pressure relative error", "Hertz pressure profile relative L2 error",
-              "max contact iterations"]
+              "max contact iterations", "Hertz active nodes outside the exact contact zone"]
 
 
-def run(binary, work, name, mesh_file, level, buffer, slave=None, nodal=False):
+def run(binary, work, name, mesh_file, level, buffer, time_step, slave=None, nodal=False):
     with open(SCENE) as f:
         text = f.read()
     text = set_path(text, "Geometry/Mesh file", mesh_file)
     text = set_path(text, "Mesh refinement/Maximum level", str(level))
     text = set_path(text, "Mesh refinement/Contact buffer", str(buffer))
     text = set_path(text, "Output/Directory", name)
+    text = set_path(text, "Time stepping/Time step", repr(time_step))
     if slave:
         text = set_path(text, "Contact/Interface 1-2/Mortar slave", slave)
     if nodal:
@@ -70,17 +78,26 @@ def run(binary, work, name, mesh_file, level, buffer, slave=None, nodal=False):
     values = {q: float(re.search(r"^RESULT %s = (\S+)" % re.escape(q), out, re.M).group(1))
               for q in QUANTITIES}
     values["wall"] = elapsed
+    signed = lambda q: float(re.search(r"^RESULT Hertz %s = (\S+)" % q, out, re.M).group(1))
+    values["signed a"] = signed("contact edge half-width") / signed("exact half-width") - 1
+    values["signed p0"] = signed("peak pressure") / signed("exact peak pressure") - 1
     return values
 
 
-def row(label, slave, level, v):
-    print("| %s | %s | %d | %d | %.1e | %.2f %% | %.2f %% | %.2f %% | %.2f %% | %d | %.1f |"
+def row(label, slave, level, v, signed):
+    if signed:
+        print("| %s | %s | %d | %d | %+.4f %% | %+.4f %% |" % (
+            label, slave, level, v["displacement dofs"], 100 * v["signed a"],
+            100 * v["signed p0"]))
+        return
+    print("| %s | %s | %d | %d | %.1e | %.2f %% | %.2f %% | %.2f %% | %.2f %% | %d | %d | %.1f |"
           % (label, slave, level, v["displacement dofs"], v["contact mesh width"],
              100 * v["Hertz half-width relative error"],
              100 * v["Hertz contact edge half-width relative error"],
              100 * v["Hertz peak pressure relative error"],
              100 * v["Hertz pressure profile relative L2 error"],
-             v["max contact iterations"], v["wall"]))
+             v["max contact iterations"],
+             v["Hertz active nodes outside the exact contact zone"], v["wall"]))
 
 
 def plot(results, path):
@@ -122,17 +139,24 @@ def main():
     parser.add_argument("build", nargs="?", default=os.path.join(ROOT, "build"))
     parser.add_argument("--levels", default="6,7,8,9")
     parser.add_argument("--buffer", type=int, default=2)
+    parser.add_argument("--time-step", type=float, default=0.1)
+    parser.add_argument("--matching-only", action="store_true")
+    parser.add_argument("--signed", action="store_true")
     parser.add_argument("--plot")
     args = parser.parse_args()
     binary = os.path.join(os.path.abspath(args.build), "contact-stefan")
     levels = [int(v) for v in args.levels.split(",")]
-    print("| h_top/h_bottom | slave | level | DoFs | contact spacing | a error (lumped) "
-          "| a error (edges) | p0 error | profile L2 error | most PDAS iterations in a step "
-          "| run (s) |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    if args.signed:
+        print("| h_top/h_bottom | slave | level | DoFs | a error (edges) | p0 error |")
+        print("|---|---|---|---|---|---|")
+    else:
+        print("| h_top/h_bottom | slave | level | DoFs | contact spacing | a error (lumped) "
+              "| a error (edges) | p0 error | profile L2 error | most PDAS iterations in a "
+              "step | outside | run (s) |")
+        print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     results = {}
     with tempfile.TemporaryDirectory() as work:
-        for label, lower, upper, coarser in RATIOS:
+        for label, lower, upper, coarser in [] if args.matching_only else RATIOS:
             mesh = os.path.join(work, "ratio_%s.msh" % label.replace("/", "_"))
             subprocess.run([sys.executable, MESHER, mesh, "--width", "4", "--height", "2",
                             "--centre", "--lower", lower, "--upper", upper], check=True)
@@ -142,18 +166,20 @@ def main():
             for slave, name in choices:
                 rows = results.setdefault((label, name), [])
                 for level in levels:
-                    v = run(binary, work, "run", mesh, level, args.buffer, slave)
+                    v = run(binary, work, "run", mesh, level, args.buffer, args.time_step,
+                            slave)
                     rows.append((level, v))
-                    row(label, name, level, v)
+                    row(label, name, level, v, args.signed)
         merged = os.path.join(work, "matching.msh")
         subprocess.run([sys.executable, MESHER, merged, "--width", "4", "--height", "2",
                         "--centre", "--lower", COARSE, "--upper", COARSE, "--merge"],
                        check=True)
         rows = results.setdefault(("matching", "node-to-node"), [])
         for level in levels:
-            v = run(binary, work, "run", merged, level, args.buffer, nodal=True)
+            v = run(binary, work, "run", merged, level, args.buffer, args.time_step,
+                    nodal=True)
             rows.append((level, v))
-            row("1 (shared nodes)", "node-to-node", level, v)
+            row("1 (shared nodes)", "node-to-node", level, v, args.signed)
     if args.plot:
         plot(results, args.plot)
 

@@ -10,7 +10,9 @@
 # part of what it printed (the RESULT lines except the wall time, and the
 # statistics table without its wall_time column), compares that with REFERENCE
 # by numdiff, and checks each REQUIREMENT of the form 'RESULT name<value' or
-# 'RESULT name>value' against the exact-solution numbers of this run.
+# 'RESULT name>value' against the exact-solution numbers of this run, and each
+# of the form 'WARNING text': the run printed exactly one warning line to
+# stderr, and it contains text.
 # The linear solvers' work ('RESULT ... solver: ...', CG iterations and AMG
 # set-ups) depends on the preconditioner's settings and the partition, which
 # variants sharing a reference differ in: it is checked by requirements only.
@@ -82,6 +84,18 @@ for requirement in "${requirements[@]}"; do
       echo "requirement failed: $key = $value, required $op $bound"; failed=1
     else
       echo "requirement met: $key = $value $op $bound"
+    fi
+  elif [[ "$requirement" =~ ^WARNING\ (.*)$ ]]; then
+    text=${BASH_REMATCH[1]}
+    warnings=$(grep -c 'contact-stefan: warning: ' stderr.txt)
+    if [ "$warnings" -ne 1 ]; then
+      echo "requirement '$requirement': $warnings warning lines on stderr, expected 1"
+      cat stderr.txt; failed=1
+    elif ! grep -qF -- "$text" stderr.txt; then
+      echo "requirement '$requirement': the warning does not contain it:"; cat stderr.txt
+      failed=1
+    else
+      echo "requirement met: $(grep 'contact-stefan: warning: ' stderr.txt)"
     fi
   else
     echo "malformed requirement '$requirement'"; failed=1

@@ -141,7 +141,10 @@ namespace ContactStefan
               in >= static_cast<long>(nodes.size()) || !(nodes[in].second > p))
             return x;
           const double x_in = nodes[in].first, p_in = nodes[in].second;
-          const double x0    = x + p * p * (x - x_in) / (p_in * p_in - p * p);
+          const double denominator = p_in * p_in - p * p;
+          if (!(denominator > 0)) // (both squares underflow)
+            return x;
+          const double x0    = x + p * p * (x - x_in) / denominator;
           const double x_out = nodes[out].first;
           return step > 0 ? std::min(x0, x_out) : std::max(x0, x_out);
         };

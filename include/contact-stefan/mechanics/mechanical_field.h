@@ -484,6 +484,7 @@ namespace ContactStefan
       double       uncovered_length = 0; // slave side facing no master edge (m)
       unsigned int slave_nodes      = 0; // slave nodes with a condition
       double       weight_defect    = 0; // max_j |1 - sum_m M_jm / D_j| over them
+      double       master_edge      = 0; // the master side's shortest edge on the mesh (m)
     };
     /** By group ("interface k-l"), for the mortar interfaces. */
     const std::map<std::string, MortarSummary> &get_mortar_summary() const

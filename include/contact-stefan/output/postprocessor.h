@@ -72,9 +72,11 @@ namespace ContactStefan
     void record_adaptation(const double relative_enthalpy_change, const bool coarsened);
     /**
      * The large-sliding mortar sides were coupled again before a step, which
-     * changed the total enthalpy by this (relative) amount.
+     * changed the total enthalpy by this (relative) amount; slide: by
+     * interface, how far the step before slid them (in master edges).
      */
-    void record_sliding(const double relative_enthalpy_change);
+    void record_sliding(const double                         relative_enthalpy_change,
+                        const std::map<std::string, double> &slide);
     /** The RESULT lines. */
     void print_results(const unsigned int n_steps, const double time) const;
     /** The self-checks the run failed, one sentence each (empty: none failed). */

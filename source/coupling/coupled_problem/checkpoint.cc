@@ -69,7 +69,7 @@ namespace ContactStefan
   // of the solidification history are attached to the mesh after the fields'
   // state; 12: the mortar statistics count the large-sliding couplings), so
   // that an older checkpoint is refused by name, not misread.
-  const std::string checkpoint_format = "contact-stefan checkpoint 12";
+  const std::string checkpoint_format = "contact-stefan checkpoint 13";
 
   namespace
   {

@@ -42,11 +42,19 @@ namespace ContactStefan
           continue;
         const MortarInterface mi =
           couple_mortar_interface<dim>(dof_handler, pair, law, mortar_configuration);
+        // (On the mesh: the unit in which a step's slide is measured,
+        // CoupledProblem::follow_sliding_interfaces().)
+        double master_edge = HUGE_VAL;
+        for (const auto &e : mi.sides[1 - mi.slave].edges)
+          master_edge = std::min(
+            master_edge,
+            mi.mesh_position(1 - mi.slave, e[0]).distance(mi.mesh_position(1 - mi.slave, e[1])));
         mortar_summary[mi.name] = {mi.body[mi.slave],
                                    mi.coupling.n_segments,
                                    mi.coupling.uncovered_length,
                                    mi.n_conditions,
-                                   mi.weight_defect};
+                                   mi.weight_defect,
+                                   master_edge};
         const Mortar::Side &S   = mi.slave_side();
         for (unsigned int j = 0; j < S.nodes.size(); ++j)
           {

@@ -19,7 +19,11 @@
 // new coupling made: in perfect thermal contact the slave side's enthalpies
 // are those its new masters interpolate (the slave surface takes the
 // temperature of the master surface it now faces), which the energy balance
-// of a step does not see, as with an adaptation.
+// of a step does not see, as with an adaptation. And the largest slide of a
+// step: how far a slave node's facing point on the master mesh moved along
+// the master side in one step, in the master side's shortest edges. A step
+// is paired at its start only, so a slide of more than an edge is linearised
+// about a pairing the step has left (CoupledProblem warns once).
 #include <contact-stefan/output/part.h>
 
 #include <cmath>
@@ -35,11 +39,12 @@ namespace ContactStefan
       std::map<std::string, double> max_defect;
       unsigned int                  sliding_couplings  = 0;
       double                        max_sliding_change = 0;
+      std::map<std::string, double> max_slide; // by interface, in master edges
 
       template <class Archive>
       void serialize(Archive &ar, const unsigned int)
       {
-        ar &max_defect &sliding_couplings &max_sliding_change;
+        ar &max_defect &sliding_couplings &max_sliding_change &max_slide;
       }
     };
 
@@ -61,8 +66,14 @@ namespace ContactStefan
           }
       }
 
-      void record_sliding(const double relative_enthalpy_change) override
+      void record_sliding(const double                         relative_enthalpy_change,
+                          const std::map<std::string, double> &slide) override
       {
+        for (const auto &[group, edges] : slide)
+          {
+            double &max = this->state.max_slide[group];
+            max         = std::max(max, edges);
+          }
         if (!std::isfinite(relative_enthalpy_change))
           throw std::runtime_error("the total enthalpy is not finite after the sliding "
                                    "interfaces were coupled again before step " +
@@ -86,6 +97,13 @@ namespace ContactStefan
         for (const auto &[group, summary] : field.get_mortar_summary())
           {
             results.add(Slot::mortar, "mortar slave body " + group, summary.slave_body);
+            if (field.large_sliding())
+              {
+                const auto it = this->state.max_slide.find(group);
+                results.add(Slot::mortar,
+                            "mortar max slide per step in master edges " + group,
+                            it == this->state.max_slide.end() ? 0. : it->second);
+              }
             results.add(Slot::mortar, "mortar slave nodes " + group, summary.slave_nodes);
             results.add(Slot::mortar, "mortar segments " + group, summary.segments);
             results.add(Slot::mortar,
