@@ -192,11 +192,12 @@ namespace ContactStefan
 
 
   template <int dim>
-  void Postprocessor<dim>::record_sliding(const double relative_enthalpy_change,
+  void Postprocessor<dim>::record_sliding(const unsigned int step,
+                                          const double       relative_enthalpy_change,
                                           const std::map<std::string, double> &slide)
   {
     for (const auto &[name, part] : parts)
-      part->record_sliding(relative_enthalpy_change, slide);
+      part->record_sliding(step, relative_enthalpy_change, slide);
   }
 
 

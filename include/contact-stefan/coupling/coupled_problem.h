@@ -128,8 +128,6 @@ namespace ContactStefan
     MortarConfiguration sliding_configuration;
     /** Whether the current coupling is that of the current u (false after a set-up on the mesh). */
     bool coupled_where_displaced = false;
-    /** Whether this process warned that a step slid the sides by more than an edge. */
-    bool warned_slide = false;
     /**
      * Checkpoint/restart (checkpoint.cc, doc/adaptivity.md): the mesh, the
      * primary state of both fields, the time state, the postprocessor's

@@ -139,6 +139,9 @@ namespace ContactStefan
     // now, sum_m w_m X_m (the contact zone the adaptation refines is there
     // on the master's mesh); else the node's own position.
     Point<2> facing;
+    // The shortest master edge on the mesh at a master node the node is
+    // paired with (its M_jm): the unit of a step's slide.
+    double facing_edge = 0;
   };
 
   template <int dim>
@@ -484,7 +487,7 @@ namespace ContactStefan
       double       uncovered_length = 0; // slave side facing no master edge (m)
       unsigned int slave_nodes      = 0; // slave nodes with a condition
       double       weight_defect    = 0; // max_j |1 - sum_m M_jm / D_j| over them
-      double       master_edge      = 0; // the master side's shortest edge on the mesh (m)
+      bool         large_sliding    = false; // Mortar sliding = large
     };
     /** By group ("interface k-l"), for the mortar interfaces. */
     const std::map<std::string, MortarSummary> &get_mortar_summary() const

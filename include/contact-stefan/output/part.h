@@ -227,13 +227,14 @@ namespace ContactStefan
     virtual void record_adaptation(const double, const bool)
     {}
     /**
-     * Large sliding: the mortar sides were coupled again before a step
+     * Large sliding: the mortar sides were coupled again after step 'step'
      * (CoupledProblem::follow_sliding_interfaces()), which changed the total
-     * enthalpy by this (relative) amount; by interface ("interface k-l"),
-     * how far the step before slid the sides, in the master side's shortest
-     * edges (the same on every rank).
+     * enthalpy by this (relative) amount; by interface with large sliding
+     * ("interface k-l"), how far the step slid the sides, in master edges
+     * (the same on every rank).
      */
-    virtual void record_sliding(const double, const std::map<std::string, double> &)
+    virtual void
+    record_sliding(const unsigned int, const double, const std::map<std::string, double> &)
     {}
     /** Its columns of the row (not collective: every value is known on every rank). */
     virtual void add_columns(StatisticsRow &, const StepData &) const

@@ -75,7 +75,8 @@ namespace ContactStefan
      * changed the total enthalpy by this (relative) amount; slide: by
      * interface, how far the step before slid them (in master edges).
      */
-    void record_sliding(const double                         relative_enthalpy_change,
+    void record_sliding(const unsigned int                   step,
+                        const double                         relative_enthalpy_change,
                         const std::map<std::string, double> &slide);
     /** The RESULT lines. */
     void print_results(const unsigned int n_steps, const double time) const;

@@ -67,7 +67,8 @@ namespace ContactStefan
   // parameters include the laws per interface, Contact/Interface k-l; 8: the
   // postprocessor's state is each part's state by its name; 9: the references
   // of the solidification history are attached to the mesh after the fields'
-  // state; 12: the mortar statistics count the large-sliding couplings), so
+  // state; 12: the mortar statistics count the large-sliding couplings; 13:
+  // and the largest slide of a step), so
   // that an older checkpoint is refused by name, not misread.
   const std::string checkpoint_format = "contact-stefan checkpoint 13";
 

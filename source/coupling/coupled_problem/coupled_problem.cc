@@ -498,11 +498,12 @@ namespace ContactStefan
     TimerOutput::Scope t(timer, "setup: sliding interfaces");
     const double       before = thermal ? thermal->total_enthalpy() : 0.;
     // Where each slave node faced the master side during the step (its
-    // pairing at the step's start), by interface and mesh position.
-    std::map<std::tuple<std::string, double, double>, Point<2>> faced;
+    // pairing at the step's start) and the unit there, by interface and mesh
+    // position.
+    std::map<std::tuple<std::string, double, double>, std::pair<Point<2>, double>> faced;
     for (const NormalCondition &c : mechanical->get_normal_conditions())
       if (c.mortar)
-        faced[{c.group, c.position[0], c.position[1]}] = c.facing;
+        faced[{c.group, c.position[0], c.position[1]}] = {c.facing, c.facing_edge};
     couple_where_displaced();
     after_mesh_change();
     // (Not recorded: the first coupling of a mesh set up on the mesh, whose
@@ -511,42 +512,32 @@ namespace ContactStefan
       return;
     const double after  = thermal ? thermal->total_enthalpy() : 0.;
     const double change = before != 0 ? (after - before) / std::abs(before) : after - before;
-    // How far the step slid the sides: the move of each slave node's facing
-    // point along the master side (the part normal to the slave normal), in
-    // the master side's shortest edges on the mesh. The step was paired at
-    // its start only: a slide of more than an edge is linearised about a
-    // pairing the step has left.
+    // How far the step slid the sides, for each interface with large
+    // sliding: the move of each slave node's facing point along the master
+    // side (the part across the slave normal), in the shortest master edge on
+    // the mesh at the master nodes it was or is now paired with. The step
+    // was paired at its start only: a slide of more than an edge is
+    // linearised about a pairing the step has left (the mortar statistics
+    // warn). (The last step is not followed, so not measured.)
     std::map<std::string, double> slide;
     for (const auto &[group, summary] : mechanical->get_mortar_summary())
-      slide[group] = 0;
+      if (summary.large_sliding)
+        slide[group] = 0;
     for (const NormalCondition &c : mechanical->get_normal_conditions())
       {
         const auto it = faced.find({c.group, c.position[0], c.position[1]});
-        if (!c.mortar || it == faced.end())
+        if (!c.mortar || it == faced.end() || slide.count(c.group) == 0)
           continue;
-        const Tensor<1, 2> moved  = c.facing - it->second;
+        const Tensor<1, 2> moved  = c.facing - it->second.first;
         const double       normal = moved[0] * c.normal[0] + moved[1] * c.normal[1];
         const double       along  = std::sqrt(std::max(0., moved.norm_square() - normal * normal));
-        const double       edge   = mechanical->get_mortar_summary().at(c.group).master_edge;
-        slide[c.group]            = std::max(slide[c.group], along / edge);
+        slide[c.group] =
+          std::max(slide[c.group], along / std::min(c.facing_edge, it->second.second));
       }
     const MPI_Comm comm = triangulation.get_communicator();
     for (auto &[group, edges] : slide)
       edges = Utilities::MPI::max(edges, comm);
-    postprocessor->record_sliding(change, slide);
-    for (const auto &[group, edges] : slide)
-      if (edges > 1 && !warned_slide)
-        {
-          warned_slide = true;
-          if (Utilities::MPI::this_mpi_process(comm) == 0)
-            std::cerr << "contact-stefan: warning: Contact/"
-                      << "I" << group.substr(1) << "/Mortar sliding: "
-                      << "step " << step_number << " slid the sides by " << number(edges)
-                      << " of the master side's shortest edges; a step is paired at its start "
-                         "only, so a slide of more than an edge is linearised about a pairing "
-                         "it has left: take smaller time steps"
-                      << std::endl;
-        }
+    postprocessor->record_sliding(step_number, change, slide);
     if (prm.output.verbosity >= 2)
       pcout << "    sliding interfaces coupled again"
             << (thermal ? ", relative enthalpy change " + number(change) : std::string())

@@ -42,19 +42,24 @@ namespace ContactStefan
           continue;
         const MortarInterface mi =
           couple_mortar_interface<dim>(dof_handler, pair, law, mortar_configuration);
-        // (On the mesh: the unit in which a step's slide is measured,
-        // CoupledProblem::follow_sliding_interfaces().)
-        double master_edge = HUGE_VAL;
-        for (const auto &e : mi.sides[1 - mi.slave].edges)
-          master_edge = std::min(
-            master_edge,
-            mi.mesh_position(1 - mi.slave, e[0]).distance(mi.mesh_position(1 - mi.slave, e[1])));
+        // The shortest edge at each master node, on the mesh: the unit in
+        // which a step's slide is measured (CoupledProblem::
+        // follow_sliding_interfaces()).
+        const unsigned int  master = 1 - mi.slave;
+        std::vector<double> edge_at(mi.sides[master].nodes.size(), HUGE_VAL);
+        for (const auto &e : mi.sides[master].edges)
+          {
+            const double length =
+              mi.mesh_position(master, e[0]).distance(mi.mesh_position(master, e[1]));
+            edge_at[e[0]] = std::min(edge_at[e[0]], length);
+            edge_at[e[1]] = std::min(edge_at[e[1]], length);
+          }
         mortar_summary[mi.name] = {mi.body[mi.slave],
                                    mi.coupling.n_segments,
                                    mi.coupling.uncovered_length,
                                    mi.n_conditions,
                                    mi.weight_defect,
-                                   master_edge};
+                                   law.mortar_large_sliding};
         const Mortar::Side &S   = mi.slave_side();
         for (unsigned int j = 0; j < S.nodes.size(); ++j)
           {
@@ -80,8 +85,10 @@ namespace ContactStefan
             c.mortar_gap  = node.gap / node.D;
             c.mortar_node = j;
             c.facing      = mi.deformed ? Point<2>() : c.position;
+            c.facing_edge = HUGE_VAL;
             for (const auto &[m, value] : node.M)
               {
+                c.facing_edge = std::min(c.facing_edge, edge_at[m]);
                 if (mi.deformed)
                   c.facing += (value / node.D) * mi.mesh_position(1 - mi.slave, m);
                 const auto &dofs = mi.master_dofs()[m];

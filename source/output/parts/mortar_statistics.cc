@@ -20,13 +20,18 @@
 // are those its new masters interpolate (the slave surface takes the
 // temperature of the master surface it now faces), which the energy balance
 // of a step does not see, as with an adaptation. And the largest slide of a
-// step: how far a slave node's facing point on the master mesh moved along
-// the master side in one step, in the master side's shortest edges. A step
-// is paired at its start only, so a slide of more than an edge is linearised
-// about a pairing the step has left (CoupledProblem warns once).
+// step (every step but the last, which is not followed): how far a slave
+// node's facing point on the master mesh moved along the master side in one
+// step, in the shortest master edge at the master nodes it is paired with. A
+// step is paired at its start only, so a slide of more than an edge is
+// linearised about a pairing the step has left: the first such step of a run
+// (also across a restart) prints one warning line.
+#include <deal.II/base/mpi.h>
+
 #include <contact-stefan/output/part.h>
 
 #include <cmath>
+#include <iostream>
 #include <stdexcept>
 #include <string>
 
@@ -66,11 +71,26 @@ namespace ContactStefan
           }
       }
 
-      void record_sliding(const double                         relative_enthalpy_change,
+      void record_sliding(const unsigned int                   step,
+                          const double                         relative_enthalpy_change,
                           const std::map<std::string, double> &slide) override
       {
+        // One warning per run, also across a restart (the state is
+        // checkpointed): the first step that slides more than an edge.
+        double before = 0;
+        for (const auto &[group, edges] : this->state.max_slide)
+          before = std::max(before, edges);
         for (const auto &[group, edges] : slide)
           {
+            if (edges > 1 && before <= 1 &&
+                Utilities::MPI::this_mpi_process(this->run.mpi_communicator) == 0)
+              std::cerr << "contact-stefan: warning: Contact/I" << group.substr(1)
+                        << "/Mortar sliding: step " << step << " slid the sides by " << edges
+                        << " master edges (the shortest at the nodes paired); a step is paired "
+                           "at its start only, so a slide of more than an edge is linearised "
+                           "about a pairing it has left: take smaller time steps"
+                        << std::endl;
+            before      = std::max(before, edges);
             double &max = this->state.max_slide[group];
             max         = std::max(max, edges);
           }
@@ -97,7 +117,7 @@ namespace ContactStefan
         for (const auto &[group, summary] : field.get_mortar_summary())
           {
             results.add(Slot::mortar, "mortar slave body " + group, summary.slave_body);
-            if (field.large_sliding())
+            if (summary.large_sliding)
               {
                 const auto it = this->state.max_slide.find(group);
                 results.add(Slot::mortar,
@@ -124,10 +144,13 @@ namespace ContactStefan
   {
     PartInfo info;
     info.name        = "mortar statistics";
-    info.description = "Per mortar interface: the slave body, its slave nodes and segments, "
-                       "the slave length no master edge faces, and the largest |1 - sum_m "
-                       "M_jm / D_j| over the run, the coupling's own relative force imbalance "
-                       "(a 'Discretisation' = mortar interface).";
+    info.description =
+      "Per mortar interface: the slave body, its slave nodes and segments, "
+      "the slave length no master edge faces, and the largest |1 - sum_m "
+      "M_jm / D_j| over the run, the coupling's own relative force imbalance; with "
+      "large sliding the couplings, the enthalpy change they made and the "
+      "largest slide of a step in master edges (warned above 1) (a "
+      "'Discretisation' = mortar interface).";
     info.parse       = [](ParameterHandler &, const SceneParameters &scene, const bool) {
       bool any = false;
       for (const auto &[pair, law] : scene.interface_pairs)
