@@ -24,6 +24,7 @@ import re
 import subprocess
 import sys
 import tempfile
+import time
 from provenance import provenance_line  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -96,6 +97,17 @@ def set_path(text, path, value):
         text += "".join(f"subsection {s}\n" for s in sections)
         text += f"  set {key} = {value}\n" + "end\n" * len(sections)
     return text
+
+
+def run_text(binary, work, name, text):
+    """Write the scene text to WORK/NAME.prm, run it there; (stdout, wall seconds)."""
+    scene = os.path.join(work, name + ".prm")
+    with open(scene, "w") as f:
+        f.write(text)
+    start = time.time()
+    out = subprocess.run([binary, scene], cwd=work, check=True, capture_output=True,
+                         text=True).stdout
+    return out, time.time() - start
 
 
 def get_path(text, path, default):

@@ -38,11 +38,10 @@ import re
 import subprocess
 import sys
 import tempfile
-import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "benchmarks"))
-from ladder import set_path  # noqa: E402
+from ladder import run_text, set_path  # noqa: E402
 
 SCENE = os.path.join(ROOT, "tests/scenes/mortar_hertz.prm")
 MESHER = os.path.join(ROOT, "tests/make_mortar_msh.py")
@@ -68,13 +67,7 @@ def run(binary, work, name, mesh_file, level, buffer, time_step, slave=None, nod
     if nodal:
         text = set_path(text, "Contact/Interface 1-2/Discretisation", "nodal")
         text = set_path(text, "Contact/Interface 1-2/Mortar boundaries", "")
-    scene = os.path.join(work, name + ".prm")
-    with open(scene, "w") as f:
-        f.write(text)
-    start = time.time()
-    out = subprocess.run([binary, scene], cwd=work, check=True, capture_output=True,
-                         text=True).stdout
-    elapsed = time.time() - start
+    out, elapsed = run_text(binary, work, name, text)
     values = {q: float(re.search(r"^RESULT %s = (\S+)" % re.escape(q), out, re.M).group(1))
               for q in QUANTITIES}
     values["wall"] = elapsed
