@@ -126,11 +126,15 @@ namespace ContactStefan
           for (const auto &[x, p, w] : part)
             nodes.emplace_back(x, p);
         std::sort(nodes.begin(), nodes.end());
-        std::vector<std::size_t> active;
+        // The outermost active nodes on either side.
+        std::size_t first = nodes.size(), last = 0;
         for (std::size_t i = 0; i < nodes.size(); ++i)
           if (nodes[i].second > 0)
-            active.push_back(i);
-        if (active.empty())
+            {
+              first = std::min(first, i);
+              last  = i;
+            }
+        if (first == nodes.size())
           return 0.;
         // The edge beyond active node i, whose inner neighbour is i - step and
         // outer neighbour i + step.
@@ -148,7 +152,7 @@ namespace ContactStefan
           const double x_out = nodes[out].first;
           return step > 0 ? std::min(x0, x_out) : std::max(x0, x_out);
         };
-        return 0.5 * (edge(active.back(), 1) - edge(active.front(), -1));
+        return 0.5 * (edge(last, 1) - edge(first, -1));
       }
 
       // An obstacle node of Body, or a node of the interface of Body and
