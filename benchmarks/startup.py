@@ -10,7 +10,9 @@ Prints (Markdown tables, after the '# run:' provenance line):
      the smallest and the largest of --repeat runs each;
   2. the process wall time of the default scene (prm/subduction.prm) and of the
      tutorial's scene, and the time loop's share (`RESULT wall time` less the
-     set-up: the statistics' last wall_time minus step 0's);
+     set-up: the statistics' last wall_time minus step 0's); then both scenes
+     with the serial MPI start's choices and with Open MPI's own defaults
+     (`CONTACT_STEFAN_SERIAL_MPI` = fast, plain), alternating;
   3. the default scene with a VTU file after every step for each
      `Output/VTU compression`: the `output: vtu` timer section, the run's
      `RESULT wall time` and the size of the output directory.
@@ -32,9 +34,10 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 
 
-def timed(command, cwd):
+def timed(command, cwd, env=None):
     start = time.perf_counter()
-    out = subprocess.run(command, cwd=cwd, capture_output=True, text=True)
+    out = subprocess.run(command, cwd=cwd, capture_output=True, text=True,
+                         env=None if env is None else {**os.environ, **env})
     elapsed = time.perf_counter() - start
     if out.returncode not in (0, 3):
         sys.exit("startup.py: %s failed: %s" % (" ".join(command), out.stderr.strip()[-300:]))
@@ -79,6 +82,23 @@ def main():
             times.append(timed([binary, prm], work)[0])
             loops.append(loop_seconds(os.path.join(work, "out-" + name, "statistics.txt")))
         print("| `prm/%s.prm` | %.2f–%.2f s | %.2f s |" % (name, min(times), max(times), min(loops)))
+
+    # A serial run names the MPI components it uses (include/contact-stefan/app/
+    # mpi_start.h); 'plain' leaves Open MPI's defaults. Alternating runs, so
+    # that the machine's load falls on both alike.
+    print("\n| scene | `CONTACT_STEFAN_SERIAL_MPI` | process wall time: median (min–max) of %d "
+          "alternating runs |\n|---|---|---|" % args.repeat)
+    for name in ("subduction", "tutorial_ice_on_rock"):
+        prm = os.path.join(work, name + ".prm")
+        times = {"fast": [], "plain": []}
+        for _ in range(args.repeat):
+            for choice in times:
+                times[choice].append(timed([binary, prm], work,
+                                           {"CONTACT_STEFAN_SERIAL_MPI": choice})[0])
+        for choice, values in times.items():
+            values.sort()
+            print("| `prm/%s.prm` | %s | %.2f (%.2f–%.2f) s |" % (
+                name, choice, values[len(values) // 2], values[0], values[-1]))
 
     print("\n| VTU compression | output: vtu | RESULT wall time | output directory |\n"
           "|---|---|---|---|")

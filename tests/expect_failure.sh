@@ -16,7 +16,7 @@ TMPDIR=$(mktemp -d) && export TMPDIR
 if [ "$np" -eq 1 ]; then
   "$binary" "$scene" > stdout.txt 2> stderr.txt
 else
-  mpirun --allow-run-as-root --oversubscribe --quiet -np "$np" "$binary" "$scene" \
+  "$(dirname "$0")/mpirun.sh" --quiet -np "$np" "$binary" "$scene" \
     > stdout.txt 2> stderr.txt
 fi
 status=$?

@@ -35,7 +35,7 @@ run() { # run NP [OPTION]: in the current directory
   if [ "$n" -eq 1 ]; then
     "$binary" "$@" scene.prm
   else
-    mpirun --allow-run-as-root --oversubscribe -np "$n" "$binary" "$@" scene.prm
+    "$(dirname "$0")/mpirun.sh" -np "$n" "$binary" "$@" scene.prm
   fi
 }
 # What must agree: RESULT lines (no wall time, no timer call counts) and the

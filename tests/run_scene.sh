@@ -44,7 +44,7 @@ scene=scene.prm
 if [ "$np" -eq 1 ]; then
   "$binary" "$scene" > stdout.txt 2> stderr.txt
 else
-  mpirun --allow-run-as-root --oversubscribe -np "$np" "$binary" "$scene" > stdout.txt 2> stderr.txt
+  "$(dirname "$0")/mpirun.sh" -np "$np" "$binary" "$scene" > stdout.txt 2> stderr.txt
 fi
 status=$?
 if [ $status -ne 0 ]; then

@@ -21,7 +21,7 @@ cp "$scene" scene.prm
 if [ "$np" -eq 1 ]; then
   "$binary" scene.prm > stdout.txt 2> stderr.txt
 else
-  mpirun --allow-run-as-root --oversubscribe -np "$np" "$binary" scene.prm > stdout.txt 2> stderr.txt
+  "$(dirname "$0")/mpirun.sh" -np "$np" "$binary" scene.prm > stdout.txt 2> stderr.txt
 fi
 status=$?
 if [ $status -ne 0 ]; then

@@ -14,7 +14,7 @@ out=$(basename "$reference" .output)-np$np.out
 if [ "$np" -eq 1 ]; then
   "$binary" "$@" > "$out" 2>&1
 else
-  mpirun --allow-run-as-root --oversubscribe -np "$np" "$binary" "$@" > "$out" 2>&1
+  "$(dirname "$0")/mpirun.sh" -np "$np" "$binary" "$@" > "$out" 2>&1
 fi || { cat "$out"; exit 1; }
 if [ "${UPDATE_REFERENCE:-0}" = 1 ]; then cp "$out" "$reference"; exit 0; fi
 numdiff -q -r 1e-8 -a 1e-12 "$reference" "$out" > /dev/null ||

@@ -4,6 +4,7 @@
 #include <deal.II/base/parameter_handler.h>
 
 #include <contact-stefan/app/command_line.h>
+#include <contact-stefan/app/mpi_start.h>
 #include <contact-stefan/coupling/all_parameters.h>
 #include <contact-stefan/coupling/coupled_problem.h>
 #include <contact-stefan/output/run_guard.h>
@@ -42,17 +43,21 @@ int main(int argc, char *argv[])
   const bool check_requested = std::any_of(argv + 1, argv + argc, [](const char *arg) {
     return std::string(arg) == "-c" || std::string(arg) == "--check";
   });
-  const bool started_by_mpirun = std::getenv("OMPI_COMM_WORLD_SIZE") != nullptr ||
-                                 std::getenv("PMI_SIZE") != nullptr ||
-                                 std::getenv("PMIX_RANK") != nullptr;
-  // Started by itself, Open MPI's MPI_Init makes this process a "singleton" and
-  // forks a daemon (orted) that would serve MPI_Comm_spawn, which this program
-  // never calls: 0.3-0.4 s of every serial run (1.23-1.31 s against
-  // 0.87-1.02 s for a file refused at its first line, by hand on the 2-core
-  // development VM, 2026-11-27). An isolated singleton starts no daemon. A
-  // value the user set stays; other MPI implementations ignore the variable.
-  if (!started_by_mpirun)
-    setenv("OMPI_MCA_ess_singleton_isolated", "1", /*overwrite=*/0);
+  const bool started_by_mpirun =
+    MpiStart::started_by_launcher([](const char *variable) { return std::getenv(variable); });
+  // Started by itself, this process is MPI's only rank: it names the MPI
+  // components it uses before MPI_Init reads the environment (app/mpi_start.h:
+  // no orted daemon, no network transports or cluster drivers; a third of a
+  // second of every serial run). Under mpirun nothing is changed.
+  try
+    {
+      MpiStart::prepare();
+    }
+  catch (const std::invalid_argument &e)
+    {
+      std::cerr << "contact-stefan: error: " << e.what() << std::endl;
+      return 1;
+    }
   StopSignals::block();
   std::optional<Utilities::MPI::MPI_InitFinalize> mpi;
   if (!check_requested || started_by_mpirun)
@@ -140,7 +145,9 @@ int main(int argc, char *argv[])
 
   RunRecord::begin(CommandLine::version_line(),
                    std::vector<std::string>(argv, argv + argc),
-                   n_ranks);
+                   n_ranks,
+                   MpiStart::recorded_settings(
+                     [](const char *variable) { return std::getenv(variable); }));
   AllParameters parameters;
   try
     {

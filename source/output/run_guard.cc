@@ -32,6 +32,7 @@ namespace ContactStefan
       {
         std::string              version, started, directory, parameter_text;
         std::vector<std::string> command_line, parameter_files;
+        std::vector<std::pair<std::string, std::string>> mpi_start;
         unsigned int             n_ranks = 1;
         bool                     resumed = false;
         std::string              previous; // the record of the run a resume continues
@@ -83,6 +84,15 @@ namespace ContactStefan
         return out + "]";
       }
 
+      std::string object(const std::vector<std::pair<std::string, std::string>> &items)
+      {
+        std::string out = "{";
+        for (unsigned int i = 0; i < items.size(); ++i)
+          out +=
+            (i ? ", " : "") + json_string(items[i].first) + ": " + json_string(items[i].second);
+        return out + "}";
+      }
+
       void write_record(const std::string &status, const std::string &finished, const int code)
       {
         std::ostringstream json;
@@ -90,6 +100,7 @@ namespace ContactStefan
              << ",\n  \"command_line\": " << list(record.command_line)
              << ",\n  \"working_directory\": " << json_string(working_directory())
              << ",\n  \"mpi_ranks\": " << record.n_ranks
+             << ",\n  \"mpi_start\": " << object(record.mpi_start)
              << ",\n  \"resumed\": " << (record.resumed ? "true" : "false")
              << ",\n  \"started\": " << json_string(record.started)
              << ",\n  \"finished\": " << (finished.empty() ? "null" : json_string(finished))
@@ -104,10 +115,12 @@ namespace ContactStefan
       }
     } // namespace
 
-    void begin(const std::string              &version_line,
-               const std::vector<std::string> &command_line,
-               const unsigned int              n_ranks)
+    void begin(const std::string                                      &version_line,
+               const std::vector<std::string>                         &command_line,
+               const unsigned int                                      n_ranks,
+               const std::vector<std::pair<std::string, std::string>> &mpi_start)
     {
+      record.mpi_start    = mpi_start;
       record.version      = version_line;
       record.command_line = command_line;
       record.n_ranks      = n_ranks;

@@ -19,6 +19,10 @@ add_test(NAME bad_input/missing_file
   COMMAND ${T}/expect_error.sh ${BIN} ${T}/bad_input/does-not-exist.prm "cannot be opened")
 add_test(NAME bad_input/directory_as_parameter_file
   COMMAND ${T}/expect_error.sh ${BIN} ${T}/bad_input "is not a regular file")
+# The switch of the serial MPI start (app/mpi_start.h) takes 'fast' or 'plain'.
+add_test(NAME bad_input/serial_mpi_switch
+  COMMAND env CONTACT_STEFAN_SERIAL_MPI=off ${T}/expect_error.sh ${BIN} ${P}/neumann_A.prm
+          "CONTACT_STEFAN_SERIAL_MPI is 'off'")
 # A binary file as the parameter file: one line, no raw control bytes echoed.
 add_test(NAME bad_input/binary_parameter_file
   COMMAND sh -c "head -c 2000 ${BIN} > binary.prm && ${T}/expect_error.sh ${BIN} $PWD/binary.prm \

@@ -62,16 +62,17 @@ namespace ContactStefan
 
   // What made a run, kept in 'provenance.json' in its output directory (rank 0;
   // doc/output.md): the program's version line, the command line, the number
-  // of ranks, the parameter files and the parameter text as read (includes
-  // expanded), the start time, and, when it ends, the end time and the exit
-  // code. Written when the run has its output directory (a run refused for
-  // bad input before that writes none) and again at the end; a resumed run
-  // keeps the record of the run it continues under "previous".
+  // of ranks, the MPI start settings it ran with (app/mpi_start.h), the
+  // parameter files and the parameter text as read (includes expanded), the start time, and, when
+  // it ends, the end time and the exit code. Written when the run has its output directory (a run
+  // refused for bad input before that writes none) and again at the end; a resumed run keeps the
+  // record of the run it continues under "previous".
   namespace RunRecord
   {
-    void begin(const std::string              &version_line,
-               const std::vector<std::string> &command_line,
-               const unsigned int              n_ranks);
+    void begin(const std::string                                      &version_line,
+               const std::vector<std::string>                         &command_line,
+               const unsigned int                                      n_ranks,
+               const std::vector<std::pair<std::string, std::string>> &mpi_start);
     /** The parameters as read: the files and the expanded text. */
     void set_parameters(const std::vector<std::string> &files, const std::string &text);
     /** The run owns `directory` now: write the record (status "running"). */

@@ -1,0 +1,93 @@
+// Unit test of how a run starts MPI (app/mpi_start.h): a process started by
+// itself gets the serial component choices; under a launcher, with the switch
+// at 'plain', or for a variable the user set, nothing is changed; a bad switch
+// value is refused in one line that names the variable; the provenance record
+// lists what was set. Prints deterministic lines; returns 1 if any check fails.
+#include <contact-stefan/app/mpi_start.h>
+
+#include <map>
+#include <stdexcept>
+#include <string>
+
+#include "unit_test_tools.h"
+
+using namespace ContactStefan;
+using UnitTest::check;
+
+namespace
+{
+  // An environment of its own for each case (the process's is not touched).
+  MpiStart::Lookup environment(const std::map<std::string, std::string> &variables)
+  {
+    return [variables](const char *name) -> const char * {
+      const auto found = variables.find(name);
+      return found == variables.end() ? nullptr : found->second.c_str();
+    };
+  }
+
+  std::string value_in(const std::vector<MpiStart::Setting> &settings, const std::string &name)
+  {
+    for (const auto &[n, v] : settings)
+      if (n == name)
+        return v;
+    return "(not set)";
+  }
+} // namespace
+
+int main()
+{
+  const auto all = MpiStart::serial_settings();
+
+  // Started by itself: every setting, the transport only to itself.
+  const auto alone = MpiStart::settings_to_make(environment({}));
+  check(alone.size() == all.size(), "alone: every serial setting is made");
+  check(value_in(alone, "OMPI_MCA_btl") == "self", "alone: the transport is 'self'");
+  check(value_in(alone, "OMPI_MCA_ess_singleton_isolated") == "1", "alone: no orted daemon");
+  for (const auto &[name, value] : alone)
+    std::printf("  %s=%s\n", name.c_str(), value.c_str());
+
+  // Under each launcher: nothing, whatever else is set.
+  for (const char *rank_variable : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"})
+    check(MpiStart::settings_to_make(environment({{rank_variable, "2"}})).empty(),
+          std::string("under a launcher (") + rank_variable + "): nothing is made");
+  check(MpiStart::started_by_launcher(environment({{"PMIX_RANK", "0"}})),
+        "PMIX_RANK means a launcher");
+  check(!MpiStart::started_by_launcher(environment({{"OMPI_MCA_btl", "tcp,self"}})),
+        "a user's MCA variable does not mean a launcher");
+
+  // A variable the user set stays; the others are still made.
+  const auto user = MpiStart::settings_to_make(environment({{"OMPI_MCA_btl", "tcp,self"}}));
+  check(user.size() == all.size() - 1, "user's btl: the others are made");
+  check(value_in(user, "OMPI_MCA_btl") == "(not set)", "user's btl: not overwritten");
+
+  // The switch.
+  check(MpiStart::settings_to_make(environment({{"CONTACT_STEFAN_SERIAL_MPI", "plain"}})).empty(),
+        "switch 'plain': nothing is made");
+  check(MpiStart::settings_to_make(environment({{"CONTACT_STEFAN_SERIAL_MPI", "fast"}})).size() ==
+          all.size(),
+        "switch 'fast': every setting");
+  bool refused = false;
+  try
+    {
+      MpiStart::settings_to_make(environment({{"CONTACT_STEFAN_SERIAL_MPI", "off"}}));
+    }
+  catch (const std::invalid_argument &e)
+    {
+      const std::string text = e.what();
+      refused                = text.find("CONTACT_STEFAN_SERIAL_MPI is 'off'") == 0 &&
+                text.find('\n') == std::string::npos;
+      std::printf("  refused: %s\n", e.what());
+    }
+  check(refused, "switch 'off': refused in one line naming the variable and the value");
+
+  // The record: what is set among the settings and the switch, nothing else.
+  const auto recorded =
+    MpiStart::recorded_settings(environment({{"OMPI_MCA_btl", "self"},
+                                             {"OMPI_MCA_orte_hnp_uri", "x"},
+                                             {"CONTACT_STEFAN_SERIAL_MPI", "fast"}}));
+  check(recorded.size() == 2 && value_in(recorded, "OMPI_MCA_btl") == "self" &&
+          value_in(recorded, "CONTACT_STEFAN_SERIAL_MPI") == "fast",
+        "record: the set settings and the switch, not mpirun's own variables");
+
+  return UnitTest::finish();
+}
