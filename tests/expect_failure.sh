@@ -10,13 +10,16 @@ binary=$1 scene=$2 code=$3 expected=$4 np=${5:-1}
 if ! [[ "$code" =~ ^[0-9]+$ ]] || [ -z "$expected" ]; then
   echo "the scene needs '# EXPECT-EXIT: code' and '# EXPECT: text' lines"; exit 1
 fi
+# This script's directory, absolute: the helpers beside it are called
+# after the cd below.
+here=$(cd "$(dirname "$0")" && pwd)
 dir=$(mktemp -d) && cd "$dir" || exit 1
 trap 'rm -rf "$dir" "$TMPDIR"' EXIT
 TMPDIR=$(mktemp -d) && export TMPDIR
 if [ "$np" -eq 1 ]; then
   "$binary" "$scene" > stdout.txt 2> stderr.txt
 else
-  "$(dirname "$0")/mpirun.sh" --quiet -np "$np" "$binary" "$scene" \
+  "$here/mpirun.sh" --quiet -np "$np" "$binary" "$scene" \
     > stdout.txt 2> stderr.txt
 fi
 status=$?

@@ -48,7 +48,7 @@ run() { # run [OPTION]: in the current directory, on NP ranks
     "$binary" "$@" scene.prm
   else
     # (--quiet: without the launcher's own lines about a rank's exit code)
-    "$(dirname "$0")/mpirun.sh" --quiet -np "$np" "$binary" "$@" scene.prm
+    "$here/mpirun.sh" --quiet -np "$np" "$binary" "$@" scene.prm
   fi
 }
 

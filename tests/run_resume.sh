@@ -22,11 +22,14 @@ binary=$1 scene=$2 np=$3 np_resume=$4 kill_variable=$5 kill_step=$6
 shift 6
 name=resume-$(basename "$scene" .prm)-$np-$np_resume-$kill_step
 TMPDIR=$(mktemp -d) && export TMPDIR
+# This script's directory, absolute: the helpers beside it are called
+# after the cd below.
+here=$(cd "$(dirname "$0")" && pwd)
 work=$(mktemp -d "$PWD/$name.XXXXXX") && cd "$work" || exit 1
 trap 'rm -rf "$TMPDIR"; [ "$passed" = 1 ] && rm -rf "$work"' EXIT
 passed=0
-"$(dirname "$0")/copy_scene.sh" "$scene" scene.prm
-extra=$("$(dirname "$0")/apply_settings.sh" scene.prm "$@")
+"$here/copy_scene.sh" "$scene" scene.prm
+extra=$("$here/apply_settings.sh" scene.prm "$@")
 [ -z "$extra" ] || { echo "unexpected arguments: $extra"; exit 1; }
 grep -q "Interval (steps)" scene.prm || { echo "the scene writes no checkpoints"; exit 1; }
 
@@ -35,7 +38,7 @@ run() { # run NP [OPTION]: in the current directory
   if [ "$n" -eq 1 ]; then
     "$binary" "$@" scene.prm
   else
-    "$(dirname "$0")/mpirun.sh" -np "$n" "$binary" "$@" scene.prm
+    "$here/mpirun.sh" -np "$n" "$binary" "$@" scene.prm
   fi
 }
 # What must agree: RESULT lines (no wall time, no timer call counts) and the

@@ -29,12 +29,15 @@ out=$name.out
 # A work directory of its own: several tests share a reference (serial and
 # parallel, variants of one scene) and run at the same time under ctest -j.
 # It is kept when the test fails, removed when it passes.
+# This script's directory, absolute: the helpers beside it are called
+# after the cd below.
+here=$(cd "$(dirname "$0")" && pwd)
 work=$(mktemp -d "$PWD/$name.XXXXXX") && cd "$work" || exit 1
 trap 'rm -rf "$TMPDIR"; [ "$passed" = 1 ] && rm -rf "$work"' EXIT
 passed=0
-"$(dirname "$0")/copy_scene.sh" "$scene" scene.prm
+"$here/copy_scene.sh" "$scene" scene.prm
 requirements=()
-listed=$("$(dirname "$0")/apply_settings.sh" scene.prm "$@") ||
+listed=$("$here/apply_settings.sh" scene.prm "$@") ||
   { echo "cannot apply the SET: entries"; exit 1; }
 while IFS= read -r requirement; do
   [ -z "$requirement" ] || requirements+=("$requirement")
@@ -44,7 +47,7 @@ scene=scene.prm
 if [ "$np" -eq 1 ]; then
   "$binary" "$scene" > stdout.txt 2> stderr.txt
 else
-  "$(dirname "$0")/mpirun.sh" -np "$np" "$binary" "$scene" > stdout.txt 2> stderr.txt
+  "$here/mpirun.sh" -np "$np" "$binary" "$scene" > stdout.txt 2> stderr.txt
 fi
 status=$?
 if [ $status -ne 0 ]; then

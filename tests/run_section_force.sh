@@ -21,7 +21,7 @@ cp "$scene" scene.prm
 if [ "$np" -eq 1 ]; then
   "$binary" scene.prm > stdout.txt 2> stderr.txt
 else
-  "$(dirname "$0")/mpirun.sh" -np "$np" "$binary" scene.prm > stdout.txt 2> stderr.txt
+  "$here/mpirun.sh" -np "$np" "$binary" scene.prm > stdout.txt 2> stderr.txt
 fi
 status=$?
 if [ $status -ne 0 ]; then

@@ -4,6 +4,7 @@
 # and print what REFERENCE holds (numdiff, relative 1e-8).
 # UPDATE_REFERENCE=1 rewrites the reference instead.
 set -u
+here=$(cd "$(dirname "$0")" && pwd)
 binary=$1 reference=$2 np=${3:-1}
 shift $(( $# < 3 ? $# : 3 ))
 # Each test gets its own Open MPI session directory: parallel ctest runs must
@@ -14,7 +15,7 @@ out=$(basename "$reference" .output)-np$np.out
 if [ "$np" -eq 1 ]; then
   "$binary" "$@" > "$out" 2>&1
 else
-  "$(dirname "$0")/mpirun.sh" -np "$np" "$binary" "$@" > "$out" 2>&1
+  "$here/mpirun.sh" -np "$np" "$binary" "$@" > "$out" 2>&1
 fi || { cat "$out"; exit 1; }
 if [ "${UPDATE_REFERENCE:-0}" = 1 ]; then cp "$out" "$reference"; exit 0; fi
 numdiff -q -r 1e-8 -a 1e-12 "$reference" "$out" > /dev/null ||

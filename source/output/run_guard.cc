@@ -46,26 +46,65 @@ namespace ContactStefan
         return text;
       }
 
-      // A JSON string: quotes, backslashes and control characters escaped
-      // (the parameter text is ASCII or UTF-8, checked when it was read).
+      // The length of the valid UTF-8 sequence starting at text[i], or 0 if
+      // none starts there (a stray continuation byte, an overlong form, a
+      // surrogate, a code point above U+10FFFF, a truncated sequence).
+      std::size_t utf8_length(const std::string &text, const std::size_t i)
+      {
+        const auto byte = [&](const std::size_t k) {
+          return k < text.size() ? static_cast<unsigned char>(text[k]) : 0u;
+        };
+        const unsigned int c   = byte(i);
+        std::size_t        n   = 0;
+        unsigned int       low = 0x80, high = 0xbf; // the second byte's range
+        if (c >= 0xc2 && c <= 0xdf)
+          n = 2;
+        else if (c >= 0xe0 && c <= 0xef)
+          n = 3, low = c == 0xe0 ? 0xa0 : 0x80, high = c == 0xed ? 0x9f : 0xbf;
+        else if (c >= 0xf0 && c <= 0xf4)
+          n = 4, low = c == 0xf0 ? 0x90 : 0x80, high = c == 0xf4 ? 0x8f : 0xbf;
+        else
+          return 0;
+        if (byte(i + 1) < low || byte(i + 1) > high)
+          return 0;
+        for (std::size_t k = 2; k < n; ++k)
+          if (byte(i + k) < 0x80 || byte(i + k) > 0xbf)
+            return 0;
+        return n;
+      }
+
+      // A JSON string: quotes, backslashes and control characters escaped;
+      // bytes that are not UTF-8 (a command-line argument, a directory name or
+      // an environment value can hold any) written as U+FFFD, so that the
+      // record stays valid JSON whatever it holds.
       std::string json_string(const std::string &text)
       {
         std::string out = "\"";
-        for (const unsigned char c : text)
-          if (c == '"' || c == '\\')
-            out += std::string("\\") + char(c);
-          else if (c == '\n')
-            out += "\\n";
-          else if (c == '\t')
-            out += "\\t";
-          else if (c < 0x20)
-            {
-              char code[8];
-              std::snprintf(code, sizeof(code), "\\u%04x", c);
-              out += code;
-            }
-          else
-            out += char(c);
+        for (std::size_t i = 0; i < text.size(); ++i)
+          {
+            const unsigned char c = text[i];
+            if (c == '"' || c == '\\')
+              out += std::string("\\") + char(c);
+            else if (c == '\n')
+              out += "\\n";
+            else if (c == '\t')
+              out += "\\t";
+            else if (c < 0x20 || c == 0x7f)
+              {
+                char code[8];
+                std::snprintf(code, sizeof(code), "\\u%04x", c);
+                out += code;
+              }
+            else if (c < 0x80)
+              out += char(c);
+            else if (const std::size_t n = utf8_length(text, i); n > 0)
+              {
+                out += text.substr(i, n);
+                i += n - 1;
+              }
+            else
+              out += "\\ufffd";
+          }
         return out + "\"";
       }
 

@@ -20,6 +20,15 @@ set(NEUMANN_A_BOUNDS
 scene(neumann/A 1 ${P}/neumann_A.prm neumann_A ${NEUMANN_A_BOUNDS})
 # Two ranks must reproduce the serial statistics (same reference).
 scene(neumann/A-mpi2 2 ${P}/neumann_A.prm neumann_A ${NEUMANN_A_BOUNDS})
+# A serial run's MPI start (app/mpi_start.h) must leave the results alone and
+# keep working when the user wants Open MPI's daemon (a singleton that is not
+# isolated) or Open MPI's own defaults throughout (the switch at 'plain').
+add_test(NAME neumann/A-singleton-not-isolated
+  COMMAND env OMPI_MCA_ess_singleton_isolated=0 ${T}/run_scene.sh ${BIN} ${P}/neumann_A.prm
+          ${T}/references/neumann_A.output 1 ${NEUMANN_A_BOUNDS})
+add_test(NAME neumann/A-serial-mpi-plain
+  COMMAND env CONTACT_STEFAN_SERIAL_MPI=plain ${T}/run_scene.sh ${BIN} ${P}/neumann_A.prm
+          ${T}/references/neumann_A.output 1 ${NEUMANN_A_BOUNDS})
 # The iterative solver must give the same discrete solution as the direct one.
 scene(neumann/A-cg-amg 1 ${P}/neumann_A.prm neumann_A-cg-amg
   "SET:Solver/Linear solver=cg-amg" ${NEUMANN_A_BOUNDS})

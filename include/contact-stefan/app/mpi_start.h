@@ -1,22 +1,26 @@
 // How a run starts MPI when it is a process of its own, not started by mpirun.
 //
-// Why: Open MPI's MPI_Init opens every component of every framework it might
-// use and keeps the best: TCP and shared-memory transports, the PSM, PSM2 and
-// OFI drivers of cluster interconnects, a dozen collective algorithms, and
-// hwloc's OpenCL and OpenGL plugins. A serial run uses none of them: its only
-// rank talks to itself. Loading them costs a third of a second per run, in a
-// code where a test or a small scene takes about that long in all (the tiny
-// scene of benchmarks/startup.py: a median of 0.72 s against 0.45 s, ten runs
-// each by hand on the 2-core development VM, 2026-11-28). A process started by
-// itself therefore names the components it needs, the "self" transport and
-// the plain collectives, before MPI_Init reads its environment.
+// Why: started by itself, an Open MPI process becomes a "singleton". Its
+// MPI_Init forks a daemon (orted) that would serve MPI_Comm_spawn, and it
+// chooses its point-to-point layer by loading every candidate, including the
+// drivers of cluster interconnects (PSM, PSM2, OFI) that a workstation does
+// not have. A serial run of this program needs neither: it asks for an
+// isolated singleton (no daemon) and the ob1 layer. A bare MPI_Init and
+// MPI_Finalize took 0.036 s instead of 0.374 s with Open MPI's defaults and
+// 0.248 s with the isolated singleton alone (medians of 15 alternating runs
+// by a reviewer on the 2-core development VM, 2026-11-28); the ob1 layer is
+// almost all of the second step. Limiting the other frameworks' components
+// saved less than the machine's noise, and two of them (the run-time's state
+// and error managers) break a singleton that is not isolated: not done.
 //
-// Rules: under a launcher (mpirun, mpiexec, srun) nothing is set, because the
-// launcher and the cluster know the transport; a variable the user set stays
-// as it is; CONTACT_STEFAN_SERIAL_MPI=plain leaves Open MPI's own defaults.
+// Rules: under a launcher (mpirun, mpiexec, or srun with PMI-2 or PMIx)
+// nothing is set and the switch below is not read, because the launcher and
+// the cluster know the transport; a variable set in the environment stays as
+// it is (the values set here override Open MPI's parameter files, as any
+// environment variable does); CONTACT_STEFAN_SERIAL_MPI=plain sets nothing.
 // Other MPI implementations ignore the OMPI_MCA_ variables. The provenance
-// record (provenance.json, "mpi_start") lists which of these variables a run
-// started with, whoever set them.
+// record (provenance.json, "mpi_start") lists which of these variables were
+// set when a run started, whoever set them.
 #ifndef contact_stefan_mpi_start_h
 #define contact_stefan_mpi_start_h
 
@@ -46,23 +50,11 @@ namespace ContactStefan
       static const std::vector<Setting> settings = {
         // No daemon (orted) for MPI_Comm_spawn, which this program never calls.
         {"OMPI_MCA_ess_singleton_isolated", "1"},
-        // The only rank sends to itself: the "self" transport, the ob1
-        // point-to-point layer over it (no cluster interconnect drivers).
-        {"OMPI_MCA_btl", "self"},
-        {"OMPI_MCA_pml", "ob1"},
-        // Collectives on one rank ("self"), with the blocking and nonblocking
-        // fallbacks deal.II's and p4est's calls can reach.
-        {"OMPI_MCA_coll", "self,basic,libnbc"},
-        // The run-time's own frameworks: the one component a singleton uses
-        // of each instead of all of them opened and queried. (Not the
-        // "schizo" framework: a singleton with only its "ompi" component
-        // fails in MPI_Init.)
-        {"OMPI_MCA_state", "app"},
-        {"OMPI_MCA_errmgr", "default_app"},
-        {"OMPI_MCA_reachable", "weighted"},
-        {"OMPI_MCA_shmem", "mmap"},
-        // hwloc's plugins for OpenCL and OpenGL devices (it looks for GPUs).
-        {"HWLOC_COMPONENTS", "-opencl,-gl"}};
+        // The ob1 point-to-point layer, without the selection among all of
+        // them: that selection loads the cm layer's drivers for cluster
+        // interconnects (PSM, PSM2, OFI: libpsm2, libpsm_infinipath) only to
+        // find no such hardware. ob1 is part of every Open MPI build.
+        {"OMPI_MCA_pml", "ob1"}};
       return settings;
     }
 
@@ -87,21 +79,29 @@ namespace ContactStefan
     /**
      * The settings this process should make before MPI_Init: none under a
      * launcher or with CONTACT_STEFAN_SERIAL_MPI=plain; else those of
-     * serial_settings() whose variable is not set yet. A value of the switch
-     * other than "fast" (the default) or "plain" is refused with one line
-     * (std::invalid_argument).
+     * serial_settings() whose variable is not set yet. Without a launcher, a
+     * value of the switch other than "fast" (the default, also when empty) or
+     * "plain" is refused with one line (std::invalid_argument).
      */
     inline std::vector<Setting> settings_to_make(const Lookup &lookup)
     {
-      const char       *choice_value = lookup(switch_variable());
-      const std::string choice       = choice_value ? choice_value : "fast";
-      if (choice != "fast" && choice != "plain")
-        throw std::invalid_argument(std::string(switch_variable()) + " is '" + choice +
-                                    "'; it must be 'fast' (the default: a serial run loads "
-                                    "only the MPI components it uses) or 'plain' (Open MPI's "
-                                    "own defaults)");
       std::vector<Setting> to_make;
-      if (choice == "plain" || started_by_launcher(lookup))
+      if (started_by_launcher(lookup))
+        return to_make;
+      const char       *choice_value = lookup(switch_variable());
+      const std::string choice       = choice_value && *choice_value ? choice_value : "fast";
+      if (choice != "fast" && choice != "plain")
+        {
+          // The value as printable ASCII (one line whatever it holds).
+          std::string shown;
+          for (const unsigned char c : choice.substr(0, 40))
+            shown += c >= 0x20 && c < 0x7f ? char(c) : '?';
+          throw std::invalid_argument(std::string(switch_variable()) + " is '" + shown +
+                                      "'; it must be 'fast' (the default: a serial run starts "
+                                      "MPI without a daemon and with the ob1 layer) or "
+                                      "'plain' (Open MPI's own defaults)");
+        }
+      if (choice == "plain")
         return to_make;
       for (const auto &setting : serial_settings())
         if (lookup(setting.first.c_str()) == nullptr)
