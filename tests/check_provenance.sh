@@ -13,7 +13,10 @@ unset OMPI_MCA_pml OMPI_MCA_ess_singleton_isolated CONTACT_STEFAN_SERIAL_MPI
 here=$(cd "$(dirname "$0")" && pwd)
 work=$(mktemp -d "$PWD/provenance.XXXXXX") && cd "$work" || exit 1
 passed=0
-trap '[ "$passed" = 1 ] && rm -rf "$work"' EXIT
+# Its own Open MPI session directory: the resumed run (switch at 'plain') is a
+# singleton with a daemon, which must not share one with parallel ctest runs.
+TMPDIR=$(mktemp -d) && export TMPDIR
+trap 'rm -rf "$TMPDIR"; [ "$passed" = 1 ] && rm -rf "$work"' EXIT
 # The runs work in a directory whose name is not UTF-8 (Latin-1 e-acute): the
 # record must still be valid JSON, with U+FFFD for the byte.
 mkdir "$work/latin1-"$'\xe9' && cd "$work/latin1-"$'\xe9' || exit 1

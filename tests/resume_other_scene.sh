@@ -14,10 +14,11 @@ shift 4
 between=0 older=0
 if [ "${1:-}" = --fresh-run-between ]; then between=1; shift; fi
 if [ "${1:-}" = --older-format ]; then older=1; shift; fi
+here=$(cd "$(dirname "$0")" && pwd) # (absolute: used after the cd)
 dir=$(mktemp -d) && cd "$dir" || exit 1
 trap 'rm -rf "$dir"' EXIT
 cp "$scene_a" a.prm
-settings=$(dirname "$0")/apply_settings.sh
+settings=$here/apply_settings.sh
 "$settings" a.prm "SET:Checkpoint/Interval (steps)=5" "SET:Output/Directory=$dir/out" || exit 1
 "$binary" a.prm > /dev/null 2>&1 || { echo "the first scene failed"; exit 1; }
 [ -f "$dir/out/checkpoint/state.txt" ] || { echo "the first scene wrote no checkpoint"; exit 1; }
@@ -39,4 +40,4 @@ if [ $between = 1 ]; then
   "$binary" b.prm > /dev/null 2>&1 || { echo "the fresh run failed"; exit 1; }
 fi
 "$settings" b.prm "SET:Checkpoint/Resume=true" || exit 1
-"$(dirname "$0")/expect_error.sh" "$binary" "$dir/b.prm" "$expected"
+"$here/expect_error.sh" "$binary" "$dir/b.prm" "$expected"

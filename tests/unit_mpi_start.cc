@@ -102,6 +102,18 @@ int main()
       refused = std::string(e.what()).find("is 'a?b'") != std::string::npos;
     }
   check(refused, "a newline in the value: refused in one line, shown as '?'");
+  refused = false;
+  try
+    {
+      MpiStart::settings_to_make(
+        environment({{"CONTACT_STEFAN_SERIAL_MPI", "caf\xe9" + std::string(60, 'x')}}));
+    }
+  catch (const std::invalid_argument &e)
+    {
+      refused =
+        std::string(e.what()).find("is 'caf?" + std::string(36, 'x') + "';") != std::string::npos;
+    }
+  check(refused, "a Latin-1 byte shown as '?', the value cut at 40 characters");
 
   // The record: what is set among the settings and the switch, nothing else.
   const auto recorded =

@@ -45,10 +45,10 @@ int main(int argc, char *argv[])
   });
   const bool started_by_mpirun =
     MpiStart::started_by_launcher([](const char *variable) { return std::getenv(variable); });
-  // Started by itself, this process is MPI's only rank: it names the MPI
-  // components it uses before MPI_Init reads the environment (app/mpi_start.h:
-  // no orted daemon, no network transports or cluster drivers; a third of a
-  // second of every serial run). Under mpirun nothing is changed.
+  // Started by itself, this process is MPI's only rank: before MPI_Init reads
+  // the environment it asks for no orted daemon and for the ob1 layer, which
+  // spares the loading of interconnect drivers (app/mpi_start.h). Under mpirun
+  // nothing is changed.
   try
     {
       MpiStart::prepare();

@@ -3,15 +3,16 @@
 // Why: started by itself, an Open MPI process becomes a "singleton". Its
 // MPI_Init forks a daemon (orted) that would serve MPI_Comm_spawn, and it
 // chooses its point-to-point layer by loading every candidate, including the
-// drivers of cluster interconnects (PSM, PSM2, OFI) that a workstation does
-// not have. A serial run of this program needs neither: it asks for an
-// isolated singleton (no daemon) and the ob1 layer. A bare MPI_Init and
-// MPI_Finalize took 0.036 s instead of 0.374 s with Open MPI's defaults and
-// 0.248 s with the isolated singleton alone (medians of 15 alternating runs
-// by a reviewer on the 2-core development VM, 2026-11-28); the ob1 layer is
-// almost all of the second step. Limiting the other frameworks' components
-// saved less than the machine's noise, and two of them (the run-time's state
-// and error managers) break a singleton that is not isolated: not done.
+// cm layer with the drivers of PSM and PSM2 interconnects (libpsm2,
+// libpsm_infinipath) that a workstation does not have. A serial run of this
+// program needs neither: it asks for an isolated singleton (no daemon) and the
+// ob1 layer. A bare MPI_Init and MPI_Finalize took 0.042 s instead of 0.374 s
+// with Open MPI's defaults and 0.248 s with the isolated singleton alone
+// (medians of 15 alternating runs by a reviewer on the 2-core development VM,
+// 2026-11-28). Limiting the other frameworks' components as well (transports,
+// collectives, the run-time's frameworks, hwloc's plugins) gave 0.036 s, less
+// than the machine's noise in a whole run, and two of them (the run-time's
+// state and error managers) break a singleton that is not isolated: not done.
 //
 // Rules: under a launcher (mpirun, mpiexec, or srun with PMI-2 or PMIx)
 // nothing is set and the switch below is not read, because the launcher and
@@ -51,9 +52,9 @@ namespace ContactStefan
         // No daemon (orted) for MPI_Comm_spawn, which this program never calls.
         {"OMPI_MCA_ess_singleton_isolated", "1"},
         // The ob1 point-to-point layer, without the selection among all of
-        // them: that selection loads the cm layer's drivers for cluster
-        // interconnects (PSM, PSM2, OFI: libpsm2, libpsm_infinipath) only to
-        // find no such hardware. ob1 is part of every Open MPI build.
+        // them: that selection loads the cm layer and its drivers for PSM and
+        // PSM2 interconnects (libpsm2, libpsm_infinipath) only to find no such
+        // hardware. ob1 is part of every Open MPI build.
         {"OMPI_MCA_pml", "ob1"}};
       return settings;
     }
