@@ -43,8 +43,7 @@ int main(int argc, char *argv[])
   const bool check_requested = std::any_of(argv + 1, argv + argc, [](const char *arg) {
     return std::string(arg) == "-c" || std::string(arg) == "--check";
   });
-  const bool started_by_mpirun =
-    MpiStart::started_by_launcher([](const char *variable) { return std::getenv(variable); });
+  const bool started_by_mpirun = MpiStart::started_by_launcher(MpiStart::process_environment());
   // Started by itself, this process is MPI's only rank: before MPI_Init reads
   // the environment it asks for no orted daemon and for the ob1 layer, which
   // spares the loading of interconnect drivers (app/mpi_start.h). Under mpirun
@@ -146,8 +145,7 @@ int main(int argc, char *argv[])
   RunRecord::begin(CommandLine::version_line(),
                    std::vector<std::string>(argv, argv + argc),
                    n_ranks,
-                   MpiStart::recorded_settings(
-                     [](const char *variable) { return std::getenv(variable); }));
+                   MpiStart::recorded_settings(MpiStart::process_environment()));
   AllParameters parameters;
   try
     {

@@ -59,6 +59,12 @@ namespace ContactStefan
       return settings;
     }
 
+    /** This process's environment, as a Lookup. */
+    inline Lookup process_environment()
+    {
+      return [](const char *variable) -> const char * { return std::getenv(variable); };
+    }
+
     /** The variable that switches the serial settings off. */
     inline const char *switch_variable()
     {
@@ -116,8 +122,7 @@ namespace ContactStefan
      */
     inline void prepare()
     {
-      for (const auto &[name, value] :
-           settings_to_make([](const char *variable) { return std::getenv(variable); }))
+      for (const auto &[name, value] : settings_to_make(process_environment()))
         setenv(name.c_str(), value.c_str(), /*overwrite=*/0);
     }
 

@@ -63,10 +63,11 @@ namespace ContactStefan
   // What made a run, kept in 'provenance.json' in its output directory (rank 0;
   // doc/output.md): the program's version line, the command line, the number
   // of ranks, the MPI start settings it ran with (app/mpi_start.h), the
-  // parameter files and the parameter text as read (includes expanded), the start time, and, when
-  // it ends, the end time and the exit code. Written when the run has its output directory (a run
-  // refused for bad input before that writes none) and again at the end; a resumed run keeps the
-  // record of the run it continues under "previous".
+  // parameter files and the parameter text as read (includes expanded), the
+  // start time, and, when it ends, the end time and the exit code. Written
+  // when the run has its output directory (a run refused for bad input before
+  // that writes none) and again at the end; a resumed run keeps the record of
+  // the run it continues under "previous".
   namespace RunRecord
   {
     void begin(const std::string                                      &version_line,
