@@ -52,6 +52,31 @@ namespace ContactStefan
                         "melting front passes a row of nodes, is solved without factorising "
                         "or recomputing again. Each costs the memory of one factor or "
                         "hierarchy. 0: keep none.");
+      prm.declare_entry("Row update limit",
+                        "0.5",
+                        Patterns::Double(0),
+                        "cholmod: when a new active set changes only some rows and columns "
+                        "of the matrix (nodes entering or leaving a plateau or the contact "
+                        "set), the factor is modified row by row (CHOLMOD's row deletion "
+                        "and addition, Davis & Hager 2005) instead of being refactorised, "
+                        "if the estimated work of the modifications is below this fraction "
+                        "of a factorisation's. The first solve with a modified factor is "
+                        "checked against 'Refactorisation backward error' and the matrix is "
+                        "factorised afresh if it fails. 0: always refactorise. See "
+                        "doc/performance.md for the measurement behind the default.");
+      prm.declare_entry("Reordering cost",
+                        "1000",
+                        Patterns::Double(0),
+                        "cholmod: the fill-reducing ordering is CHOLMOD's choice (AMD on our "
+                        "matrices), whose deep elimination trees make row modifications "
+                        "expensive; nested dissection (METIS) makes them cheap but costs "
+                        "more to compute. Once the factorisations of one matrix pattern that "
+                        "'Row update limit' could not replace by row modifications have cost "
+                        "this many flops per stored matrix entry, the matrix is reordered by "
+                        "nested dissection (once per pattern). The default is what the "
+                        "analysis costs in factorisation flops: 48 ms for the 80 881 stored "
+                        "entries of the Stefan strip at nx = 400, whose factorisation of "
+                        "2.3e7 flops took 13 ms (2026-11-28, development VM). 0: never reorder.");
       prm.declare_entry("CG tolerance",
                         "1e-12",
                         Patterns::Double(0),
@@ -118,6 +143,8 @@ namespace ContactStefan
                 "Solver/Direct solver type",
                 "'" + direct_solver_type + "' is not available in this Trilinos build");
       kept_factorisations = prm.get_integer("Kept factorisations");
+      row_update_limit    = get_finite(prm, "Solver/", "Row update limit");
+      reordering_cost     = get_finite(prm, "Solver/", "Reordering cost");
       cg_tolerance        = get_finite(prm, "Solver/", "CG tolerance");
       amg_rebuild_ratio   = get_finite(prm, "Solver/", "AMG rebuild ratio");
       {

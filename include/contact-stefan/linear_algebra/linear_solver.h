@@ -166,6 +166,22 @@ namespace ContactStefan
     void clear();
     /** What the iterative path did since the last call (and start counting anew). */
     LinearSolverStatistics take_statistics();
+    /**
+     * CHOLMOD's work so far: numeric factorisations, factors modified row by
+     * row instead ('Solver/Row update limit'), the rows they replaced and the
+     * reorderings by nested dissection ('Solver/Reordering cost').
+     */
+    struct CholmodCounts
+    {
+      unsigned int  factorisations = 0;
+      unsigned int  row_updates    = 0;
+      std::uint64_t replaced_rows  = 0;
+      unsigned int  reorderings    = 0; // to nested dissection (Solver/Reordering cost)
+    };
+    CholmodCounts cholmod_counts() const
+    {
+      return {factorisation_count, row_update_count, replaced_row_count, reordering_count};
+    }
 
   private:
     void check_finite_matrix(const TrilinosWrappers::SparseMatrix &A) const;
@@ -220,11 +236,15 @@ namespace ContactStefan
     struct Cholmod;
     std::shared_ptr<Cholmod> cholmod;
     /**
-     * Copy the matrix's lower triangle into CHOLMOD's column storage and
-     * factorise it numerically; with analyse, find the ordering and the
-     * symbolic factor first.
+     * Copy the matrix's lower triangle into CHOLMOD's column storage; with
+     * analyse, set up its pattern and find the ordering and the symbolic
+     * factor.
      */
     void cholmod_factorise(const bool analyse);
+    /** Factorise the values in CHOLMOD's copy of the matrix afresh (numerically). */
+    void          cholmod_numeric();
+    unsigned int  factorisation_count = 0, row_update_count = 0, reordering_count = 0;
+    std::uint64_t replaced_row_count  = 0;
     /**
      * The direct back end of this matrix: 'Solver/Direct solver type', with
      * 'automatic' meaning cholmod on one MPI rank and Amesos_Klu on several.

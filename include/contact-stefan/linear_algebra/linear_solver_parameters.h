@@ -30,6 +30,14 @@ namespace ContactStefan
       std::string  direct_solver_type;
       // cholmod: factorisations of earlier matrices kept for recall(), by key.
       unsigned int kept_factorisations;
+      // cholmod: a factor is modified row by row (rowdel/rowadd) instead of
+      // refactorised when the estimated work is below this fraction of a
+      // factorisation's; 0: always refactorise.
+      double row_update_limit;
+      // cholmod: flops-equivalent per stored matrix entry of a nested-
+      // dissection analysis; the factorisations row modifications could not
+      // replace may cost this much before the matrix is reordered; 0: never.
+      double reordering_cost;
       double       cg_tolerance;
       double       amg_rebuild_ratio;
       // What update() does to an AMG hierarchy when the matrix values change

@@ -141,6 +141,11 @@ namespace ContactStefan
       have_preconditioner = false;
       linear_solver.clear();
     }
+    /** The enthalpy system's CHOLMOD work in this process (LinearSolver). */
+    LinearSolver::CholmodCounts cholmod_counts() const
+    {
+      return linear_solver.cholmod_counts();
+    }
     /**
      * Adds temperature, enthalpy, phase index and liquid fraction. The vectors
      * stay alive in this object until the next call.

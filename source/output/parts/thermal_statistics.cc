@@ -100,6 +100,18 @@ namespace ContactStefan
         results.add(Slot::thermal, "max energy-balance residual", s.max_energy_residual);
         results.add(Slot::thermal, "enthalpy matrix factorisations", s.enthalpy_factorisations);
         results.add(Slot::thermal, "melt area", this->run.thermal->melt_area());
+        // Of the factorisations above, how many were modifications of an
+        // earlier factor row by row (Solver/Row update limit), counted in this
+        // process (a resumed run counts from its restart). Bounded, not
+        // compared, by the regression tests ('... solver: ').
+        if (const LinearSolver::CholmodCounts counts = this->run.thermal->cholmod_counts();
+            counts.row_updates > 0)
+          {
+            results.add(Slot::thermal, "enthalpy solver: CHOLMOD factorisations", counts.factorisations);
+            results.add(Slot::thermal, "enthalpy solver: factors modified row by row", counts.row_updates);
+            results.add(Slot::thermal, "enthalpy solver: rows replaced", static_cast<double>(counts.replaced_rows));
+            results.add(Slot::thermal, "enthalpy solver: reorderings by nested dissection", counts.reorderings);
+          }
         results.add(Slot::thermal_consistency,
                     "nodes with h outside H(Theta)",
                     s.inconsistent_enthalpy_nodes);

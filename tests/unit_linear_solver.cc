@@ -1,0 +1,278 @@
+// Unit test of the CHOLMOD path of LinearSolver when an active set changes
+// some rows of the matrix: the factor modified row by row ('Solver/Row update
+// limit') must solve like a fresh factorisation of the same values, pick the
+// kept factor closest to the new values, fall back to a factorisation when
+// too many rows change, reorder by nested dissection ('Solver/Reordering
+// cost'), and report a matrix that is not positive definite.
+//
+// The matrix is the 5-point Laplacian on a 300 x 20 strip plus a small shift;
+// "fixing" a node (as the enthalpy step fixes a node on a plateau) clears its
+// row and column and puts a value on the diagonal, as AffineConstraints does.
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/parameter_handler.h>
+
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/trilinos_sparse_matrix.h>
+#include <deal.II/lac/trilinos_vector.h>
+
+#include <contact-stefan/linear_algebra/linear_solver.h>
+
+#include <iostream>
+#include <set>
+
+#include "unit_test_tools.h"
+
+using namespace ContactStefan;
+using UnitTest::check;
+
+namespace
+{
+  // A strip of mx x my nodes, like the Stefan strip's: a "column" is my nodes.
+  constexpr unsigned int mx = 300, my = 20, n = mx * my;
+
+  unsigned int node(const unsigned int i, const unsigned int j)
+  {
+    return j * my + i; // i: along the column, j: along the strip
+  }
+
+  // The grid matrix with the nodes in `fixed` cleared (diagonal `fixed_diagonal`)
+  // and `extra` added to the diagonal of the nodes in `heavier`.
+  void fill(TrilinosWrappers::SparseMatrix &A,
+            const std::set<unsigned int>   &fixed,
+            const double                    fixed_diagonal,
+            const std::set<unsigned int>   &heavier = {},
+            const double                    extra   = 0,
+            const double                    scale   = 1)
+  {
+    A = 0;
+    for (unsigned int i = 0; i < my; ++i)
+      for (unsigned int j = 0; j < mx; ++j)
+        {
+          const unsigned int r = node(i, j);
+          if (fixed.count(r))
+            {
+              A.set(r, r, fixed_diagonal);
+              continue;
+            }
+          A.set(r, r, scale * (4.1 + (heavier.count(r) ? extra : 0.)));
+          const int di[] = {-1, 1, 0, 0}, dj[] = {0, 0, -1, 1};
+          for (unsigned int d = 0; d < 4; ++d)
+            {
+              const int ii = int(i) + di[d], jj = int(j) + dj[d];
+              if (ii >= 0 && jj >= 0 && ii < int(my) && jj < int(mx) &&
+                  !fixed.count(node(ii, jj)))
+                A.set(r, node(ii, jj), -scale);
+            }
+        }
+    A.compress(VectorOperation::insert);
+  }
+
+  // The largest difference between x and the solution of a fresh
+  // factorisation of A's values, relative to the latter's size.
+  double difference_to_fresh(const Parameters::LinearSolvers &prm,
+                             const TrilinosWrappers::SparseMatrix &A,
+                             const ContactStefan::Vector                         &b,
+                             const ContactStefan::Vector                         &x)
+  {
+    Parameters::LinearSolvers fresh_prm = prm;
+    fresh_prm.row_update_limit          = 0;
+    fresh_prm.kept_factorisations       = 0;
+    ConditionalOStream             silent(std::cout, false);
+    TrilinosWrappers::SparseMatrix copy;
+    copy.copy_from(A);
+    LinearSolver fresh(fresh_prm,
+                       0,
+                       silent,
+                       "fresh",
+                       Parameters::LinearSolvers::AMGUpdate::recompute,
+                       0.02,
+                       2);
+    fresh.initialize(copy);
+    ContactStefan::Vector y(b);
+    fresh.solve(y, b);
+    ContactStefan::Vector d(x);
+    d -= y;
+    return d.linfty_norm() / y.linfty_norm();
+  }
+} // namespace
+
+int main(int argc, char *argv[])
+{
+  Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+
+  ParameterHandler prm_handler;
+  Parameters::LinearSolvers::declare(prm_handler);
+  Parameters::LinearSolvers prm;
+  prm.parse(prm_handler);
+  prm.linear_solver      = Parameters::LinearSolvers::LinearSolverType::direct;
+  prm.direct_solver_type = "cholmod";
+
+  const IndexSet         all = complete_index_set(n);
+  DynamicSparsityPattern pattern(n, n);
+  for (unsigned int i = 0; i < my; ++i)
+    for (unsigned int j = 0; j < mx; ++j)
+      for (int di = -1; di <= 1; ++di)
+        for (int dj = -1; dj <= 1; ++dj)
+          if (std::abs(di) + std::abs(dj) <= 1 && int(i) + di >= 0 && int(j) + dj >= 0 &&
+              int(i) + di < int(my) && int(j) + dj < int(mx))
+            pattern.add(node(i, j), node(i + di, j + dj));
+  TrilinosWrappers::SparseMatrix A;
+  A.reinit(all, all, pattern, MPI_COMM_WORLD);
+
+  ContactStefan::Vector b(all, MPI_COMM_WORLD), x(all, MPI_COMM_WORLD);
+  for (unsigned int r = 0; r < n; ++r)
+    b[r] = 1. + 0.01 * (r % 7);
+  b.compress(VectorOperation::insert);
+
+  const auto column = [](const unsigned int j) {
+    std::set<unsigned int> nodes;
+    for (unsigned int i = 0; i < my; ++i)
+      nodes.insert(node(i, j));
+    return nodes;
+  };
+
+  // The scenarios: reordering at the first factorisation row modifications
+  // could not replace, with modifications up to twice a factorisation's work
+  // (so that most changes below are modifications on nested dissection), with
+  // 2 kept factorisations and with none; and modifications whatever their
+  // cost on CHOLMOD's own ordering (AMD: deep elimination trees, long paths).
+  struct Scenario
+  {
+    std::string  name;
+    unsigned int kept;
+    double       limit, reordering_cost;
+  };
+  for (const Scenario &scenario : {Scenario{"reorder at once, 2 kept", 2, 2, 1e-9},
+                                   Scenario{"reorder at once, none kept", 0, 2, 1e-9},
+                                   Scenario{"always modify, never reorder", 2, 1e9, 0}})
+    {
+      std::printf("--- %s\n", scenario.name.c_str());
+      prm.kept_factorisations = scenario.kept;
+      prm.row_update_limit    = scenario.limit;
+      prm.reordering_cost     = scenario.reordering_cost;
+      const bool         always = scenario.limit > 100;
+      ConditionalOStream silent(std::cout, false);
+      LinearSolver       solver(prm,
+                          0,
+                          silent,
+                          "test",
+                          Parameters::LinearSolvers::AMGUpdate::recompute,
+                          0.02,
+                          2);
+      const auto         counts = [&]() { return solver.cholmod_counts(); };
+      const auto         print  = [&](const std::string &what) {
+        const LinearSolver::CholmodCounts c = counts();
+        std::printf("  %s: %u factorisations, %u modified, %llu rows, %u reorderings\n",
+                    what.c_str(),
+                    c.factorisations,
+                    c.row_updates,
+                    static_cast<unsigned long long>(c.replaced_rows),
+                    c.reorderings);
+      };
+      const auto same_as_fresh = [&](const std::string &what) {
+        check(difference_to_fresh(prm, A, b, x) < 1e-12, what + ": solves as a fresh factorisation");
+      };
+      std::set<unsigned int> none;
+
+      fill(A, none, 1.);
+      solver.initialize(A, 1);
+      solver.solve(x, b);
+      print("initialize");
+      check(counts().factorisations == 1 && counts().row_updates == 0, "initialize factorises");
+
+      // A column of nodes becomes fixed: on AMD's ordering its rows cost
+      // more than twice a factorisation, so this factorises and reorders (or,
+      // when forced, modifies); on nested dissection the next columns are
+      // modifications.
+      fill(A, column(5), 2.5);
+      solver.update(A, 2);
+      solver.solve(x, b);
+      print("column 5 fixed");
+      check(always ? (counts().row_updates == 1 && counts().replaced_rows == my &&
+                      counts().reorderings == 0) :
+                     (counts().factorisations == 2 && counts().reorderings == 1),
+            always ? "column 5: its rows replaced" : "column 5: reordered and factorised");
+      same_as_fresh("column 5");
+
+      const auto before_6 = counts();
+      fill(A, column(6), 2.5);
+      solver.update(A, 3);
+      solver.solve(x, b);
+      print("column 6 fixed instead");
+      // From the current factor (2 columns) unless an earlier one without
+      // fixed nodes was kept (1 column); a reordering drops the kept ones.
+      const bool kept_unfixed = scenario.kept > 0 && always;
+      check(counts().factorisations == before_6.factorisations &&
+              counts().row_updates == before_6.row_updates + 1 &&
+              counts().replaced_rows - before_6.replaced_rows == (kept_unfixed ? my : 2 * my),
+            std::string("column 6: rows replaced, ") +
+              (kept_unfixed ? "from the kept factor without fixed nodes" : "from the current factor"));
+      same_as_fresh("column 6");
+
+      // Heavier diagonals on some fixed and some free nodes (a capacity change).
+      const auto before_heavy = counts();
+      fill(A, column(6), 3.5, {node(3, 6), node(2, 21), node(19, 299)}, 0.7);
+      solver.update(A, 4);
+      solver.solve(x, b);
+      print("changed diagonals");
+      check(counts().factorisations == before_heavy.factorisations &&
+              counts().replaced_rows - before_heavy.replaced_rows == my + 2,
+            "changed diagonals: only those rows replaced");
+      same_as_fresh("changed diagonals");
+
+      // The same values under a new key: nothing to replace.
+      const auto before_same = counts();
+      solver.update(A, 5);
+      solver.solve(x, b);
+      check(counts().factorisations == before_same.factorisations &&
+              counts().replaced_rows == before_same.replaced_rows,
+            "unchanged values: no rows replaced, no factorisation");
+      same_as_fresh("unchanged values");
+
+      // Every value changed: a factorisation (unless forced).
+      const auto before_all = counts();
+      fill(A, none, 1., {}, 0., 2.);
+      solver.update(A, 6);
+      solver.solve(x, b);
+      print("every value changed");
+      check(always ? counts().replaced_rows - before_all.replaced_rows == n :
+                     counts().factorisations == before_all.factorisations + 1,
+            always ? "every value changed: every row replaced" :
+                     "every value changed: factorised afresh");
+      same_as_fresh("every value changed");
+
+      // A front marching 60 columns along the strip and back, a column per
+      // update, stays accurate.
+      double     worst        = 0;
+      const auto before_march = counts();
+      for (unsigned int sweep = 0; sweep < 120; ++sweep)
+        {
+          const unsigned int j = sweep < 60 ? 100 + sweep : 219 - sweep;
+          fill(A, column(j), 2., {}, 0., 2.);
+          solver.update(A, 100 + sweep);
+          solver.solve(x, b);
+          worst = std::max(worst, difference_to_fresh(prm, A, b, x));
+        }
+      print("front marched 120 columns");
+      check(always ? counts().factorisations == before_march.factorisations :
+                     counts().row_updates - before_march.row_updates >= 40,
+            always ? "a front marching 120 columns: no factorisation" :
+                     "a front marching 120 columns: at least 40 modifications");
+      check(worst < 1e-11, "... every solve as a fresh factorisation's to 1e-11");
+
+      // A change that makes the matrix indefinite is reported, not solved.
+      fill(A, none, 1., {node(5, 10)}, -10., 2.);
+      bool reported = false;
+      try
+        {
+          solver.update(A, 7);
+        }
+      catch (const std::exception &e)
+        {
+          reported = std::string(e.what()).find("not positive definite") != std::string::npos;
+        }
+      check(reported, "an indefinite change: 'not positive definite'");
+    }
+  return UnitTest::finish();
+}
