@@ -160,14 +160,19 @@ int main(int argc, char *argv[])
                           Parameters::LinearSolvers::AMGUpdate::recompute,
                           0.02,
                           2);
-      const auto         counts = [&]() { return solver.cholmod_counts(); };
-      const auto         print  = [&](const std::string &what) {
-        const LinearSolver::CholmodCounts c = counts();
+      // The solver's statistics summed over the scenario.
+      LinearSolverStatistics total;
+      const auto             counts = [&]() {
+        total += solver.take_statistics();
+        return total;
+      };
+      const auto print = [&](const std::string &what) {
+        const LinearSolverStatistics c = counts();
         std::printf("  %s: %u factorisations, %u modified, %llu rows, %u reorderings\n",
                     what.c_str(),
-                    c.factorisations,
+                    c.cholmod_factorisations,
                     c.row_updates,
-                    static_cast<unsigned long long>(c.replaced_rows),
+                    c.replaced_rows,
                     c.reorderings);
       };
       const auto same_as_fresh = [&](const std::string &what) {
@@ -179,7 +184,8 @@ int main(int argc, char *argv[])
       solver.initialize(A, 1);
       solver.solve(x, b);
       print("initialize");
-      check(counts().factorisations == 1 && counts().row_updates == 0, "initialize factorises");
+      check(counts().cholmod_factorisations == 1 && counts().row_updates == 0,
+            "initialize factorises");
 
       // A column of nodes becomes fixed: on AMD's ordering its rows cost
       // more than twice a factorisation, so this factorises and reorders (or,
@@ -191,7 +197,7 @@ int main(int argc, char *argv[])
       print("column 5 fixed");
       check(always ? (counts().row_updates == 1 && counts().replaced_rows == my &&
                       counts().reorderings == 0) :
-                     (counts().factorisations == 2 && counts().reorderings == 1),
+                     (counts().cholmod_factorisations == 2 && counts().reorderings == 1),
             always ? "column 5: its rows replaced" : "column 5: reordered and factorised");
       same_as_fresh("column 5");
 
@@ -203,11 +209,12 @@ int main(int argc, char *argv[])
       // From the current factor (2 columns) unless an earlier one without
       // fixed nodes was kept (1 column); a reordering drops the kept ones.
       const bool kept_unfixed = scenario.kept > 0 && always;
-      check(counts().factorisations == before_6.factorisations &&
+      check(counts().cholmod_factorisations == before_6.cholmod_factorisations &&
               counts().row_updates == before_6.row_updates + 1 &&
               counts().replaced_rows - before_6.replaced_rows == (kept_unfixed ? my : 2 * my),
             std::string("column 6: rows replaced, ") +
-              (kept_unfixed ? "from the kept factor without fixed nodes" : "from the current factor"));
+              (kept_unfixed ? "from the kept factor without fixed nodes" :
+                              "from the current factor"));
       same_as_fresh("column 6");
 
       // Heavier diagonals on some fixed and some free nodes (a capacity change).
@@ -216,7 +223,7 @@ int main(int argc, char *argv[])
       solver.update(A, 4);
       solver.solve(x, b);
       print("changed diagonals");
-      check(counts().factorisations == before_heavy.factorisations &&
+      check(counts().cholmod_factorisations == before_heavy.cholmod_factorisations &&
               counts().replaced_rows - before_heavy.replaced_rows == my + 2,
             "changed diagonals: only those rows replaced");
       same_as_fresh("changed diagonals");
@@ -225,7 +232,7 @@ int main(int argc, char *argv[])
       const auto before_same = counts();
       solver.update(A, 5);
       solver.solve(x, b);
-      check(counts().factorisations == before_same.factorisations &&
+      check(counts().cholmod_factorisations == before_same.cholmod_factorisations &&
               counts().replaced_rows == before_same.replaced_rows,
             "unchanged values: no rows replaced, no factorisation");
       same_as_fresh("unchanged values");
@@ -237,7 +244,7 @@ int main(int argc, char *argv[])
       solver.solve(x, b);
       print("every value changed");
       check(always ? counts().replaced_rows - before_all.replaced_rows == n :
-                     counts().factorisations == before_all.factorisations + 1,
+                     counts().cholmod_factorisations == before_all.cholmod_factorisations + 1,
             always ? "every value changed: every row replaced" :
                      "every value changed: factorised afresh");
       same_as_fresh("every value changed");
@@ -255,7 +262,7 @@ int main(int argc, char *argv[])
           worst = std::max(worst, difference_to_fresh(prm, A, b, x));
         }
       print("front marched 120 columns");
-      check(always ? counts().factorisations == before_march.factorisations :
+      check(always ? counts().cholmod_factorisations == before_march.cholmod_factorisations :
                      counts().row_updates - before_march.row_updates >= 40,
             always ? "a front marching 120 columns: no factorisation" :
                      "a front marching 120 columns: at least 40 modifications");

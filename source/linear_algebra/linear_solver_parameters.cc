@@ -73,7 +73,9 @@ namespace ContactStefan
                         "more to compute. Once the factorisations of one matrix pattern that "
                         "'Row update limit' could not replace by row modifications have cost "
                         "this many flops per stored matrix entry, the matrix is reordered by "
-                        "nested dissection (once per pattern). The default is what the "
+                        "nested dissection (once per pattern; only changes of fewer than a "
+                        "tenth of the rows count, as no ordering makes larger ones cheap). "
+                        "The default is what the "
                         "analysis costs in factorisation flops: 48 ms for the 80 881 stored "
                         "entries of the Stefan strip at nx = 400, whose factorisation of "
                         "2.3e7 flops took 13 ms (2026-11-28, development VM). 0: never reorder.");

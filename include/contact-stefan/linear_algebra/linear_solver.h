@@ -29,8 +29,9 @@
 namespace ContactStefan
 {
   /**
-   * What a linear solver did on its iterative path (CG + AMG) over some span
-   * of work: reported per contact step and summed over the run.
+   * What a linear solver did over some span of work, on its iterative path
+   * (CG + AMG) and with CHOLMOD: reported per step and summed over the run
+   * (checkpointed with it).
    */
   struct LinearSolverStatistics
   {
@@ -39,6 +40,13 @@ namespace ContactStefan
     unsigned int max_cg_iterations  = 0; // of one solve
     unsigned int amg_builds         = 0; // hierarchies built afresh
     unsigned int amg_recomputations = 0; // recomputed on kept aggregates
+    // CHOLMOD: numeric factorisations, factors modified row by row instead
+    // (Solver/Row update limit), the rows they replaced, and reorderings by
+    // nested dissection (Solver/Reordering cost).
+    unsigned int       cholmod_factorisations = 0;
+    unsigned int       row_updates            = 0;
+    unsigned long long replaced_rows          = 0;
+    unsigned int       reorderings            = 0;
 
     LinearSolverStatistics &operator+=(const LinearSolverStatistics &other)
     {
@@ -47,6 +55,10 @@ namespace ContactStefan
       max_cg_iterations = std::max(max_cg_iterations, other.max_cg_iterations);
       amg_builds += other.amg_builds;
       amg_recomputations += other.amg_recomputations;
+      cholmod_factorisations += other.cholmod_factorisations;
+      row_updates += other.row_updates;
+      replaced_rows += other.replaced_rows;
+      reorderings += other.reorderings;
       return *this;
     }
 
@@ -54,7 +66,8 @@ namespace ContactStefan
     template <class Archive>
     void serialize(Archive &ar, const unsigned int)
     {
-      ar &cg_solves &cg_iterations &max_cg_iterations &amg_builds &amg_recomputations;
+      ar &cg_solves &cg_iterations &max_cg_iterations &amg_builds &amg_recomputations
+        &cholmod_factorisations &row_updates &replaced_rows &reorderings;
     }
   };
 
@@ -164,24 +177,8 @@ namespace ContactStefan
      * before the next initialize() is then an error, not a use of freed memory.
      */
     void clear();
-    /** What the iterative path did since the last call (and start counting anew). */
+    /** What it did since the last call (and start counting anew). */
     LinearSolverStatistics take_statistics();
-    /**
-     * CHOLMOD's work so far: numeric factorisations, factors modified row by
-     * row instead ('Solver/Row update limit'), the rows they replaced and the
-     * reorderings by nested dissection ('Solver/Reordering cost').
-     */
-    struct CholmodCounts
-    {
-      unsigned int  factorisations = 0;
-      unsigned int  row_updates    = 0;
-      std::uint64_t replaced_rows  = 0;
-      unsigned int  reorderings    = 0; // to nested dissection (Solver/Reordering cost)
-    };
-    CholmodCounts cholmod_counts() const
-    {
-      return {factorisation_count, row_update_count, replaced_row_count, reordering_count};
-    }
 
   private:
     void check_finite_matrix(const TrilinosWrappers::SparseMatrix &A) const;
@@ -241,10 +238,11 @@ namespace ContactStefan
      * factor.
      */
     void cholmod_factorise(const bool analyse);
+    /** recall() and solve() on the CHOLMOD path. */
+    bool recall_cholmod(const std::uint64_t key);
+    void solve_cholmod(Vector &x, const Vector &b);
     /** Factorise the values in CHOLMOD's copy of the matrix afresh (numerically). */
-    void          cholmod_numeric();
-    unsigned int  factorisation_count = 0, row_update_count = 0, reordering_count = 0;
-    std::uint64_t replaced_row_count  = 0;
+    void cholmod_numeric();
     /**
      * The direct back end of this matrix: 'Solver/Direct solver type', with
      * 'automatic' meaning cholmod on one MPI rank and Amesos_Klu on several.

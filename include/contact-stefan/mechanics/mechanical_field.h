@@ -198,11 +198,6 @@ namespace ContactStefan
       // (The e_zz responses too: CG starts from them, and a resumed run has none.)
       ezz_response.clear();
     }
-    /** The elasticity system's CHOLMOD work in this process (LinearSolver). */
-    LinearSolver::CholmodCounts cholmod_counts() const
-    {
-      return linear_solver.cholmod_counts();
-    }
     /**
      * Adds the displacement, the stresses and strains (doc/output.md: cell-centre
      * values as cell data, their recovered nodal field per body as point data),

@@ -87,6 +87,7 @@ namespace ContactStefan
     unsigned int factorisations        = 0;     // matrices factorised (reused otherwise)
     double       thermoelastic_heat    = 0;     // -sum_i G_i, J per unit thickness
     bool         truncated_newton      = false; // solved by it (it converged)
+    LinearSolverStatistics linear;                        // the linear solver's work
   };
 
   /**
@@ -140,11 +141,6 @@ namespace ContactStefan
       have_factorisation  = false;
       have_preconditioner = false;
       linear_solver.clear();
-    }
-    /** The enthalpy system's CHOLMOD work in this process (LinearSolver). */
-    LinearSolver::CholmodCounts cholmod_counts() const
-    {
-      return linear_solver.cholmod_counts();
     }
     /**
      * Adds temperature, enthalpy, phase index and liquid fraction. The vectors

@@ -817,7 +817,7 @@ namespace ContactStefan
     bool                   corrected          = false;
     unsigned int           contact_iterations = 0, active_set_iterations = 0;
     unsigned int           contact_factorisations = 0, enthalpy_factorisations = 0;
-    LinearSolverStatistics contact_linear;
+    LinearSolverStatistics contact_linear, enthalpy_linear;
     bool                   truncated_newton = false;
     for (unsigned int it = 1;; ++it)
       {
@@ -838,6 +838,7 @@ namespace ContactStefan
         contact_factorisations += contact_report.factorisations;
         contact_linear += contact_report.linear;
         enthalpy_factorisations += thermal_report.factorisations;
+        enthalpy_linear += thermal_report.linear;
         truncated_newton           = truncated_newton || thermal_report.truncated_newton;
         coupling_report.iterations = it;
         if (!fixed_point)
@@ -896,6 +897,7 @@ namespace ContactStefan
     contact_report.linear                = contact_linear;
     thermal_report.active_set_iterations = active_set_iterations;
     thermal_report.factorisations        = enthalpy_factorisations;
+    thermal_report.linear                = enthalpy_linear;
     thermal_report.truncated_newton      = truncated_newton;
   }
 

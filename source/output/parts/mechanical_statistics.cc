@@ -273,14 +273,13 @@ namespace ContactStefan
           add("elasticity solver: AMG recomputations", linear.amg_recomputations);
         }
       // Of the contact factorisations, the modifications of an earlier factor
-      // row by row (Solver/Row update limit), counted in this process.
-      if (const LinearSolver::CholmodCounts counts = mechanical.cholmod_counts();
-          counts.row_updates > 0)
+      // row by row (Solver/Row update limit).
+      if (linear.row_updates > 0)
         {
-          add("elasticity solver: CHOLMOD factorisations", counts.factorisations);
-          add("elasticity solver: factors modified row by row", counts.row_updates);
-          add("elasticity solver: rows replaced", static_cast<double>(counts.replaced_rows));
-          add("elasticity solver: reorderings by nested dissection", counts.reorderings);
+          add("elasticity solver: CHOLMOD factorisations", linear.cholmod_factorisations);
+          add("elasticity solver: factors modified row by row", linear.row_updates);
+          add("elasticity solver: rows replaced", static_cast<double>(linear.replaced_rows));
+          add("elasticity solver: reorderings by nested dissection", linear.reorderings);
         }
       // Generalized plane strain: each body's e_zz at the end and its net
       // out-of-plane force int sigma_zz relative to its parts (zero to the

@@ -12,14 +12,16 @@ namespace ContactStefan
     {
       unsigned int total_active_set_iterations = 0, steps_with_fallback = 0;
       unsigned int steps_with_truncated_newton = 0, inconsistent_enthalpy_nodes = 0;
-      unsigned int enthalpy_factorisations = 0;
-      double       max_energy_residual     = 0;
+      unsigned int           enthalpy_factorisations = 0;
+      double                 max_energy_residual     = 0;
+      LinearSolverStatistics enthalpy_linear;
 
       template <class Archive>
       void serialize(Archive &ar, const unsigned int)
       {
         ar &total_active_set_iterations &steps_with_fallback &steps_with_truncated_newton
-          &inconsistent_enthalpy_nodes &enthalpy_factorisations &max_energy_residual;
+          &inconsistent_enthalpy_nodes &enthalpy_factorisations &max_energy_residual
+            &enthalpy_linear;
       }
     };
 
@@ -40,6 +42,7 @@ namespace ContactStefan
         s.max_energy_residual = max_with_nan(s.max_energy_residual, report.energy_residual);
         s.inconsistent_enthalpy_nodes += report.inconsistent_nodes;
         s.enthalpy_factorisations += report.factorisations;
+        s.enthalpy_linear += report.linear;
         // The melt area is collective: computed here, written by add_columns().
         melt_area = this->run.thermal->melt_area();
       }
@@ -101,16 +104,22 @@ namespace ContactStefan
         results.add(Slot::thermal, "enthalpy matrix factorisations", s.enthalpy_factorisations);
         results.add(Slot::thermal, "melt area", this->run.thermal->melt_area());
         // Of the factorisations above, how many were modifications of an
-        // earlier factor row by row (Solver/Row update limit), counted in this
-        // process (a resumed run counts from its restart). Bounded, not
+        // earlier factor row by row (Solver/Row update limit). Bounded, not
         // compared, by the regression tests ('... solver: ').
-        if (const LinearSolver::CholmodCounts counts = this->run.thermal->cholmod_counts();
-            counts.row_updates > 0)
+        if (const LinearSolverStatistics &linear = s.enthalpy_linear; linear.row_updates > 0)
           {
-            results.add(Slot::thermal, "enthalpy solver: CHOLMOD factorisations", counts.factorisations);
-            results.add(Slot::thermal, "enthalpy solver: factors modified row by row", counts.row_updates);
-            results.add(Slot::thermal, "enthalpy solver: rows replaced", static_cast<double>(counts.replaced_rows));
-            results.add(Slot::thermal, "enthalpy solver: reorderings by nested dissection", counts.reorderings);
+            results.add(Slot::thermal,
+                        "enthalpy solver: CHOLMOD factorisations",
+                        linear.cholmod_factorisations);
+            results.add(Slot::thermal,
+                        "enthalpy solver: factors modified row by row",
+                        linear.row_updates);
+            results.add(Slot::thermal,
+                        "enthalpy solver: rows replaced",
+                        static_cast<double>(linear.replaced_rows));
+            results.add(Slot::thermal,
+                        "enthalpy solver: reorderings by nested dissection",
+                        linear.reorderings);
           }
         results.add(Slot::thermal_consistency,
                     "nodes with h outside H(Theta)",

@@ -785,6 +785,7 @@ namespace ContactStefan
         report.relaxation_iterations += again.relaxation_iterations;
         report.state_changes += again.state_changes;
         report.factorisations += again.factorisations;
+        report.linear += again.linear;
         report.plateau_nodes      = again.plateau_nodes;
         report.energy_residual    = std::max(report.energy_residual, again.energy_residual);
         report.inconsistent_nodes = again.inconsistent_nodes;
@@ -909,6 +910,7 @@ namespace ContactStefan
     interpolate_mortar_slave_enthalpies(); // (mortar.cc)
     report.energy_residual    = compute_energy_balance(report.inconsistent_nodes);
     report.factorisations     = n_factorisations;
+    report.linear             = linear_solver.take_statistics();
     report.thermoelastic_heat = thermoelastic_heat();
     return report;
   }
