@@ -38,7 +38,6 @@ namespace ContactStefan
       throw std::runtime_error("cholmod could not analyse the " + name + " matrix");
     nested_dissection   = nested;
     factorisation_flops = common.fl;
-    factor_entries      = common.lnz;
     rejected_flops      = 0;
     const int   n       = static_cast<int>(A->ncol);
     const auto *perm    = static_cast<const int *>(L->Perm);
@@ -309,24 +308,6 @@ namespace ContactStefan
 
 
 
-  // Replace these rows of the current factor by those of A's values (or
-  // factorise afresh if that fails).
-  void LinearSolver::modify_or_factorise(const std::vector<int> &rows)
-  {
-    if (cholmod->replace_rows(cholmod->L, rows))
-      {
-        const auto *value = static_cast<const double *>(cholmod->A->x);
-        cholmod->values.assign(value, value + cholmod->n_values());
-        cholmod->unchecked = true;
-        ++statistics.row_updates;
-        statistics.replaced_rows += rows.size();
-      }
-    else
-      cholmod_numeric();
-  }
-
-
-
   // The CHOLMOD path of update(): keep the current factor (if it has a key) and
   // factorise into the storage of the least recently used one once 'Kept
   // factorisations' are kept: all share the one symbolic analysis. Where
@@ -337,25 +318,8 @@ namespace ContactStefan
   {
     cholmod_factorise(false);
     auto &kept = cholmod->kept;
-    // The factor to turn into the new values' by row modifications: the
-    // cheapest, counting its rows' work (within 'Row update limit' of a
-    // factorisation's) and, unless it is modified in place, a copy, about 12
-    // flops per entry of the factor (1.1 ms against 0.2 ns per estimated flop
-    // of the modifications on the Stefan strip at nx = 400). In place: the
-    // current factor (it is then not kept: a set seen before costs a few rows
-    // again rather than a copy now), which is taken whenever it is within the
-    // limit, or the least recently used kept one once 'Kept factorisations'
-    // are kept.
-    const bool       keep_current = prm.kept_factorisations > 0 && cholmod->key != 0;
-    const int        in_place     = keep_current && kept.size() >= prm.kept_factorisations ?
-                                      static_cast<int>(kept.size()) - 1 :
-                                      -2;
-    const double     budget       = prm.row_update_limit * cholmod->factorisation_flops;
-    const double     copy_cost    = 12. * cholmod->factor_entries;
-    int              base         = -2; // -1: the current one; i: kept[i]
-    double           best         = 0;
-    bool             comparable   = false; // a factor with known values
-    std::size_t      fewest       = cholmod->A->ncol;
+    // The factor closest to the new values: the fewest rows to replace.
+    int              base = -2; // -1: the current one; i: kept[i]
     std::vector<int> rows;
     if (prm.row_update_limit > 0)
       for (int i = -1; i < static_cast<int>(kept.size()); ++i)
@@ -363,58 +327,48 @@ namespace ContactStefan
           const std::vector<double> &values = i < 0 ? cholmod->values : kept[i].second.values;
           if (values.size() != cholmod->n_values())
             continue;
-          comparable                 = true;
           std::vector<int> candidate = cholmod->rows_to_replace(values);
-          fewest                     = std::min(fewest, candidate.size());
-          const cholmod_factor *F    = i < 0 ? cholmod->L : kept[i].second.L;
-          const double          work = cholmod->replacement_work(F, candidate, budget);
-          if (work > budget)
-            continue;
-          const double cost = work + (i == -1 || i == in_place ? 0. : copy_cost);
-          if (base == -2 || cost < best)
+          if (base == -2 || candidate.size() < rows.size())
             {
               base = i;
-              best = cost;
               rows = std::move(candidate);
             }
-          // The current factor within the limit: the kept ones are not
-          // looked at (comparing each with the new values costs too).
-          if (base == -1)
-            break;
         }
-    // A factorisation that row modifications could not replace: AMD's
-    // elimination trees are deep, so each modified row costs a path through
-    // most of the factor; nested dissection's are shallow (the Stefan strip's
-    // column of 41 nodes: 2.3 times a factorisation's flops with AMD, 0.22
-    // with METIS). Reorder once the factorisations so lost have cost what a
-    // nested-dissection analysis costs (renting against buying). Only changes
-    // of fewer than a tenth of the rows count: a new time step changes all.
-    if (base == -2 && comparable && !cholmod->nested_dissection && prm.reordering_cost > 0 &&
-        10 * fewest < cholmod->A->ncol)
+    if (base != -2)
       {
-        cholmod->rejected_flops += cholmod->factorisation_flops;
-        if (cholmod->rejected_flops >=
-            prm.reordering_cost * static_cast<double>(cholmod->n_values()))
+        const double          budget = prm.row_update_limit * cholmod->factorisation_flops;
+        const cholmod_factor *F      = base < 0 ? cholmod->L : kept[base].second.L;
+        if (cholmod->replacement_work(F, rows, budget) > budget)
           {
-            cholmod->analyse(true, name);
-            cholmod_numeric();
-            cholmod->key = key;
-            ++statistics.reorderings;
-            return;
+            base = -2;
+            // A factorisation that row modifications could not replace:
+            // AMD's elimination trees are deep, so each modified row costs
+            // a path through most of the factor; nested dissection's are
+            // shallow (the Stefan strip's column of 41 nodes: 2.3 times a
+            // factorisation's flops with AMD, 0.22 with METIS). Reorder once
+            // the factorisations so lost have cost what a nested-dissection
+            // analysis costs (renting against buying). Only changes of fewer
+            // than a tenth of the rows count: a new time step changes all.
+            if (!cholmod->nested_dissection && prm.reordering_cost > 0 &&
+                10 * rows.size() < cholmod->A->ncol)
+              {
+                cholmod->rejected_flops += cholmod->factorisation_flops;
+                if (cholmod->rejected_flops >=
+                    prm.reordering_cost * static_cast<double>(cholmod->n_values()))
+                  {
+                    cholmod->analyse(true, name);
+                    cholmod_numeric();
+                    cholmod->key = key;
+                    ++statistics.reorderings;
+                    return;
+                  }
+              }
           }
-      }
-    if (base == -1)
-      {
-        cholmod->values.clear();
-        cholmod->key       = 0;
-        cholmod->unchecked = false;
-        modify_or_factorise(rows);
-        cholmod->key = key;
-        return;
       }
     // The storage of the new factor: the current one's (nothing is kept), a
     // new one (fewer than 'Kept factorisations' are kept), or the least
     // recently used kept one's; the current factor is kept.
+    const bool      keep_current = prm.kept_factorisations > 0 && cholmod->key != 0;
     Cholmod::Factor storage;
     if (!keep_current)
       storage = Cholmod::Factor{cholmod->L, std::move(cholmod->values), cholmod->unchecked};
@@ -427,7 +381,9 @@ namespace ContactStefan
       }
     // A factor to copy into the storage: the one closest to the new values
     // unless that is the storage itself.
-    cholmod_factor *source = base >= 0 ? kept[base].second.L : nullptr;
+    cholmod_factor *source = base >= 0 ? kept[base].second.L :
+                             (base == -1 && keep_current) ? cholmod->L :
+                                                            nullptr;
     if (keep_current)
       kept.insert(kept.begin(),
                   {cholmod->key,
@@ -449,8 +405,14 @@ namespace ContactStefan
     cholmod->values    = {};
     cholmod->key       = 0;
     cholmod->unchecked = false;
-    if (base != -2)
-      modify_or_factorise(rows);
+    if (base != -2 && cholmod->replace_rows(cholmod->L, rows))
+      {
+        const auto *value = static_cast<const double *>(cholmod->A->x);
+        cholmod->values.assign(value, value + cholmod->n_values());
+        cholmod->unchecked = true;
+        ++statistics.row_updates;
+        statistics.replaced_rows += rows.size();
+      }
     else
       cholmod_numeric();
     cholmod->key = key;

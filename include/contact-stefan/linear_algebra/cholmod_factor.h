@@ -52,8 +52,6 @@ namespace ContactStefan
     // factorisations on this analysis that were too expensive as row
     // modifications (Solver/Reordering cost).
     double factorisation_flops = 0;
-    // The entries of the factor (CHOLMOD's count from the analysis).
-    double factor_entries      = 0;
     bool   nested_dissection   = false;
     double rejected_flops      = 0;
     // Work space of the row modifications: a column of pattern and one of

@@ -241,8 +241,6 @@ namespace ContactStefan
     /** recall() and solve() on the CHOLMOD path. */
     bool recall_cholmod(const std::uint64_t key);
     void solve_cholmod(Vector &x, const Vector &b);
-    /** Modify the current CHOLMOD factor's rows to A's values, else factorise. */
-    void modify_or_factorise(const std::vector<int> &rows);
     /** Factorise the values in CHOLMOD's copy of the matrix afresh (numerically). */
     void cholmod_numeric();
     /**
