@@ -217,6 +217,22 @@ int main(int argc, char *argv[])
                               "from the current factor"));
       same_as_fresh("column 6");
 
+      // The set of column 5 again: its factor is recalled where one is kept
+      // (no work), else its rows are replaced; then column 6 again.
+      fill(A, column(5), 2.5);
+      const bool recalled = solver.recall(2);
+      if (!recalled)
+        solver.update(A, 2);
+      solver.solve(x, b);
+      check(recalled == (scenario.kept > 0),
+            std::string("column 5 again: ") + (scenario.kept > 0 ? "recalled" : "not kept"));
+      same_as_fresh("column 5 again");
+      fill(A, column(6), 2.5);
+      if (!solver.recall(3))
+        solver.update(A, 3);
+      solver.solve(x, b);
+      same_as_fresh("column 6 again");
+
       // Heavier diagonals on some fixed and some free nodes (a capacity change).
       const auto before_heavy = counts();
       fill(A, column(6), 3.5, {node(3, 6), node(2, 21), node(19, 299)}, 0.7);

@@ -104,7 +104,13 @@ namespace ContactStefan
         row_pattern = cholmod_allocate_sparse(n, 1, n, false, true, 0, CHOLMOD_PATTERN, &common);
         row_values  = cholmod_allocate_sparse(n, 1, n, false, true, 0, CHOLMOD_REAL, &common);
         if (row_pattern == nullptr || row_values == nullptr)
-          return false;
+          {
+            if (row_pattern != nullptr)
+              cholmod_free_sparse(&row_pattern, &common);
+            if (row_values != nullptr)
+              cholmod_free_sparse(&row_values, &common);
+            return false;
+          }
         mark.assign(n, 0);
       }
     auto *pattern_start = static_cast<int *>(row_pattern->p);
@@ -280,6 +286,9 @@ namespace ContactStefan
     const int n = static_cast<int>(cholmod->A->ncol);
     cholmod->values.clear();
     cholmod->unchecked = false;
+    // (Until it succeeds, the factor names no values: a failure must not
+    // leave it recallable or keepable under its old key.)
+    cholmod->key = 0;
     cholmod_factorize(cholmod->A, cholmod->L, &cholmod->common);
     if (cholmod->common.status == CHOLMOD_NOT_POSDEF)
       throw std::runtime_error("the " + name +
@@ -356,7 +365,16 @@ namespace ContactStefan
                 if (cholmod->rejected_flops >=
                     prm.reordering_cost * static_cast<double>(cholmod->n_values()))
                   {
-                    cholmod->analyse(true, name);
+                    try
+                      {
+                        cholmod->analyse(true, name);
+                      }
+                    catch (...)
+                      {
+                        // (Nothing usable is left: the next update() starts afresh.)
+                        cholmod.reset();
+                        throw;
+                      }
                     cholmod_numeric();
                     cholmod->key = key;
                     ++statistics.reorderings;
@@ -379,28 +397,34 @@ namespace ContactStefan
         if (base == static_cast<int>(kept.size()))
           base = -3; // the storage itself
       }
+    const bool unchecked_source = base == -1 ? cholmod->unchecked :
+                                  base >= 0  ? kept[base].second.unchecked :
+                                  base == -3 ? storage.unchecked :
+                                               false;
     // A factor to copy into the storage: the one closest to the new values
     // unless that is the storage itself.
-    cholmod_factor *source = base >= 0 ? kept[base].second.L :
+    cholmod_factor *source = base >= 0                    ? kept[base].second.L :
                              (base == -1 && keep_current) ? cholmod->L :
                                                             nullptr;
+    if (source != nullptr || storage.L == nullptr)
+      {
+        // (To be factorised afresh into new storage: a copy of any factor
+        // for its symbolic analysis, the current one.) Copied before the
+        // current factor moves to the kept ones, so that a failed copy
+        // leaves every factor with one owner.
+        cholmod_factor *copy =
+          cholmod_copy_factor(source != nullptr ? source : cholmod->L, &cholmod->common);
+        if (storage.L != nullptr && (copy != nullptr || keep_current))
+          cholmod_free_factor(&storage.L, &cholmod->common);
+        if (copy == nullptr)
+          throw std::runtime_error("cholmod could not copy a factor of the " + name +
+                                   " matrix (out of memory?)");
+        storage.L = copy;
+      }
     if (keep_current)
       kept.insert(kept.begin(),
                   {cholmod->key,
                    Cholmod::Factor{cholmod->L, std::move(cholmod->values), cholmod->unchecked}});
-    if (source != nullptr || storage.L == nullptr)
-      {
-        // (To be factorised afresh into new storage: a copy of any factor
-        // for its symbolic analysis, the one just kept.)
-        cholmod_factor *copy =
-          cholmod_copy_factor(source != nullptr ? source : kept.front().second.L, &cholmod->common);
-        if (copy == nullptr)
-          throw std::runtime_error("cholmod could not copy a factor of the " + name +
-                                   " matrix (out of memory?)");
-        if (storage.L != nullptr)
-          cholmod_free_factor(&storage.L, &cholmod->common);
-        storage.L = copy;
-      }
     cholmod->L         = storage.L;
     cholmod->values    = {};
     cholmod->key       = 0;
@@ -409,9 +433,13 @@ namespace ContactStefan
       {
         const auto *value = static_cast<const double *>(cholmod->A->x);
         cholmod->values.assign(value, value + cholmod->n_values());
-        cholmod->unchecked = true;
-        ++statistics.row_updates;
-        statistics.replaced_rows += rows.size();
+        // (No row to replace: the copy factors these very values.)
+        cholmod->unchecked = !rows.empty() || unchecked_source;
+        if (!rows.empty())
+          {
+            ++statistics.row_updates;
+            statistics.replaced_rows += rows.size();
+          }
       }
     else
       cholmod_numeric();
@@ -488,7 +516,9 @@ namespace ContactStefan
             std::copy(cholmod->values.begin(),
                       cholmod->values.end(),
                       static_cast<double *>(cholmod->A->x));
+            const std::uint64_t key = cholmod->key;
             cholmod_numeric();
+            cholmod->key = key; // the same values, now factorised
             solve_cholmod(x, b);
             return;
           }
