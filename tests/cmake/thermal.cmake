@@ -118,7 +118,9 @@ scene(neumann/A-large-step-active-set 1 ${P}/neumann_A.prm neumann_A_large_step_
   "RESULT steps solved by the truncated Newton method>13"
   "RESULT relative space-time L2 error temperature>0.0106213"
   "RESULT relative space-time L2 error temperature<0.0106214")
-scene(neumann/A-large-step-active-set-mpi2 2 ${P}/neumann_A.prm neumann_A_large_step_active_set
+# (Its own reference: KLU on two ranks never modifies a factor row by row, so
+# one kept factor more survives and the run factorises once less, 70 against 71.)
+scene(neumann/A-large-step-active-set-mpi2 2 ${P}/neumann_A.prm neumann_A_large_step_active_set_mpi2
   ${LARGE_STEP} ${STEP_BOUNDS}
   "RESULT mean active-set iterations<6"
   "RESULT steps solved by the truncated Newton method>13"

@@ -105,7 +105,9 @@ namespace ContactStefan
     /**
      * A's values changed in place (a new active set, same pattern): the direct
      * solver refactorises numerically on its kept symbolic analysis (the
-     * fill-reducing ordering); an AMG hierarchy built on the same matrix object
+     * fill-reducing ordering), or with CHOLMOD modifies the factor closest to
+     * the new values row by row where few rows changed ('Solver/Row update
+     * limit', 'Solver/Reordering cost'); an AMG hierarchy built on the same matrix object
      * is, by 'Solver/AMG update', kept as it is, or keeps its aggregates and
      * recomputes its prolongators, coarse operators and smoothers from the new
      * values (ML's reuse), or is built afresh.

@@ -69,8 +69,7 @@ namespace ContactStefan
   // of the solidification history are attached to the mesh after the fields'
   // state; 12: the mortar statistics count the large-sliding couplings; 13:
   // and the largest slide of a step); 14: the linear solvers' statistics count
-  // CHOLMOD's factorisations and row modifications), so
-  // that an older checkpoint is refused by name, not misread.
+  // CHOLMOD's work), so that an older checkpoint is refused by name, not misread.
   const std::string checkpoint_format = "contact-stefan checkpoint 14";
 
   namespace

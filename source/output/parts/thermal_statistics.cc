@@ -104,8 +104,8 @@ namespace ContactStefan
         results.add(Slot::thermal, "enthalpy matrix factorisations", s.enthalpy_factorisations);
         results.add(Slot::thermal, "melt area", this->run.thermal->melt_area());
         // Of the factorisations above, how many were modifications of an
-        // earlier factor row by row (Solver/Row update limit). Bounded, not
-        // compared, by the regression tests ('... solver: ').
+        // earlier factor row by row (Solver/Row update limit). Not compared
+        // with a reference by the regression tests ('... solver: ' lines).
         if (const LinearSolverStatistics &linear = s.enthalpy_linear; linear.row_updates > 0)
           {
             results.add(Slot::thermal,
