@@ -14,6 +14,7 @@
 #include <string>
 
 #include <Epetra_CrsMatrix.h>
+#include <cholmod.h>
 
 
 namespace ContactStefan
@@ -71,9 +72,145 @@ namespace ContactStefan
 
 
 
+  // CHOLMOD's workspace, the symmetric matrix's lower triangle and its factor.
+  template <int dim>
+  struct CoupledBlock<dim>::Cholmod
+  {
+    cholmod_common  common;
+    cholmod_sparse *A = nullptr;
+    cholmod_factor *L = nullptr;
+    Cholmod()
+    {
+      cholmod_start(&common);
+    }
+    ~Cholmod()
+    {
+      if (L != nullptr)
+        cholmod_free_factor(&L, &common);
+      if (A != nullptr)
+        cholmod_free_sparse(&A, &common);
+      cholmod_finish(&common);
+    }
+    Cholmod(const Cholmod &)            = delete;
+    Cholmod &operator=(const Cholmod &) = delete;
+  };
+
+
+
+  // The block matrix with its thermal rows multiplied by -1/Theta_0 is
+  // [K, -B; -B^T, -S/Theta_0] for a constant Theta_0: symmetric, with a
+  // positive definite and a negative definite diagonal block
+  // (quasi-definite), so an LDL^T factorisation without pivoting exists for
+  // any symmetric ordering (Vanderbei 1995) and is far cheaper than a general
+  // LU. False (nothing set up) where the scaled matrix is not symmetric to
+  // round-off (Theta_0 varies, hanging-node constraints couple the blocks
+  // unevenly) or the pivots' signs are not those of the two blocks.
+  template <int dim>
+  bool CoupledBlock<dim>::factorise_symmetric()
+  {
+    const auto &reference = thermal.get_absolute_reference();
+    double      theta0    = 0;
+    for (const auto &cell : reference)
+      for (const double v : cell)
+        {
+          if (theta0 == 0)
+            theta0 = v;
+          if (v != theta0)
+            return false;
+        }
+    if (!(theta0 > 0))
+      return false;
+    const auto n_u    = static_cast<PetscInt>(mechanical.get_dof_handler().n_dofs());
+    const auto n      = static_cast<PetscInt>(row_start.size() - 1);
+    thermal_row_scale = -1. / theta0;
+    const auto scaled = [&](const PetscInt row, const PetscInt k) {
+      return row < n_u ? values[k] : thermal_row_scale * values[k];
+    };
+    // Symmetry, entry by entry (each row's columns are sorted), and the lower
+    // triangle by columns: column r holds row r's entries right of and on the
+    // diagonal.
+    double largest = 0;
+    for (const double v : values)
+      largest = std::max(largest, std::abs(v));
+    std::size_t lower = 0;
+    for (PetscInt r = 0; r < n; ++r)
+      for (PetscInt k = row_start[r]; k < row_start[r + 1]; ++k)
+        if (const PetscInt c = column_index[k]; c >= r)
+          {
+            ++lower;
+            if (c == r)
+              continue;
+            const auto   begin = column_index.begin() + row_start[c];
+            const auto   end   = column_index.begin() + row_start[c + 1];
+            const auto   at    = std::lower_bound(begin, end, r);
+            const double mirror =
+              (at != end && *at == r) ? scaled(c, at - column_index.begin()) : 0.;
+            if (std::abs(scaled(r, k) - mirror) >
+                1e-12 * (std::abs(scaled(r, k)) + std::abs(mirror)) +
+                  1e-14 * largest * std::abs(thermal_row_scale))
+              return false;
+          }
+    cholmod                = std::make_shared<Cholmod>();
+    cholmod_common &common = cholmod->common;
+    cholmod->A = cholmod_allocate_sparse(n, n, lower, true, true, -1, CHOLMOD_REAL, &common);
+    if (cholmod->A == nullptr)
+      throw std::runtime_error("the block correction of the coupling: CHOLMOD could not allocate "
+                               "the block matrix (out of memory?)");
+    auto       *Ap       = static_cast<int *>(cholmod->A->p);
+    auto       *Ai       = static_cast<int *>(cholmod->A->i);
+    auto       *Ax       = static_cast<double *>(cholmod->A->x);
+    std::size_t position = 0;
+    for (PetscInt r = 0; r < n; ++r)
+      {
+        Ap[r] = static_cast<int>(position);
+        for (PetscInt k = row_start[r]; k < row_start[r + 1]; ++k)
+          if (column_index[k] >= r)
+            {
+              Ai[position] = static_cast<int>(column_index[k]);
+              Ax[position] = scaled(r, k);
+              ++position;
+            }
+      }
+    Ap[n]                     = static_cast<int>(position);
+    common.supernodal         = CHOLMOD_SIMPLICIAL;
+    common.final_ll           = false;
+    common.nmethods           = 1;
+    common.method[0].ordering = CHOLMOD_METIS;
+    cholmod->L                = cholmod_analyze(cholmod->A, &common);
+    if (cholmod->L == nullptr)
+      {
+        common.nmethods = 0;
+        cholmod->L      = cholmod_analyze(cholmod->A, &common);
+      }
+    if (cholmod->L == nullptr || !cholmod_factorize(cholmod->A, cholmod->L, &common) ||
+        common.status != CHOLMOD_OK)
+      {
+        cholmod.reset();
+        return false;
+      }
+    // The inertia: n_u positive pivots (K) and n_T negative ones (-S/Theta_0).
+    const auto *Lp       = static_cast<const int *>(cholmod->L->p);
+    const auto *Lx       = static_cast<const double *>(cholmod->L->x);
+    PetscInt    positive = 0, negative = 0;
+    for (PetscInt j = 0; j < n; ++j)
+      {
+        positive += Lx[Lp[j]] > 0;
+        negative += Lx[Lp[j]] < 0;
+      }
+    if (positive != n_u || negative != n - n_u)
+      {
+        cholmod.reset();
+        return false;
+      }
+    return true;
+  }
+
+
+
   template <int dim>
   void CoupledBlock<dim>::free_factorisation()
   {
+    cholmod.reset();
     if (petsc_solver != nullptr)
       KSPDestroy(&petsc_solver);
     if (petsc_matrix != nullptr)
@@ -205,6 +342,13 @@ namespace ContactStefan
     // Theta_0 = 1 + 1000 x^4 included), and a zero pivot or a non-finite
     // correction stops the run in correct() with a message naming the remedy.
     free_factorisation();
+    if (factorise_symmetric())
+      {
+        ++factorisations;
+        have_factorisation = true;
+        built_signature    = signature();
+        return;
+      }
     const auto n = static_cast<PetscInt>(n_u + n_T);
     check_petsc(
       MatCreateSeqAIJWithArrays(
@@ -245,23 +389,45 @@ namespace ContactStefan
     std::vector<PetscScalar> b(n_u + n_T, 0.), x(n_u + n_T);
     const double *const      load = change.trilinos_vector()[0];
     std::copy(load, load + n_u, b.begin());
-    Vec petsc_b, petsc_x;
-    check_petsc(VecCreateSeqWithArray(PETSC_COMM_SELF, 1, b.size(), b.data(), &petsc_b),
-                "wrap the right-hand side");
-    check_petsc(VecCreateSeqWithArray(PETSC_COMM_SELF, 1, x.size(), x.data(), &petsc_x),
-                "wrap the solution");
-    const PetscErrorCode code = KSPSolve(petsc_solver, petsc_b, petsc_x);
-    VecDestroy(&petsc_b);
-    VecDestroy(&petsc_x);
-    check_petsc(code, "solve with the block matrix");
-    KSPConvergedReason reason;
-    check_petsc(KSPGetConvergedReason(petsc_solver, &reason), "report the solve");
-    if (reason < 0 ||
-        !std::all_of(x.begin(), x.end(), [](const double v) { return std::isfinite(v); }))
-      throw std::runtime_error("the block correction of the coupling failed (a zero pivot or a "
-                               "non-finite correction; PETSc reason " +
-                               std::to_string(static_cast<int>(reason)) +
-                               "); set 'Coupling/Fixed-point acceleration' = none");
+    if (cholmod)
+      {
+        // (The thermal rows of b are zero: nothing to scale.)
+        cholmod_common &common = cholmod->common;
+        cholmod_dense  *B = cholmod_allocate_dense(b.size(), 1, b.size(), CHOLMOD_REAL, &common);
+        if (B == nullptr)
+          throw std::runtime_error("the block correction of the coupling: CHOLMOD could not "
+                                   "allocate a vector (out of memory?)");
+        std::copy(b.begin(), b.end(), static_cast<double *>(B->x));
+        cholmod_dense *X = cholmod_solve(CHOLMOD_A, cholmod->L, B, &common);
+        cholmod_free_dense(&B, &common);
+        if (X == nullptr)
+          throw std::runtime_error("the block correction of the coupling: CHOLMOD's solve failed");
+        std::copy(static_cast<double *>(X->x), static_cast<double *>(X->x) + x.size(), x.begin());
+        cholmod_free_dense(&X, &common);
+        if (!std::all_of(x.begin(), x.end(), [](const double v) { return std::isfinite(v); }))
+          throw std::runtime_error("the block correction of the coupling failed (a non-finite "
+                                   "correction); set 'Coupling/Fixed-point acceleration' = none");
+      }
+    else
+      {
+        Vec petsc_b, petsc_x;
+        check_petsc(VecCreateSeqWithArray(PETSC_COMM_SELF, 1, b.size(), b.data(), &petsc_b),
+                    "wrap the right-hand side");
+        check_petsc(VecCreateSeqWithArray(PETSC_COMM_SELF, 1, x.size(), x.data(), &petsc_x),
+                    "wrap the solution");
+        const PetscErrorCode code = KSPSolve(petsc_solver, petsc_b, petsc_x);
+        VecDestroy(&petsc_b);
+        VecDestroy(&petsc_x);
+        check_petsc(code, "solve with the block matrix");
+        KSPConvergedReason reason;
+        check_petsc(KSPGetConvergedReason(petsc_solver, &reason), "report the solve");
+        if (reason < 0 ||
+            !std::all_of(x.begin(), x.end(), [](const double v) { return std::isfinite(v); }))
+          throw std::runtime_error("the block correction of the coupling failed (a zero pivot or a "
+                                   "non-finite correction; PETSc reason " +
+                                   std::to_string(static_cast<int>(reason)) +
+                                   "); set 'Coupling/Fixed-point acceleration' = none");
+      }
 
     // (u, Theta) + correction; the constrained entries from their masters and
     // prescribed values (u and Theta satisfy the constraints already, so this

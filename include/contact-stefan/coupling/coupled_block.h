@@ -33,6 +33,7 @@
 #include <contact-stefan/thermal/thermal_field.h>
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -105,6 +106,17 @@ namespace ContactStefan
     std::vector<PetscScalar> values;
     Mat                      petsc_matrix = nullptr;
     KSP                      petsc_solver = nullptr;
+    /**
+     * Or, where the matrix with its thermal rows divided by -Theta_0 is
+     * symmetric (a constant Theta_0), CHOLMOD's LDL^T of that symmetric
+     * quasi-definite matrix (nested dissection, no pivoting), whose inertia
+     * (as many positive pivots as displacement unknowns) is checked;
+     * thermal_row_scale is -1/Theta_0.
+     */
+    struct Cholmod;
+    std::shared_ptr<Cholmod> cholmod;
+    double                   thermal_row_scale = 0;
+    bool                     factorise_symmetric();
     void                     free_factorisation();
     bool                     have_factorisation = false;
     std::uint64_t            built_signature    = 0;
