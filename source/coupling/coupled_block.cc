@@ -102,9 +102,10 @@ namespace ContactStefan
   // positive definite and a negative definite diagonal block
   // (quasi-definite), so an LDL^T factorisation without pivoting exists for
   // any symmetric ordering (Vanderbei 1995) and is far cheaper than a general
-  // LU. False (nothing set up) where the scaled matrix is not symmetric to
-  // round-off (Theta_0 varies, hanging-node constraints couple the blocks
-  // unevenly) or the pivots' signs are not those of the two blocks.
+  // LU. (Hanging-node constraints keep it symmetric: the condensed coupling
+  // blocks stay each other's transposes.) False (nothing set up) where Theta_0
+  // varies, the scaled matrix is not symmetric to round-off, or the pivots'
+  // signs are not those of the two blocks.
   template <int dim>
   bool CoupledBlock<dim>::factorise_symmetric()
   {
@@ -129,27 +130,38 @@ namespace ContactStefan
     // Symmetry, entry by entry (each row's columns are sorted), and the lower
     // triangle by columns: column r holds row r's entries right of and on the
     // diagonal.
-    double largest = 0;
-    for (const double v : values)
-      largest = std::max(largest, std::abs(v));
-    std::size_t lower = 0;
+    // Round-off is judged against the largest scaled entry of the two rows
+    // an entry and its mirror lie in. Every entry left of the diagonal must
+    // be the mirror of one right of it (the factorisation reads the upper
+    // ones only).
+    std::vector<double> row_largest(n, 0.);
     for (PetscInt r = 0; r < n; ++r)
       for (PetscInt k = row_start[r]; k < row_start[r + 1]; ++k)
-        if (const PetscInt c = column_index[k]; c >= r)
+        row_largest[r] = std::max(row_largest[r], std::abs(scaled(r, k)));
+    std::size_t upper = 0, left = 0, mirrored = 0;
+    for (PetscInt r = 0; r < n; ++r)
+      for (PetscInt k = row_start[r]; k < row_start[r + 1]; ++k)
+        if (const PetscInt c = column_index[k]; c < r)
+          ++left;
+        else
           {
-            ++lower;
+            ++upper;
             if (c == r)
               continue;
-            const auto   begin = column_index.begin() + row_start[c];
-            const auto   end   = column_index.begin() + row_start[c + 1];
-            const auto   at    = std::lower_bound(begin, end, r);
-            const double mirror =
-              (at != end && *at == r) ? scaled(c, at - column_index.begin()) : 0.;
+            const auto begin  = column_index.begin() + row_start[c];
+            const auto end    = column_index.begin() + row_start[c + 1];
+            const auto at     = std::lower_bound(begin, end, r);
+            const bool paired = at != end && *at == r;
+            mirrored += paired;
+            const double mirror = paired ? scaled(c, at - column_index.begin()) : 0.;
             if (std::abs(scaled(r, k) - mirror) >
                 1e-12 * (std::abs(scaled(r, k)) + std::abs(mirror)) +
-                  1e-14 * largest * std::abs(thermal_row_scale))
+                  1e-14 * (row_largest[r] + row_largest[c]))
               return false;
           }
+    if (mirrored != left)
+      return false;
+    const std::size_t lower = upper;
     cholmod                = std::make_shared<Cholmod>();
     cholmod_common &common = cholmod->common;
     cholmod->A = cholmod_allocate_sparse(n, n, lower, true, true, -1, CHOLMOD_REAL, &common);
@@ -333,8 +345,8 @@ namespace ContactStefan
     append_rows(thermal.get_system_matrix(), n_u, Tu_matrix, 0);
     AssertThrow(row_start.size() == n_u + n_T + 1, ExcInternalError());
 
-    // LU with a nested-dissection ordering (2D meshes: far less fill than
-    // minimum degree), without pivoting. For a constant Theta_0 on a mesh
+    // Elsewhere: LU with a nested-dissection ordering (2D meshes: far less
+    // fill than minimum degree), without pivoting. For a constant Theta_0 on a mesh
     // without hanging nodes the matrix with its thermal rows divided by
     // Theta_0 has a positive definite symmetric part (K and S are, and the two
     // coupling blocks are each other's negative transpose), so no pivot
@@ -404,6 +416,54 @@ namespace ContactStefan
           throw std::runtime_error("the block correction of the coupling: CHOLMOD's solve failed");
         std::copy(static_cast<double *>(X->x), static_cast<double *>(X->x) + x.size(), x.begin());
         cholmod_free_dense(&X, &common);
+        // No pivoting: LDL^T of a quasi-definite matrix exists for any
+        // ordering but its stability depends on how the blocks compare. The
+        // backward error |b - A x| / (|A| |x| + |b|) (max norms, on the
+        // unscaled compressed rows) is checked, and one step of iterative
+        // refinement taken where it exceeds 1e-12. A correction that stays
+        // inaccurate costs fixed-point passes, not accuracy: the fixed-point
+        // test decides the step.
+        std::vector<double> residual(b.size());
+        double              matrix_norm    = 0;
+        const auto          backward_error = [&]() {
+          double r_max = 0, x_max = 0, b_max = 0;
+          matrix_norm = 0;
+          for (std::size_t i = 0; i + 1 < row_start.size(); ++i)
+            {
+              double sum = b[i], row = 0;
+              for (PetscInt k = row_start[i]; k < row_start[i + 1]; ++k)
+                {
+                  sum -= values[k] * x[column_index[k]];
+                  row += std::abs(values[k]);
+                }
+              residual[i] = sum;
+              r_max       = std::max(r_max, std::abs(sum));
+              x_max       = std::max(x_max, std::abs(x[i]));
+              b_max       = std::max(b_max, std::abs(b[i]));
+              matrix_norm = std::max(matrix_norm, row);
+            }
+          const double scale = matrix_norm * x_max + b_max;
+          return scale > 0 ? r_max / scale : 0.;
+        };
+        if (backward_error() > 1e-12)
+          {
+            cholmod_dense *R = cholmod_allocate_dense(b.size(), 1, b.size(), CHOLMOD_REAL, &common);
+            if (R == nullptr)
+              throw std::runtime_error("the block correction of the coupling: CHOLMOD could "
+                                       "not allocate a vector (out of memory?)");
+            auto *r = static_cast<double *>(R->x);
+            for (std::size_t i = 0; i < b.size(); ++i)
+              r[i] = i < n_u ? residual[i] : thermal_row_scale * residual[i];
+            cholmod_dense *D = cholmod_solve(CHOLMOD_A, cholmod->L, R, &common);
+            cholmod_free_dense(&R, &common);
+            if (D == nullptr)
+              throw std::runtime_error(
+                "the block correction of the coupling: CHOLMOD's solve failed");
+            for (std::size_t i = 0; i < x.size(); ++i)
+              x[i] += static_cast<double *>(D->x)[i];
+            cholmod_free_dense(&D, &common);
+            ++refinements;
+          }
         if (!std::all_of(x.begin(), x.end(), [](const double v) { return std::isfinite(v); }))
           throw std::runtime_error("the block correction of the coupling failed (a non-finite "
                                    "correction); set 'Coupling/Fixed-point acceleration' = none");

@@ -13,7 +13,8 @@
 //     [ K      -J_uT ] [du    ]   [ J_uT (Theta1 - Theta_in) ]
 //     [ J_Tu    S    ] [dTheta] = [ 0                        ].
 // Its matrix is assembled from the two fields' system matrices and the cell
-// operators B_K, factorised once (PETSc's sparse LU) and kept while both
+// operators B_K, factorised once (CHOLMOD's LDL^T of its symmetric
+// quasi-definite form for a constant Theta_0, else PETSc's sparse LU) and kept while both
 // fields' matrices keep their fingerprints: a linear step costs one pass, one block solve and a
 // confirming pass, however strong the coupling (a plain fixed point contracts
 // the lag only by about the coupling strength per pass).
@@ -116,6 +117,7 @@ namespace ContactStefan
     struct Cholmod;
     std::shared_ptr<Cholmod> cholmod;
     double                   thermal_row_scale = 0;
+    unsigned int             refinements       = 0; // iterative refinement steps taken
     bool                     factorise_symmetric();
     void                     free_factorisation();
     bool                     have_factorisation = false;
