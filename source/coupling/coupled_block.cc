@@ -200,6 +200,9 @@ namespace ContactStefan
         cholmod.reset();
         return false;
       }
+    // (The solves need the factor only; the residual check reads the
+    // compressed rows.)
+    cholmod_free_sparse(&cholmod->A, &common);
     // The inertia: n_u positive pivots (K) and n_T negative ones (-S/Theta_0).
     const auto *Lp       = static_cast<const int *>(cholmod->L->p);
     const auto *Lx       = static_cast<const double *>(cholmod->L->x);
@@ -462,7 +465,6 @@ namespace ContactStefan
             for (std::size_t i = 0; i < x.size(); ++i)
               x[i] += static_cast<double *>(D->x)[i];
             cholmod_free_dense(&D, &common);
-            ++refinements;
           }
         if (!std::all_of(x.begin(), x.end(), [](const double v) { return std::isfinite(v); }))
           throw std::runtime_error("the block correction of the coupling failed (a non-finite "

@@ -52,36 +52,38 @@ namespace ContactStefan
                         "melting front passes a row of nodes, is solved without factorising "
                         "or recomputing again. Each costs the memory of one factor or "
                         "hierarchy. 0: keep none.");
-      prm.declare_entry("Row update limit",
-                        "0.5",
-                        Patterns::Double(0),
-                        "cholmod: when a new active set changes only some rows and columns "
-                        "of the matrix (nodes entering or leaving a plateau or the contact "
-                        "set), the factor is modified row by row (CHOLMOD's row deletion "
-                        "and addition, Davis & Hager 2005) instead of being refactorised, "
-                        "if the estimated work of the modifications is below this fraction "
-                        "of a factorisation's. The first solve with a modified factor is "
-                        "checked against 'Refactorisation backward error' and the matrix is "
-                        "factorised afresh if it fails. 0: always refactorise. The Stefan strip "
-                        "at nx = 400 (doc/performance.md) took 3.13-3.17 s with the default "
-                        "against 4.45-4.63 s with 0; limits of 1 and 2 measured the same as "
-                        "0.5 within the runs' spread.");
-      prm.declare_entry("Reordering cost",
-                        "1000",
-                        Patterns::Double(0),
-                        "cholmod: the fill-reducing ordering is CHOLMOD's choice (AMD on our "
-                        "matrices), whose deep elimination trees make row modifications "
-                        "expensive; nested dissection (METIS) makes them cheap but costs "
-                        "more to compute. Once the factorisations of one matrix pattern that "
-                        "'Row update limit' could not replace by row modifications have cost "
-                        "this many flops per stored matrix entry, the matrix is reordered by "
-                        "nested dissection (once per analysis, which a new mesh, time step or "
-                        "conductivity starts; only changes of fewer than a "
-                        "tenth of the rows count, as no ordering makes larger ones cheap). "
-                        "The default is what the "
-                        "analysis costs in factorisation flops: 48 ms for the 80 881 stored "
-                        "entries of the Stefan strip at nx = 400, whose factorisation of "
-                        "2.3e7 flops took 13 ms (2026-11-28, development VM). 0: never reorder.");
+      prm.declare_entry(
+        "Row update limit",
+        "0.5",
+        Patterns::Double(0),
+        "cholmod: when a new active set changes only some rows and columns "
+        "of the matrix (nodes entering or leaving a plateau or the contact "
+        "set), the factor is modified row by row (CHOLMOD's row deletion "
+        "and addition, Davis & Hager 2005) instead of being refactorised, "
+        "if the estimated work of the modifications is below this fraction "
+        "of a factorisation's. The first solve with a modified factor is "
+        "checked against 'Refactorisation backward error' and the matrix is "
+        "factorised afresh if it fails. 0: always refactorise. The Stefan strip "
+        "at nx = 400 (doc/performance.md; hand runs at 6eeef6a) took 3.13-3.17 s with the default "
+        "against 4.45-4.63 s with 0; limits of 1 and 2 measured the same as "
+        "0.5 within the runs' spread.");
+      prm.declare_entry(
+        "Reordering cost",
+        "1000",
+        Patterns::Double(0),
+        "cholmod: the fill-reducing ordering is CHOLMOD's choice (AMD on our "
+        "matrices), whose deep elimination trees make row modifications "
+        "expensive; nested dissection (METIS) makes them cheap but costs "
+        "more to compute. Once the factorisations of one matrix pattern that "
+        "'Row update limit' could not replace by row modifications have cost "
+        "this many flops per stored matrix entry, the matrix is reordered by "
+        "nested dissection (once per analysis, which a new mesh, time step or "
+        "conductivity starts; only changes of fewer than a "
+        "tenth of the rows count, as no ordering makes larger ones cheap). "
+        "The default is what the "
+        "analysis costs in factorisation flops (a timed build by hand, doc/performance.md): 48 ms for the 80 881 stored "
+        "entries of the Stefan strip at nx = 400, whose factorisation of "
+        "2.3e7 flops took 13 ms (2026-11-28, development VM). 0: never reorder.");
       prm.declare_entry("CG tolerance",
                         "1e-12",
                         Patterns::Double(0),

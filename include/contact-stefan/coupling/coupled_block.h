@@ -117,7 +117,6 @@ namespace ContactStefan
     struct Cholmod;
     std::shared_ptr<Cholmod> cholmod;
     double                   thermal_row_scale = 0;
-    unsigned int             refinements       = 0; // iterative refinement steps taken
     bool                     factorise_symmetric();
     void                     free_factorisation();
     bool                     have_factorisation = false;
