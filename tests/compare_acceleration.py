@@ -51,6 +51,9 @@ def main():
     parser.add_argument("--np", type=int, default=1)
     parser.add_argument("--tolerance", type=float, default=1e-8)
     parser.add_argument("--passes", type=int, default=2)
+    parser.add_argument("--ldlt", choices=["all", "none"],
+                        help="every block factorisation by CHOLMOD's LDL^T (a constant "
+                             "Theta_0), or none (PETSc's LU)")
     parser.add_argument("--set", action="append", default=[], metavar="PATH=VALUE",
                         help="set an entry of the scene in both runs")
     args = parser.parse_args()
@@ -69,6 +72,12 @@ def main():
     if not passes or max(passes[1:] or [0]) > args.passes:
         failures.append("the block run took up to %g passes per step (allowed %d)"
                         % (max(passes or [0]), args.passes))
+    if args.ldlt:
+        total = float(block[0].get("block factorisations", 0))
+        ldlt = float(block[0].get("block factorisations by LDLT (constant Theta_0)", -1))
+        if total < 1 or ldlt != (total if args.ldlt == "all" else 0):
+            failures.append("expected %s of the %g block factorisations by LDL^T, got %g"
+                            % (args.ldlt, total, ldlt))
     plain_passes = plain[1].get("coupling_iterations", [0])
     compared, differences = compare(plain, block, args.tolerance, WORK, ("none", "block solve"),
                                     missing_results_fail=False)

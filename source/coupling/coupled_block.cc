@@ -300,14 +300,14 @@ namespace ContactStefan
     Tu_matrix.reinit(Tu_pattern);
     FullMatrix<double> minus_B, G;
     for_each_cell([&](const unsigned int c) {
-      const FullMatrix<double> &B = mechanical.thermal_operator(c);
-      minus_B.reinit(B.m(), B.n());
-      G.reinit(B.n(), B.m());
-      for (unsigned int i = 0; i < B.m(); ++i)
-        for (unsigned int v = 0; v < B.n(); ++v)
+      const auto &B = mechanical.thermal_operator(c);
+      minus_B.reinit(B.size(), 4);
+      G.reinit(4, B.size());
+      for (unsigned int i = 0; i < B.size(); ++i)
+        for (unsigned int v = 0; v < 4; ++v)
           {
-            minus_B(i, v) = -B(i, v);
-            G(v, i)       = reference[c][v] * B(i, v);
+            minus_B(i, v) = -B[i][v];
+            G(v, i)       = reference[c][v] * B[i][v];
           }
       u_constraints.distribute_local_to_global(minus_B, dofs_u, T_constraints, dofs_T, uT_matrix);
       T_constraints.distribute_local_to_global(G, dofs_T, u_constraints, dofs_u, Tu_matrix);
@@ -357,9 +357,11 @@ namespace ContactStefan
     // Theta_0 = 1 + 1000 x^4 included), and a zero pivot or a non-finite
     // correction stops the run in correct() with a message naming the remedy.
     free_factorisation();
+    factor_accurate = false;
     if (factorise_symmetric())
       {
         ++factorisations;
+        ++symmetric_factorisations;
         have_factorisation = true;
         built_signature    = signature();
         return;
@@ -423,9 +425,10 @@ namespace ContactStefan
         // ordering but its stability depends on how the blocks compare. The
         // backward error |b - A x| / (|A| |x| + |b|) (max norms, on the
         // unscaled compressed rows) is checked, and one step of iterative
-        // refinement taken where it exceeds 1e-12. A correction that stays
-        // inaccurate costs fixed-point passes, not accuracy: the fixed-point
-        // test decides the step.
+        // refinement taken where it exceeds 1e-12; once a solve with this
+        // factor was at round-off, later ones are not checked. A correction
+        // that stays inaccurate costs fixed-point passes, not accuracy: the
+        // fixed-point test decides the step.
         std::vector<double> residual(b.size());
         double              matrix_norm    = 0;
         const auto          backward_error = [&]() {
@@ -448,7 +451,9 @@ namespace ContactStefan
           const double scale = matrix_norm * x_max + b_max;
           return scale > 0 ? r_max / scale : 0.;
         };
-        if (backward_error() > 1e-12)
+        const bool refine = !factor_accurate && backward_error() > 1e-12;
+        factor_accurate   = !refine;
+        if (refine)
           {
             cholmod_dense *R = cholmod_allocate_dense(b.size(), 1, b.size(), CHOLMOD_REAL, &common);
             if (R == nullptr)

@@ -37,7 +37,8 @@ namespace ContactStefan
                              const Parameters::LinearSolvers::AMGUpdate automatic_amg_update,
                              const double                               aggregation_threshold,
                              const unsigned int                         smoother_sweeps,
-                             const unsigned int                         reuse_limit)
+                             const unsigned int                         reuse_limit,
+                             const unsigned int                         direct_limit)
     : prm(parameters)
     , verbosity(verbosity)
     , pcout(pcout)
@@ -48,6 +49,9 @@ namespace ContactStefan
     , aggregation_threshold(aggregation_threshold)
     , smoother_sweeps(smoother_sweeps)
     , reuse_limit(reuse_limit)
+    , direct_limit(direct_limit != numbers::invalid_unsigned_int ?
+                     direct_limit :
+                     parameters.automatic_direct_limit)
   {}
 
 
@@ -84,8 +88,7 @@ namespace ContactStefan
   bool LinearSolver::direct_for(const types::global_dof_index n_unknowns) const
   {
     return prm.linear_solver == LinearSolverType::direct ||
-           (prm.linear_solver == LinearSolverType::automatic &&
-            n_unknowns < prm.automatic_direct_limit);
+           (prm.linear_solver == LinearSolverType::automatic && n_unknowns < direct_limit);
   }
 
 

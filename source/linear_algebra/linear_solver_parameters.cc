@@ -30,7 +30,21 @@ namespace ContactStefan
                         "Linear solver = automatic: systems with fewer unknowns are solved "
                         "directly. Measured on the contact block of doc/results.md: equal "
                         "at 8 450 DoFs, CG + AMG 2.7 times faster at 33 282, 8.2 times at "
-                        "132 098 (commit 240dff8, 2026-11-22, 2-core development VM).");
+                        "132 098 (commit 240dff8, 2026-11-22, 2-core development VM; "
+                        "KLU then). The heat system on one MPI rank has its own limit.");
+      prm.declare_entry("Automatic direct limit for heat",
+                        "100000",
+                        Patterns::Integer(0),
+                        "Linear solver = automatic, one MPI rank: heat (enthalpy) systems "
+                        "with fewer unknowns are solved directly (CHOLMOD); on several "
+                        "ranks 'Automatic direct limit' applies (KLU). A scalar system's "
+                        "factor fills far less per unknown than an elasticity system's. "
+                        "Measured with CHOLMOD against CG + AMG (2026-11-28, 2-core "
+                        "development VM, hand runs at bdd4940): the linear heat equation on "
+                        "the thermoelastic plate, 100 steps, 2.1 times faster at 21 025 "
+                        "unknowns, 1.8 at 83 521, 1.4 at 187 489; the Stefan strip "
+                        "(nx = 800, 64 881 unknowns, 490 factorisations) 39.3 s against "
+                        "57.0 s.");
       prm.declare_entry("Direct solver type",
                         "automatic",
                         Patterns::Selection(
@@ -137,6 +151,7 @@ namespace ContactStefan
                                  solver == "automatic" ? LinearSolverType::automatic :
                                                          LinearSolverType::cg_amg;
       automatic_direct_limit   = prm.get_integer("Automatic direct limit");
+      automatic_direct_limit_heat = prm.get_integer("Automatic direct limit for heat");
       direct_solver_type       = prm.get("Direct solver type");
       // (Without MPI, --check alone: one process.)
       const unsigned int n_ranks =

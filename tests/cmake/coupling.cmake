@@ -90,6 +90,7 @@ scene(coupling/T3-fixed-point 1 ${P}/free_expansion_T3.prm T3_fixed_point
   "RESULT max relative stress L2 error<1e-12"
   "RESULT max coupling iterations<2.5"
   "RESULT block factorisations<1.5"
+  "RESULT block factorisations by LDLT (constant Theta_0)>0.5"
   "RESULT block corrections<5.5"
   "RESULT enthalpy matrix factorisations<1.5"
   "RESULT calls coupling: phase-dependent stiffness<0.5")
@@ -118,10 +119,15 @@ scene(coupling/T3-fixed-point-gps-mpi2 2 ${P}/free_expansion_T3.prm T3_fixed_poi
 # hanging nodes (adapted every 2 steps), a reference temperature that varies
 # in space and prescribed values that change in time on both fields: the same
 # steps (statistics and RESULT lines within 1e-8), two passes per step instead
-# of up to 30 (tests/compare_acceleration.py).
+# of up to 30 (tests/compare_acceleration.py). With Theta_0 varying every
+# block factorisation is PETSc's LU; with a constant one, CHOLMOD's LDL^T.
 add_test(NAME coupling/block-correction-vs-plain
   COMMAND /usr/bin/python3 ${T}/compare_acceleration.py ${BIN}
-          ${T}/scenes/thermoelastic_block_correction.prm)
+          ${T}/scenes/thermoelastic_block_correction.prm --ldlt none)
+add_test(NAME coupling/block-correction-vs-plain-ldlt
+  COMMAND /usr/bin/python3 ${T}/compare_acceleration.py ${BIN}
+          ${T}/scenes/thermoelastic_block_correction.prm --ldlt all
+          --set "Coupling/Reference temperature=1.5")
 # The same with inexact (CG + AMG) inner solves: both fields start from the
 # corrected pair, so the confirming pass still confirms.
 add_test(NAME coupling/block-correction-vs-plain-cg-amg

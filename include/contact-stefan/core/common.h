@@ -84,6 +84,43 @@ namespace ContactStefan
                      Utilities::MPI::max(local, mpi_communicator);
   }
 
+  // (A vector without ghosts stores its owned entries in order: the loops
+  // below read them by local entry, not through the map's hash table, which
+  // TrilinosWrappers' element access consults for every index.)
+
+  /** Collective: max_i |a_i - b_i| over the owned entries of all ranks (NaN wins). */
+  inline double max_difference(const Vector &a, const Vector &b)
+  {
+    double local = 0;
+    if (!a.has_ghost_elements() && !b.has_ghost_elements())
+      {
+        AssertDimension(a.locally_owned_size(), b.locally_owned_size());
+        const double *const x = a.trilinos_vector()[0], *const y = b.trilinos_vector()[0];
+        for (std::size_t i = 0; i < a.locally_owned_size(); ++i)
+          local = max_with_nan(local, std::abs(x[i] - y[i]));
+      }
+    else
+      for (const auto i : a.locally_owned_elements())
+        local = max_with_nan(local, std::abs(a[i] - b[i]));
+    return global_max_with_nan(local, a.get_mpi_communicator());
+  }
+
+  /** Collective: max_i |a_i| over the owned entries of all ranks (a may have ghosts). */
+  inline double max_abs(const Vector &a)
+  {
+    double local = 0;
+    if (!a.has_ghost_elements())
+      {
+        const double *const x = a.trilinos_vector()[0];
+        for (std::size_t i = 0; i < a.locally_owned_size(); ++i)
+          local = max_with_nan(local, std::abs(x[i]));
+      }
+    else
+      for (const auto i : a.locally_owned_elements())
+        local = max_with_nan(local, std::abs(a[i]));
+    return global_max_with_nan(local, a.get_mpi_communicator());
+  }
+
   /**
    * Collective: throws std::runtime_error on every rank, naming `what`, if any
    * owned entry of v on any rank is not finite.
@@ -91,8 +128,15 @@ namespace ContactStefan
   inline void check_finite(const Vector &v, const std::string &what)
   {
     unsigned int bad = 0;
-    for (const auto i : v.locally_owned_elements())
-      bad += !std::isfinite(v[i]);
+    if (!v.has_ghost_elements())
+      {
+        const double *const x = v.trilinos_vector()[0];
+        for (std::size_t i = 0; i < v.locally_owned_size(); ++i)
+          bad += !std::isfinite(x[i]);
+      }
+    else
+      for (const auto i : v.locally_owned_elements())
+        bad += !std::isfinite(v[i]);
     bad = Utilities::MPI::sum(bad, v.get_mpi_communicator());
     if (bad > 0)
       throw std::runtime_error(what + " is not finite (" + std::to_string(bad) +

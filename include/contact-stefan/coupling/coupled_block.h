@@ -88,6 +88,11 @@ namespace ContactStefan
     {
       return corrections;
     }
+    /** Of the factorisations, those by CHOLMOD's LDL^T (the rest: PETSc's LU). */
+    unsigned int n_symmetric_factorisations() const
+    {
+      return symmetric_factorisations;
+    }
 
   private:
     /** The fingerprint of what the block matrix is built from. */
@@ -117,11 +122,18 @@ namespace ContactStefan
     struct Cholmod;
     std::shared_ptr<Cholmod> cholmod;
     double                   thermal_row_scale = 0;
+    /**
+     * Whether a solve with the current LDL^T factor had a backward error at
+     * round-off (1e-12): later solves with it skip the check (the residual
+     * costs a sixth of a solve); the fixed-point test still judges each step.
+     */
+    bool                     factor_accurate = false;
     bool                     factorise_symmetric();
     void                     free_factorisation();
     bool                     have_factorisation = false;
     std::uint64_t            built_signature    = 0;
     unsigned int             factorisations     = 0;
+    unsigned int             symmetric_factorisations = 0;
     unsigned int             corrections        = 0;
   };
 } // namespace ContactStefan

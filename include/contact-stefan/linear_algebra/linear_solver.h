@@ -80,7 +80,9 @@ namespace ContactStefan
      * aggregation_threshold, smoother_sweeps: its ML settings;
      * reuse_limit: with 'AMG update = reuse', the changed rows (as counted by
      * the callers of update()) a hierarchy is kept across before it is
-     * recomputed for the current values (0: no limit).
+     * recomputed for the current values (0: no limit);
+     * direct_limit: 'Linear solver = automatic' solves systems with fewer
+     * unknowns directly (by default 'Automatic direct limit').
      */
     LinearSolver(const Parameters::LinearSolvers           &parameters,
                  const unsigned int                         verbosity,
@@ -89,7 +91,8 @@ namespace ContactStefan
                  const Parameters::LinearSolvers::AMGUpdate automatic_amg_update,
                  const double                               aggregation_threshold,
                  const unsigned int                         smoother_sweeps,
-                 const unsigned int                         reuse_limit = 0);
+                 const unsigned int                         reuse_limit = 0,
+                 const unsigned int direct_limit = numbers::invalid_unsigned_int);
 
     /**
      * The near-null space the AMG hierarchy is built for: vectors over the
@@ -156,7 +159,8 @@ namespace ContactStefan
     bool borrow_preconditioner(const TrilinosWrappers::SparseMatrix &A, const std::uint64_t key);
     /**
      * Whether a system of n_unknowns is solved directly ('Solver/Linear
-     * solver'; automatic: below 'Automatic direct limit'). The choice
+     * solver'; automatic: below the direct_limit given to the constructor,
+     * by default 'Automatic direct limit'). The choice
      * initialize() makes, known before it (and after clear()).
      */
     bool direct_for(const types::global_dof_index n_unknowns) const;
@@ -200,6 +204,7 @@ namespace ContactStefan
      * hierarchy was built or recomputed for its values.
      */
     const unsigned int reuse_limit;
+    const unsigned int direct_limit;
     std::uint64_t      rows_changed_since_made = 0;
     /** Counted since the last take_statistics(). */
     LinearSolverStatistics statistics;

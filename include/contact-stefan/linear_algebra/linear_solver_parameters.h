@@ -27,6 +27,9 @@ namespace ContactStefan
         cg_amg
       } linear_solver;
       unsigned int automatic_direct_limit; // automatic: direct below this many unknowns
+      // The same for the heat (enthalpy) system on one MPI rank (CHOLMOD):
+      // a scalar system's factor fills far less per unknown.
+      unsigned int automatic_direct_limit_heat;
       std::string  direct_solver_type;
       // cholmod: factorisations of earlier matrices kept for recall(), by key.
       unsigned int kept_factorisations;

@@ -423,7 +423,9 @@ namespace ContactStefan
     {
       return constraints;
     }
-    const FullMatrix<double> &thermal_operator(const unsigned int cell_index) const
+    /** B_K(i, v) as B[i][v]: rows the cell's DoFs (cell order), columns its vertices. */
+    using ThermalOperator = std::array<std::array<double, 4>, 4 * dim>;
+    const ThermalOperator &thermal_operator(const unsigned int cell_index) const
     {
       return cell_thermal_operator[cell_index];
     }
@@ -555,6 +557,8 @@ namespace ContactStefan
     void build_contact_constraints(unsigned int &n_skipped);
     void check_rigid_body_modes() const;
     void assemble_system(const bool with_matrix);
+    /** The right-hand side of the system with the current constraints (right_hand_side.cc). */
+    void assemble_right_hand_side();
     /** settled: the active set has settled, solve to the full CG tolerance. */
     void solve_linear_system(const bool factorise, const bool settled);
     /**
@@ -660,17 +664,28 @@ namespace ContactStefan
      * ghosted; nodal contact pressure and gap for output (at the same DoF).
      */
     Vector displacement_ghosted;
+    /**
+     * Per owned cell (by active cell index): the local entries of its DoFs,
+     * in their cell order, in a vector of displacement_ghosted's layout (the
+     * relevant DoFs); and scratch vectors of the owned and that layout. The
+     * per-cell loops of the coupling read through these: element access
+     * through TrilinosWrappers maps every index through Epetra's hash table.
+     */
+    std::vector<std::array<int, 4 * dim>> cell_entry;
+    mutable Vector                        scratch_owned, scratch_ghosted;
     Vector obstacle_active, obstacle_active_ghosted, interface_active, interface_active_ghosted;
     Vector pressure, gap;
 
     /**
      * Per-cell operators by active cell index: the moduli of the cell's phase
      * mixture, K_K, the mechanical load F_K; with coupling the thermal operator
-     * B_K (n x 4), Theta_0 and Theta - Theta_0 at the vertices and the thermal
+     * B_K (8 x 4, stored in one array: the coupling's per-cell loops stream
+     * through it), Theta_0 and Theta - Theta_0 at the vertices and the thermal
      * load B_K (Theta - Theta_0).
      */
     std::vector<ElasticModuli>          cell_moduli;
-    std::vector<LocalMatrix>            cell_stiffness, cell_thermal_operator;
+    std::vector<LocalMatrix>            cell_stiffness;
+    std::vector<ThermalOperator>        cell_thermal_operator;
     std::vector<dealii::Vector<double>> cell_load, cell_thermal_load;
     /**
      * The traction part of F_K of each boundary face with a traction, by

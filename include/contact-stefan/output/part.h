@@ -49,11 +49,14 @@ namespace ContactStefan
     double       change_u = 0, change_theta = 0; // last fixed-point changes, max norm
     // The block correction of the fixed point (coupling/coupled_block.h), where
     // the run has one: corrections and factorisations of the block in this
-    // step, and the elasticity solves a corrected guess answered.
-    bool         block_correction     = false;
-    unsigned int block_corrections    = 0;
-    unsigned int block_factorisations = 0;
-    unsigned int guesses_accepted     = 0;
+    // step (those by LDL^T), and the elasticity and heat solves a corrected
+    // guess answered.
+    bool         block_correction      = false;
+    unsigned int block_corrections     = 0;
+    unsigned int block_factorisations  = 0;
+    unsigned int block_ldlt            = 0;
+    unsigned int guesses_accepted      = 0;
+    unsigned int heat_guesses_accepted = 0;
     // Material points born anew at the start of this step (solidification
     // history, doc/solidification.md; 0 without one).
     unsigned int births = 0;

@@ -18,7 +18,8 @@
 //
 // The enthalpy step itself (the primal-dual active-set method with its line
 // search, and the relaxation fallback) is in thermal_field/enthalpy_step.cc; the set-up in
-// thermal_field/setup.cc. doc/algorithms.md explains the method.
+// thermal_field/setup.cc, its side of the coupling in thermal_field/coupling.cc.
+// doc/algorithms.md explains the method.
 //
 // Interfaces whose 'Thermal contact' is 'conductance' (doc/interface_heat.md,
 // thermal_field/interface_heat.cc) give each side its own temperature: the
@@ -224,13 +225,21 @@ namespace ContactStefan
       return cell_absolute_reference;
     }
     /**
-     * The start of the next linear solve of the enthalpy step (a temperature
-     * that nearly solves it: CG then stops at once; the direct path solves
-     * anyway). Only the starting point: the phase states stay.
+     * The start of the next linear solve of the enthalpy step (the block
+     * correction of the coupling). A guess that already solves that system to
+     * 'Solver/CG tolerance' (relative residual) stands without a linear solve,
+     * on the direct path too, as the contact step's does. Only the starting
+     * point: the phase states stay.
      */
     void set_initial_guess(const Vector &theta)
     {
-      temperature = theta;
+      temperature   = theta;
+      guess_pending = true;
+    }
+    /** How many linear solves a guess answered without solving. */
+    unsigned int n_guesses_accepted() const
+    {
+      return guesses_accepted;
     }
     /**
      * The values of a nodal vector (all relevant entries readable) at the
@@ -592,6 +601,11 @@ namespace ContactStefan
     std::vector<double>            fixed_column_value;
     mutable std::vector<double>    column_values;
     LinearSolver                   linear_solver;
+    // set_initial_guess(): a guess to test before the next linear solve, the
+    // relative residual that lets it stand, and how many stood.
+    const double guess_tolerance;
+    bool         guess_pending    = false;
+    unsigned int guesses_accepted = 0;
 
     /** Primary state: the nodal enthalpy now and at the previous time level. */
     Vector enthalpy, old_enthalpy;

@@ -59,18 +59,17 @@ namespace ContactStefan
 {
   namespace fs = std::filesystem;
 
-  // The first line of a checkpoint's manifest and of its state.txt. Raised
-  // whenever what they hold changes (2: the linear solver statistics of the
-  // contact reports; 3: the manifest and the checkpoint's id; 4: the section-force and
-  // stress-output errors of the postprocessor; 5: the parameters the run was
-  // started with; 6: the largest von Mises stress over the steps; 7: the
-  // parameters include the laws per interface, Contact/Interface k-l; 8: the
-  // postprocessor's state is each part's state by its name; 9: the references
-  // of the solidification history are attached to the mesh after the fields'
-  // state; 12: the mortar statistics count the large-sliding couplings; 13:
-  // and the largest slide of a step); 14: the linear solvers' statistics count
-  // CHOLMOD's work), so that an older checkpoint is refused by name, not misread.
-  const std::string checkpoint_format = "contact-stefan checkpoint 14";
+  // The first line of a checkpoint's manifest and of its state.txt. Raised whenever what they
+  // hold changes (2: the linear solver statistics of the contact reports; 3: the manifest and
+  // the checkpoint's id; 4: the section-force and stress-output errors of the postprocessor;
+  // 5: the parameters the run was started with; 6: the largest von Mises stress over the
+  // steps; 7: the parameters include the laws per interface, Contact/Interface k-l; 8: the
+  // postprocessor's state is each part's state by its name; 9: the references of the
+  // solidification history are attached to the mesh after the fields' state; 12: the mortar
+  // statistics count the large-sliding couplings; 13: and the largest slide of a step; 14: the
+  // linear solvers' statistics count CHOLMOD's work; 15: the coupling's count heat guesses and
+  // LDL^T blocks), so that an older checkpoint is refused by name, not misread.
+  const std::string checkpoint_format = "contact-stefan checkpoint 15";
 
   namespace
   {

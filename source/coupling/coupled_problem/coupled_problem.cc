@@ -740,28 +740,6 @@ namespace ContactStefan
 
 
 
-  namespace
-  {
-    // max_i |a_i - b_i| over the owned entries, on all ranks.
-    double max_difference(const Vector &a, const Vector &b)
-    {
-      double local = 0;
-      for (const auto i : a.locally_owned_elements())
-        local = max_with_nan(local, std::abs(a[i] - b[i]));
-      return global_max_with_nan(local, a.get_mpi_communicator());
-    }
-    // max_i |a_i| over the owned entries, on all ranks (a may have ghosts).
-    double max_abs(const Vector &a)
-    {
-      double local = 0;
-      for (const auto i : a.locally_owned_elements())
-        local = max_with_nan(local, std::abs(a[i]));
-      return global_max_with_nan(local, a.get_mpi_communicator());
-    }
-  } // namespace
-
-
-
   // The contact step (doc/model.md §2, step 1) with the temperature the thermal
   // field holds, then the enthalpy step (step 2) with the new displacement.
   // Staggered, the temperature is Theta^k; with fixed-point iterations the pair

@@ -157,7 +157,9 @@ namespace ContactStefan
     const unsigned int births         = coupling_report.births;
     const unsigned int corrections    = block ? block->n_corrections() : 0;
     const unsigned int factorisations = block ? block->n_factorisations() : 0;
+    const unsigned int ldlt           = block ? block->n_symmetric_factorisations() : 0;
     const unsigned int guesses        = block ? mechanical->n_guesses_accepted() : 0;
+    const unsigned int heat_guesses   = block ? thermal->n_guesses_accepted() : 0;
     // Test hook (tests/compare_undo.py): CONTACT_STEFAN_REJECT_STEP=K[:F] undoes
     // the first attempt of step K and redoes it F times as long (default 1);
     // the result must be the run whose step K was that long from the start.
@@ -269,7 +271,9 @@ namespace ContactStefan
         coupling_report.block_correction     = true;
         coupling_report.block_corrections    = block->n_corrections() - corrections;
         coupling_report.block_factorisations = block->n_factorisations() - factorisations;
+        coupling_report.block_ldlt            = block->n_symmetric_factorisations() - ldlt;
         coupling_report.guesses_accepted     = mechanical->n_guesses_accepted() - guesses;
+        coupling_report.heat_guesses_accepted = thermal->n_guesses_accepted() - heat_guesses;
       }
     return adaptive ? !(time < prm.time.end_time) : step_number == prm.time.step_sizes.size();
   }

@@ -280,30 +280,7 @@ namespace ContactStefan
             }
         system_matrix.compress(VectorOperation::add);
       }
-    system_rhs                    = 0;
-    const bool             loaded = functions.mechanical_load_present();
-    dealii::Vector<double> rhs;
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned())
-        {
-          const unsigned int index = cell->active_cell_index();
-          if (!loaded && !thermal_stress && !generalized_plane_strain &&
-              !cell_near_contact[index] && !cell_fixed_constrained[index])
-            continue;
-          const unsigned int n = cell->get_fe().n_dofs_per_cell();
-          dofs.resize(n);
-          cell->get_dof_indices(dofs);
-          rhs.reinit(n);
-          if (loaded)
-            rhs = cell_load[index];
-          if (thermal_stress)
-            rhs += cell_thermal_load[index];
-          // The in-plane stress of the body's e_zz (out_of_plane.cc).
-          if (generalized_plane_strain)
-            rhs.add(-ezz[slot_of_body.at(cell->material_id())], cell_ezz_coupling[index]);
-          constraints.distribute_local_to_global(rhs, dofs, system_rhs, cell_stiffness[index]);
-        }
-    system_rhs.compress(VectorOperation::add);
+    assemble_right_hand_side();
   }
 
 

@@ -78,16 +78,21 @@ namespace ContactStefan
         {
           const unsigned int      c = cell->active_cell_index();
           dealii::Vector<double> &f = cell_thermal_load[c];
-          const LocalMatrix      &B = cell_thermal_operator[c];
-          f.reinit(B.m());
+          const ThermalOperator  &B = cell_thermal_operator[c];
+          if (f.size() != B.size())
+            f.reinit(B.size(), true);
+          auto &excess = cell_theta_excess[c];
           for (unsigned int v = 0; v < 4; ++v)
+            excess[v] = theta[c][v] - cell_reference[c][v];
+          for (unsigned int i = 0; i < B.size(); ++i)
             {
-              cell_theta_excess[c][v] = theta[c][v] - cell_reference[c][v];
-              for (unsigned int i = 0; i < B.m(); ++i)
-                f(i) += B(i, v) * cell_theta_excess[c][v];
+              double sum = 0;
+              for (unsigned int v = 0; v < 4; ++v)
+                sum += B[i][v] * excess[v];
+              f[i] = sum;
             }
           // The load of the reference strains (solidification.cc).
-          if (history && cell_reference_load[c].size() == B.m())
+          if (history && cell_reference_load[c].size() == B.size())
             f += cell_reference_load[c];
         }
   }
@@ -99,25 +104,36 @@ namespace ContactStefan
                                                  const CellVertexValues &theta_before,
                                                  Vector                 &change) const
   {
-    change.reinit(owned, mpi_communicator);
+    // (One MPI rank, as the block correction: the sums go to a plain vector
+    // of all DoFs, which deal.II's constraints fill without a look-up per entry.)
+    AssertThrow(Utilities::MPI::n_mpi_processes(mpi_communicator) == 1, ExcNotImplemented());
+    dealii::Vector<double>               sum(dof_handler.n_dofs());
     std::vector<types::global_dof_index> dofs;
     dealii::Vector<double>               f;
     for (const auto &cell : dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned())
-        {
-          const unsigned int c = cell->active_cell_index();
-          const LocalMatrix &B = cell_thermal_operator[c];
-          f.reinit(B.m());
-          for (unsigned int v = 0; v < 4; ++v)
-            for (unsigned int i = 0; i < B.m(); ++i)
-              f(i) += B(i, v) * (theta[c][v] - theta_before[c][v]);
-          dofs.resize(B.m());
-          cell->get_dof_indices(dofs);
-          // Without the matrix argument: the change of a load has no
-          // inhomogeneity part.
-          constraints.distribute_local_to_global(f, dofs, change);
-        }
-    change.compress(VectorOperation::add);
+      {
+        const unsigned int     c = cell->active_cell_index();
+        const ThermalOperator &B = cell_thermal_operator[c];
+        if (f.size() != B.size())
+          f.reinit(B.size(), true);
+        std::array<double, 4> d;
+        for (unsigned int v = 0; v < 4; ++v)
+          d[v] = theta[c][v] - theta_before[c][v];
+        for (unsigned int i = 0; i < B.size(); ++i)
+          {
+            double s = 0;
+            for (unsigned int v = 0; v < 4; ++v)
+              s += B[i][v] * d[v];
+            f[i] = s;
+          }
+        dofs.resize(B.size());
+        cell->get_dof_indices(dofs);
+        // Without the matrix argument: the change of a load has no
+        // inhomogeneity part.
+        constraints.distribute_local_to_global(f, dofs, sum);
+      }
+    change.reinit(owned, mpi_communicator);
+    std::copy(sum.begin(), sum.end(), change.trilinos_vector()[0]);
   }
 
 
@@ -128,26 +144,22 @@ namespace ContactStefan
     TimerOutput::Scope t(timer, "coupling: thermoelastic work");
     work.assign(triangulation.n_active_cells(), {{0., 0., 0., 0.}});
     // The change of u over the step, with ghost entries (one vector
-    // operation instead of two look-ups per cell DoF).
-    Vector du(owned, relevant, mpi_communicator);
-    {
-      Vector change(displacement);
-      change -= old_displacement;
-      du = change;
-    }
-    std::vector<types::global_dof_index> dofs;
+    // operation instead of two look-ups per cell DoF), read by local entry.
+    scratch_owned = displacement;
+    scratch_owned -= old_displacement;
+    scratch_ghosted        = scratch_owned;
+    const double *const du = scratch_ghosted.trilinos_vector()[0];
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
-          const unsigned int c = cell->active_cell_index();
-          const LocalMatrix &B = cell_thermal_operator[c];
-          dofs.resize(B.m());
-          cell->get_dof_indices(dofs);
-          for (unsigned int i = 0; i < B.m(); ++i)
+          const unsigned int     c     = cell->active_cell_index();
+          const ThermalOperator &B     = cell_thermal_operator[c];
+          const auto            &entry = cell_entry[c];
+          for (unsigned int i = 0; i < B.size(); ++i)
             {
-              const double d = du[dofs[i]];
+              const double d = du[entry[i]];
               for (unsigned int v = 0; v < 4; ++v)
-                work[c][v] += B(i, v) * d;
+                work[c][v] += B[i][v] * d;
             }
           // Generalized plane strain: the out-of-plane strain rate heats by the
           // transpose of the thermal part of the out-of-plane force.
@@ -200,15 +212,13 @@ namespace ContactStefan
     const FiniteElement<dim> &cell_fe = cell->get_fe();
     const unsigned int        first   = slot_of_body.at(cell->material_id()) * dim;
     AssertDimension(cell_fe.n_dofs_per_cell(), 4 * dim);
-    // (Scratch kept between calls: one allocation per thread, not per cell.)
-    static thread_local std::vector<types::global_dof_index> indices;
-    indices.resize(cell_fe.n_dofs_per_cell());
-    cell->get_dof_indices(indices);
-    for (unsigned int i = 0; i < indices.size(); ++i)
+    const double *const values = displacement_ghosted.trilinos_vector()[0];
+    const auto         &entry  = cell_entry[cell->active_cell_index()];
+    for (unsigned int i = 0; i < 4 * dim; ++i)
       {
         // (component, index within FE_Q(1)) = (component, vertex).
         const auto [component, vertex] = cell_fe.system_to_component_index(i);
-        u[component - first][vertex]   = displacement_ghosted[indices[i]];
+        u[component - first][vertex]   = values[entry[i]];
       }
   }
 

@@ -121,8 +121,28 @@ namespace ContactStefan
     for (Vector *v : {&displacement_ghosted,
                       &obstacle_active_ghosted,
                       &interface_active_ghosted,
-                      &stiffness_diagonal})
+                      &stiffness_diagonal,
+                      &scratch_ghosted})
       v->reinit(owned, relevant, mpi_communicator);
+    scratch_owned.reinit(owned, mpi_communicator);
+    {
+      const Epetra_BlockMap               &map = displacement_ghosted.trilinos_vector().Map();
+      std::vector<types::global_dof_index> dofs;
+      cell_entry.assign(triangulation.n_active_cells(), {});
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        if (cell->is_locally_owned())
+          {
+            dofs.resize(cell->get_fe().n_dofs_per_cell());
+            AssertThrow(dofs.size() == 4 * dim, ExcInternalError());
+            cell->get_dof_indices(dofs);
+            for (unsigned int i = 0; i < dofs.size(); ++i)
+              {
+                const int entry = map.LID(static_cast<TrilinosWrappers::types::int_type>(dofs[i]));
+                AssertThrow(entry >= 0, ExcInternalError());
+                cell_entry[cell->active_cell_index()][i] = entry;
+              }
+          }
+    }
     cell_load.assign(triangulation.n_active_cells(), dealii::Vector<double>());
     cell_thermal_load.assign(triangulation.n_active_cells(), dealii::Vector<double>());
     cell_theta_excess.assign(triangulation.n_active_cells(), {{0., 0., 0., 0.}});
@@ -548,7 +568,7 @@ namespace ContactStefan
     hp::FEValues<dim>          vertex_values(
       fe, vertex_rule, update_gradients | update_JxW_values | update_quadrature_points);
     cell_stiffness.assign(triangulation.n_active_cells(), LocalMatrix());
-    cell_thermal_operator.assign(coupled ? triangulation.n_active_cells() : 0, LocalMatrix());
+    cell_thermal_operator.assign(coupled ? triangulation.n_active_cells() : 0, ThermalOperator());
     cell_reference.assign(coupled ? triangulation.n_active_cells() : 0, {{0., 0., 0., 0.}});
     const unsigned int n_ezz_cells = generalized_plane_strain ? triangulation.n_active_cells() : 0;
     cell_ezz_coupling.assign(n_ezz_cells, dealii::Vector<double>());
@@ -641,14 +661,14 @@ namespace ContactStefan
     // and a uniform strain heats every node in proportion to its mass.
     vertex_values.reinit(cell);
     const FEValues<dim> &fv = vertex_values.get_present_fe_values();
-    LocalMatrix         &B  = cell_thermal_operator[c];
-    B.reinit(n, 4);
+    ThermalOperator     &B  = cell_thermal_operator[c];
+    AssertThrow(n == B.size(), ExcInternalError());
     for (unsigned int v = 0; v < 4; ++v)
       {
         Assert(fv.quadrature_point(v).distance(cell->vertex(v)) <= 1e-12 * cell->diameter(),
                ExcInternalError());
         for (unsigned int i = 0; i < n; ++i)
-          B(i, v) = moduli.beta * fv[u].symmetric_gradient(i, v) * fv.JxW(v);
+          B[i][v] = moduli.beta * fv[u].symmetric_gradient(i, v) * fv.JxW(v);
         // The thermal part of the cell's out-of-plane force by the same rule.
         if (generalized_plane_strain)
           cell_ezz_thermal[c][v] = moduli.beta_zz * fv.JxW(v);

@@ -16,7 +16,9 @@ namespace ContactStefan
       bool         block_correction     = false;
       unsigned int block_corrections    = 0;
       unsigned int block_factorisations = 0;
+      unsigned int block_ldlt            = 0;
       unsigned int guesses_accepted     = 0;
+      unsigned int heat_guesses_accepted = 0;
       // Material points born anew (solidification history), over the run.
       unsigned int births = 0;
 
@@ -24,7 +26,8 @@ namespace ContactStefan
       void serialize(Archive &ar, const unsigned int)
       {
         ar &total_iterations &max_iterations &reassembled_cells &total_thermoelastic_heat
-          &block_correction &block_corrections &block_factorisations &guesses_accepted &births;
+          &block_correction &block_corrections &block_factorisations &block_ldlt &guesses_accepted
+            &heat_guesses_accepted &births;
       }
     };
 
@@ -45,7 +48,9 @@ namespace ContactStefan
         s.block_correction |= data.coupling.block_correction;
         s.block_corrections += data.coupling.block_corrections;
         s.block_factorisations += data.coupling.block_factorisations;
+        s.block_ldlt += data.coupling.block_ldlt;
         s.guesses_accepted += data.coupling.guesses_accepted;
+        s.heat_guesses_accepted += data.coupling.heat_guesses_accepted;
         s.births += data.coupling.births;
       }
 
@@ -87,8 +92,14 @@ namespace ContactStefan
             results.add(Slot::block_correction, "block corrections", s.block_corrections);
             results.add(Slot::block_correction, "block factorisations", s.block_factorisations);
             results.add(Slot::block_correction,
+                        "block factorisations by LDLT (constant Theta_0)",
+                        s.block_ldlt);
+            results.add(Slot::block_correction,
                         "elasticity solves answered by the corrected guess",
                         s.guesses_accepted);
+            results.add(Slot::block_correction,
+                        "heat solves answered by the corrected guess",
+                        s.heat_guesses_accepted);
           }
       }
     };

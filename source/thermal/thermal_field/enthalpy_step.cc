@@ -353,7 +353,20 @@ namespace ContactStefan
       }
     {
       TimerOutput::Scope t(timer, "enthalpy step: linear solve");
-      linear_solver.solve(temperature, system_rhs, tolerance);
+      // A guess (the block correction's temperature, set_initial_guess())
+      // that solves this system already stands: a matrix-vector product in
+      // place of a solve, on the direct path too.
+      bool accepted = false;
+      if (guess_pending)
+        {
+          guess_pending = false;
+          Vector       residual(owned, mpi_communicator);
+          const double norm = system_matrix.residual(residual, temperature, system_rhs);
+          accepted          = norm <= guess_tolerance * system_rhs.l2_norm();
+          guesses_accepted += accepted;
+        }
+      if (!accepted)
+        linear_solver.solve(temperature, system_rhs, tolerance);
       constraints.distribute(temperature);
     }
     temperature_ghosted = temperature;
