@@ -146,7 +146,8 @@ def main():
             elasticity = (table.get("contact step: linear solve", (0, 0))[0] -
                           r.get("elasticity solves answered by the corrected guess", 0) -
                           r.get("contact solves skipped (unchanged data)", 0)) / steps
-            heat = table.get("enthalpy step: linear solve", (0, 0))[0] / steps
+            heat = (table.get("enthalpy step: linear solve", (0, 0))[0] -
+                    r.get("heat solves answered by the corrected guess", 0)) / steps
             block = r.get("block corrections", 0) / steps
             solves = ("%.2f passes: %.2f elasticity, %.2f heat and %.2f block solves"
                       % (passes, elasticity, heat, block))

@@ -2,7 +2,7 @@
 """The block correction of the coupling against plain fixed-point passes.
 
     compare_acceleration.py BINARY SCENE.prm [--np N] [--tolerance T] [--passes P]
-                            [--set PATH=VALUE ...]
+                            [--set PATH=VALUE ...] [--guesses-stand] [--ldlt all|none]
 
 Runs SCENE twice, with 'Coupling/Fixed-point acceleration' = none and = block
 solve (each in a directory of its own), and checks
@@ -12,7 +12,11 @@ solve (each in a directory of its own), and checks
     statistics table (all but the wall time and the counts of the solvers'
     work) agrees at every step within T relative to the column's largest
     value (default 1e-8: both stop at 'Coupling/Fixed-point tolerance' 1e-10
-    of the change over a step), and the same for the physical RESULT lines.
+    of the change over a step), and the same for the physical RESULT lines,
+  - with --guesses-stand, that every corrected displacement and temperature
+    was taken without a linear solve (exact inner solves),
+  - with --ldlt, that all or none of the block factorisations were CHOLMOD's
+    LDL^T (a constant or a varying Theta_0).
 Exit 0 on success, 1 with one line per failed check otherwise.
 """
 import argparse
@@ -51,6 +55,9 @@ def main():
     parser.add_argument("--np", type=int, default=1)
     parser.add_argument("--tolerance", type=float, default=1e-8)
     parser.add_argument("--passes", type=int, default=2)
+    parser.add_argument("--guesses-stand", action="store_true",
+                        help="every corrected guess answers its elasticity and heat solve "
+                             "(exact inner solves)")
     parser.add_argument("--ldlt", choices=["all", "none"],
                         help="every block factorisation by CHOLMOD's LDL^T (a constant "
                              "Theta_0), or none (PETSc's LU)")
@@ -78,6 +85,13 @@ def main():
         if total < 1 or ldlt != (total if args.ldlt == "all" else 0):
             failures.append("expected %s of the %g block factorisations by LDL^T, got %g"
                             % (args.ldlt, total, ldlt))
+    if args.guesses_stand:
+        corrections = float(block[0].get("block corrections", 0))
+        for field in ("elasticity", "heat"):
+            stood = float(block[0].get(field + " solves answered by the corrected guess", -1))
+            if corrections < 1 or stood != corrections:
+                failures.append("%g of the %g corrected %s guesses stood (expected all)"
+                                % (stood, corrections, field))
     plain_passes = plain[1].get("coupling_iterations", [0])
     compared, differences = compare(plain, block, args.tolerance, WORK, ("none", "block solve"),
                                     missing_results_fail=False)

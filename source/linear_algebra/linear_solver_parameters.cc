@@ -22,8 +22,9 @@ namespace ContactStefan
                         "'direct': Trilinos Amesos sparse direct solver; 'cg-amg': conjugate "
                         "gradients preconditioned by ML algebraic multigrid (for elasticity "
                         "built for the rigid-body modes); 'automatic': direct for a system "
-                        "with fewer unknowns than Automatic direct limit, cg-amg otherwise, "
-                        "decided per system.");
+                        "with fewer unknowns than Automatic direct limit (the heat system "
+                        "on one MPI rank: Automatic direct limit for heat), cg-amg "
+                        "otherwise, decided per system.");
       prm.declare_entry("Automatic direct limit",
                         "20000",
                         Patterns::Integer(0),
@@ -36,8 +37,9 @@ namespace ContactStefan
                         "100000",
                         Patterns::Integer(0),
                         "Linear solver = automatic, one MPI rank: heat (enthalpy) systems "
-                        "with fewer unknowns are solved directly (CHOLMOD); on several "
-                        "ranks 'Automatic direct limit' applies (KLU). A scalar system's "
+                        "with fewer unknowns are solved directly (by CHOLMOD unless "
+                        "'Direct solver type' names another); on several ranks 'Automatic "
+                        "direct limit' applies (KLU). A scalar system's "
                         "factor fills far less per unknown than an elasticity system's. "
                         "Measured with CHOLMOD against CG + AMG (2026-11-28, 2-core "
                         "development VM, hand runs at bdd4940): the linear heat equation on "
@@ -102,9 +104,10 @@ namespace ContactStefan
                         "1e-12",
                         Patterns::Double(0),
                         "Relative residual reduction of CG. Also the relative residual "
-                        "below which the displacement the fixed point's block correction "
-                        "hands the contact step is taken as its solution, without a linear "
-                        "solve (on the direct path too).");
+                        "(free rows) below which the displacement and the temperature the "
+                        "fixed point's block correction hands the contact and the enthalpy "
+                        "step are taken as their solutions, without a linear solve (on the "
+                        "direct path too).");
       prm.declare_entry("AMG rebuild ratio",
                         "1.5",
                         Patterns::Double(1),

@@ -32,6 +32,11 @@ add_test(NAME neumann/A-serial-mpi-plain
 # The iterative solver must give the same discrete solution as the direct one.
 scene(neumann/A-cg-amg 1 ${P}/neumann_A.prm neumann_A-cg-amg
   "SET:Solver/Linear solver=cg-amg" ${NEUMANN_A_BOUNDS})
+# 'automatic' on one rank follows 'Automatic direct limit for heat' for the heat
+# system: above it (the scene has 325 unknowns) CG + AMG, as above.
+scene(neumann/A-heat-direct-limit 1 ${P}/neumann_A.prm neumann_A-cg-amg
+  "SET:Solver/Automatic direct limit for heat=100" ${NEUMANN_A_BOUNDS}
+  "RESULT enthalpy solver: CG solves>0.5")
 # The same with every enthalpy solve to 'CG tolerance' and deal.II's two
 # smoother sweeps: the reference of the code before loose solves while the set
 # changes (12 AMG set-ups, 22 solves), to the last digit of the iteration counts.

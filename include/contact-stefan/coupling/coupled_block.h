@@ -125,7 +125,10 @@ namespace ContactStefan
     /**
      * Whether a solve with the current LDL^T factor had a backward error at
      * round-off (1e-12): later solves with it skip the check (the residual
-     * costs a sixth of a solve); the fixed-point test still judges each step.
+     * costs a sixth of a solve). An inaccurate correction costs a linear solve
+     * in the next pass, whose fields take a guess only if its residual is
+     * within 'Solver/CG tolerance', and the fixed-point test still judges each
+     * step.
      */
     bool                     factor_accurate = false;
     bool                     factorise_symmetric();

@@ -448,7 +448,8 @@ namespace ContactStefan
     }
     /**
      * change = the condensed thermal load of theta minus that of theta_before
-     * (what the right-hand side of the contact step moves by).
+     * (what the right-hand side of the contact step moves by). One MPI rank
+     * only, as the block correction that calls it.
      */
     void thermal_load_change(const CellVertexValues &theta,
                              const CellVertexValues &theta_before,
@@ -686,7 +687,8 @@ namespace ContactStefan
     std::vector<ElasticModuli>          cell_moduli;
     std::vector<LocalMatrix>            cell_stiffness;
     std::vector<ThermalOperator>        cell_thermal_operator;
-    std::vector<dealii::Vector<double>> cell_load, cell_thermal_load;
+    std::vector<dealii::Vector<double>>      cell_load;
+    std::vector<std::array<double, 4 * dim>> cell_thermal_load; // (one array, as B_K)
     /**
      * The traction part of F_K of each boundary face with a traction, by
      * (active cell index, face): the section forces leave out the traction on

@@ -334,12 +334,14 @@ namespace ContactStefan
     if (guess_pending)
       {
         // An initial guess (the block correction of the coupling) that already
-        // solves the system to the CG tolerance stands: no solve, also on the
-        // direct path.
+        // solves the system to the CG tolerance on its free rows stands: no
+        // solve, also on the direct path (a constrained row holds what the
+        // condensation put there, not the value distribute() gives the guess).
         guess_pending = false;
-        Vector       residual(owned, mpi_communicator);
-        const double norm = system_matrix.residual(residual, displacement, system_rhs);
-        if (norm <= linear_prm.cg_tolerance * system_rhs.l2_norm())
+        Vector residual(owned, mpi_communicator);
+        system_matrix.residual(residual, displacement, system_rhs);
+        constraints.set_zero(residual);
+        if (residual.l2_norm() <= linear_prm.cg_tolerance * system_rhs.l2_norm())
           {
             ++guesses_accepted;
             constraints.distribute(displacement);
@@ -447,7 +449,8 @@ namespace ContactStefan
           if (loaded)
             r -= cell_load[cell->active_cell_index()];
           if (with_load && thermal_stress)
-            r -= cell_thermal_load[cell->active_cell_index()];
+            for (unsigned int i = 0; i < n; ++i)
+              r(i) -= cell_thermal_load[cell->active_cell_index()][i];
           if (with_load && generalized_plane_strain)
             r.add(ezz[slot_of_body.at(cell->material_id())],
                   cell_ezz_coupling[cell->active_cell_index()]);

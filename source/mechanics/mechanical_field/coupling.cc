@@ -77,10 +77,8 @@ namespace ContactStefan
       if (cell->is_locally_owned())
         {
           const unsigned int      c = cell->active_cell_index();
-          dealii::Vector<double> &f = cell_thermal_load[c];
-          const ThermalOperator  &B = cell_thermal_operator[c];
-          if (f.size() != B.size())
-            f.reinit(B.size(), true);
+          auto                   &f      = cell_thermal_load[c];
+          const ThermalOperator  &B      = cell_thermal_operator[c];
           auto &excess = cell_theta_excess[c];
           for (unsigned int v = 0; v < 4; ++v)
             excess[v] = theta[c][v] - cell_reference[c][v];
@@ -93,7 +91,8 @@ namespace ContactStefan
             }
           // The load of the reference strains (solidification.cc).
           if (history && cell_reference_load[c].size() == B.size())
-            f += cell_reference_load[c];
+            for (unsigned int i = 0; i < B.size(); ++i)
+              f[i] += cell_reference_load[c][i];
         }
   }
 

@@ -39,7 +39,8 @@ namespace ContactStefan
           else
             rhs = 0;
           if (thermal_stress)
-            rhs += cell_thermal_load[index];
+            for (unsigned int i = 0; i < n; ++i)
+              rhs[i] += cell_thermal_load[index][i];
           // The in-plane stress of the body's e_zz (out_of_plane.cc).
           if (generalized_plane_strain)
             rhs.add(-ezz[slot_of_body.at(cell->material_id())], cell_ezz_coupling[index]);

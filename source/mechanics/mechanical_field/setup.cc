@@ -144,7 +144,7 @@ namespace ContactStefan
           }
     }
     cell_load.assign(triangulation.n_active_cells(), dealii::Vector<double>());
-    cell_thermal_load.assign(triangulation.n_active_cells(), dealii::Vector<double>());
+    cell_thermal_load.assign(coupled ? triangulation.n_active_cells() : 0, {});
     cell_theta_excess.assign(triangulation.n_active_cells(), {{0., 0., 0., 0.}});
     // Until the thermal field says otherwise, each cell is in phase 0.
     // No thermal load until the thermal field hands over its temperatures (after
@@ -155,8 +155,6 @@ namespace ContactStefan
         {
           cell_moduli[cell->active_cell_index()] =
             materials[cell->material_id()].phase_moduli.front();
-          if (coupled)
-            cell_thermal_load[cell->active_cell_index()].reinit(cell->get_fe().n_dofs_per_cell());
         }
     ++stiffness_version;
     have_matrix = have_factorisation = have_solution = have_bulk = false;
@@ -530,6 +528,7 @@ namespace ContactStefan
     time             = t;
     old_displacement = displacement;
     old_ezz          = ezz;
+    guess_pending    = false; // (one of a redone attempt's is stale)
     assemble_load();
     make_fixed_constraints();
     update_condition_gaps();

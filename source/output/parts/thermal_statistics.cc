@@ -103,10 +103,19 @@ namespace ContactStefan
         results.add(Slot::thermal, "max energy-balance residual", s.max_energy_residual);
         results.add(Slot::thermal, "enthalpy matrix factorisations", s.enthalpy_factorisations);
         results.add(Slot::thermal, "melt area", this->run.thermal->melt_area());
-        // Of the factorisations above, how many were modifications of an
-        // earlier factor row by row (Solver/Row update limit). Not compared
-        // with a reference by the regression tests ('... solver: ' lines).
-        if (const LinearSolverStatistics &linear = s.enthalpy_linear; linear.row_updates > 0)
+        // The iterative path's work, where it ran, and of the factorisations
+        // above how many were modifications of an earlier factor row by row
+        // (Solver/Row update limit). Not compared with a reference by the
+        // regression tests ('... solver: ' lines).
+        const LinearSolverStatistics &linear = s.enthalpy_linear;
+        if (linear.cg_solves > 0)
+          {
+            results.add(Slot::thermal, "enthalpy solver: CG solves", linear.cg_solves);
+            results.add(Slot::thermal,
+                        "enthalpy solver: mean CG iterations per solve",
+                        double(linear.cg_iterations) / linear.cg_solves);
+          }
+        if (linear.row_updates > 0)
           {
             results.add(Slot::thermal,
                         "enthalpy solver: CHOLMOD factorisations",

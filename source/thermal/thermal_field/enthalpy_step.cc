@@ -355,14 +355,18 @@ namespace ContactStefan
       TimerOutput::Scope t(timer, "enthalpy step: linear solve");
       // A guess (the block correction's temperature, set_initial_guess())
       // that solves this system already stands: a matrix-vector product in
-      // place of a solve, on the direct path too.
+      // place of a solve, on the direct path too. Only the free rows count:
+      // a constrained row holds what the condensation put there (0 for a
+      // hanging node), not the value distribute() gives the guess, and the
+      // condensed matrix has no column for a constrained DoF.
       bool accepted = false;
       if (guess_pending)
         {
           guess_pending = false;
-          Vector       residual(owned, mpi_communicator);
-          const double norm = system_matrix.residual(residual, temperature, system_rhs);
-          accepted          = norm <= guess_tolerance * system_rhs.l2_norm();
+          Vector residual(owned, mpi_communicator);
+          system_matrix.residual(residual, temperature, system_rhs);
+          constraints.set_zero(residual);
+          accepted = residual.l2_norm() <= guess_tolerance * system_rhs.l2_norm();
           guesses_accepted += accepted;
         }
       if (!accepted)

@@ -411,6 +411,7 @@ namespace ContactStefan
     // loop): decided once per step from the large-step mode.
     step_in_large_step_mode = large_step_mode;
     first_pass_of_step      = true;
+    guess_pending           = false; // (one of a redone attempt's is stale)
     // Warm start of the active set: the phase states of the enthalpy
     // extrapolated linearly from the last two steps (the previous step's states
     // on the first step). A front moving at a steady speed then starts each step
