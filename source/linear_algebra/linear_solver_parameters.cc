@@ -19,7 +19,7 @@ namespace ContactStefan
       prm.declare_entry("Linear solver",
                         "automatic",
                         Patterns::Selection("automatic|direct|cg-amg"),
-                        "'direct': Trilinos Amesos sparse direct solver; 'cg-amg': conjugate "
+                        "'direct': a sparse direct solver ('Direct solver type'); 'cg-amg': conjugate "
                         "gradients preconditioned by ML algebraic multigrid (for elasticity "
                         "built for the rigid-body modes); 'automatic': direct for a system "
                         "with fewer unknowns than Automatic direct limit (the heat system "

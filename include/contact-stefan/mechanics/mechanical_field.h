@@ -431,7 +431,7 @@ namespace ContactStefan
     }
     /**
      * The start of the next solve's linear solve (a displacement that nearly
-     * solves it): if its residual is already within the CG tolerance, it is
+     * solves it): if its residual on the free rows is within the CG tolerance, it is
      * the solution (no linear solve, on either path); CG starts from it
      * otherwise. The next solve() never reuses the last solution unchanged.
      */

@@ -227,7 +227,7 @@ namespace ContactStefan
     /**
      * The start of the next linear solve of the enthalpy step (the block
      * correction of the coupling). A guess that already solves that system to
-     * 'Solver/CG tolerance' (relative residual) stands without a linear solve,
+     * 'Solver/CG tolerance' (relative residual of the free rows) stands without a linear solve,
      * on the direct path too, as the contact step's does. Only the starting
      * point: the phase states stay.
      */
