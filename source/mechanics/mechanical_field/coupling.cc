@@ -26,6 +26,24 @@
 
 namespace ContactStefan
 {
+  namespace
+  {
+    // f_i = sum_v B_K(i, v) d_v: the thermal load of the vertex values d.
+    template <class Operator, class Result>
+    void apply_thermal_operator(const Operator &B, const std::array<double, 4> &d, Result &f)
+    {
+      for (unsigned int i = 0; i < B.size(); ++i)
+        {
+          double sum = 0;
+          for (unsigned int v = 0; v < 4; ++v)
+            sum += B[i][v] * d[v];
+          f[i] = sum;
+        }
+    }
+  } // namespace
+
+
+
   template <int dim>
   unsigned int
   MechanicalField<dim>::set_phase_weights(const std::vector<std::vector<double>> &weights)
@@ -82,13 +100,7 @@ namespace ContactStefan
           auto &excess = cell_theta_excess[c];
           for (unsigned int v = 0; v < 4; ++v)
             excess[v] = theta[c][v] - cell_reference[c][v];
-          for (unsigned int i = 0; i < B.size(); ++i)
-            {
-              double sum = 0;
-              for (unsigned int v = 0; v < 4; ++v)
-                sum += B[i][v] * excess[v];
-              f[i] = sum;
-            }
+          apply_thermal_operator(B, excess, f);
           // The load of the reference strains (solidification.cc).
           if (history && cell_reference_load[c].size() == B.size())
             for (unsigned int i = 0; i < B.size(); ++i)
@@ -118,13 +130,7 @@ namespace ContactStefan
         std::array<double, 4> d;
         for (unsigned int v = 0; v < 4; ++v)
           d[v] = theta[c][v] - theta_before[c][v];
-        for (unsigned int i = 0; i < B.size(); ++i)
-          {
-            double s = 0;
-            for (unsigned int v = 0; v < 4; ++v)
-              s += B[i][v] * d[v];
-            f[i] = s;
-          }
+        apply_thermal_operator(B, d, f);
         dofs.resize(B.size());
         cell->get_dof_indices(dofs);
         // Without the matrix argument: the change of a load has no
