@@ -98,10 +98,20 @@ namespace ContactStefan
       std::streambuf *const cerr_buffer = std::cerr.rdbuf(nullptr);
       try
         {
-          FunctionParser<2> f(1);
-          f.initialize("x,y,t", expression, {{"pi", numbers::PI}}, true);
-          const double v = f.value(Point<2>(0.5, 0.5));
-          (void)v;
+          if (uses_interface_distance(expression))
+            {
+              FunctionParser<3> f(1);
+              f.initialize("x,y,interface_distance,t", expression, {{"pi", numbers::PI}}, true);
+              const double v = f.value(Point<3>(0.5, 0.5, 0.5));
+              (void)v;
+            }
+          else
+            {
+              FunctionParser<2> f(1);
+              f.initialize("x,y,t", expression, {{"pi", numbers::PI}}, true);
+              const double v = f.value(Point<2>(0.5, 0.5));
+              (void)v;
+            }
           std::cerr.rdbuf(cerr_buffer);
         }
       catch (...)
@@ -140,11 +150,19 @@ namespace ContactStefan
     return message;
   }
 
+  bool uses_interface_distance(const std::string &expression)
+  {
+    static const std::regex variable("(^|[^A-Za-z0-9_])interface_distance([^A-Za-z0-9_]|$)");
+    return std::regex_search(expression, variable);
+  }
+
   bool is_zero_expression(const std::string &expression)
   {
-    // An expression that names none of x, y, t (nor muparser's random numbers)
-    // is a constant; it is zero if it evaluates to zero.
-    static const std::regex variable("(^|[^A-Za-z0-9_])(x|y|t|rand|rand_seed)([^A-Za-z0-9_]|$)");
+    // An expression that names none of x, y, t, interface_distance (nor
+    // muparser's random numbers) is a constant; it is zero if it evaluates to
+    // zero.
+    static const std::regex variable(
+      "(^|[^A-Za-z0-9_])(x|y|t|interface_distance|rand|rand_seed)([^A-Za-z0-9_]|$)");
     if (is_exact_keyword(expression) || std::regex_search(expression, variable))
       return false;
     std::streambuf *const cerr_buffer = std::cerr.rdbuf(nullptr);

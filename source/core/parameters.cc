@@ -92,7 +92,11 @@ namespace ContactStefan
                         "from (Interface top x, y1) down to y0 at Interface dip below the "
                         "horizontal, dipping towards +x; body 0 below it, body 1 above; "
                         "boundary ids as for the rectangle; every row of cells keeps its "
-                        "nodes on the interface.");
+                        "nodes on the interface. With this mesh every function of x, y, t "
+                        "may also name interface_distance: the distance to the interface "
+                        "as meshed (the polyline through its nodes on the coarse rows), "
+                        "positive in body 0 and negative in body 1, for data that follow a "
+                        "bent interface (Interface dip at base).");
       prm.declare_entry("Inner radius", "1", Patterns::Anything(), "Disk in ring: b (m), > 0.");
       prm.declare_entry("Outer radius", "2", Patterns::Anything(), "Disk in ring: c (m), > b.");
       prm.declare_entry("Interface top x",

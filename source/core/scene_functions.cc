@@ -1,8 +1,10 @@
 #include <deal.II/base/function_parser.h>
 
+#include <contact-stefan/core/checked_input.h>
 #include <contact-stefan/core/materials.h>
 #include <contact-stefan/core/scene_functions.h>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -18,6 +20,43 @@ namespace ContactStefan
       f->initialize("x,y,t", expressions, {{"pi", numbers::PI}}, true);
       return f;
     }
+
+    // An expression of x, y, interface_distance and t: the parser sees the
+    // point (x, y, d) with d the signed distance to the dipping interface.
+    template <int dim>
+    class WithInterfaceDistance : public Function<dim>
+    {
+    public:
+      WithInterfaceDistance(const std::vector<std::string>         &expressions,
+                            std::shared_ptr<const DippingInterface> interface)
+        : Function<dim>(expressions.size())
+        , parser(expressions.size())
+        , interface(std::move(interface))
+      {
+        parser.initialize("x,y,interface_distance,t", expressions, {{"pi", numbers::PI}}, true);
+      }
+      void set_time(const double t) override
+      {
+        Function<dim>::set_time(t);
+        parser.set_time(t);
+      }
+      double value(const Point<dim> &p, const unsigned int component = 0) const override
+      {
+        return parser.value(lifted(p), component);
+      }
+      void vector_value(const Point<dim> &p, dealii::Vector<double> &values) const override
+      {
+        parser.vector_value(lifted(p), values);
+      }
+
+    private:
+      Point<3> lifted(const Point<dim> &p) const
+      {
+        return Point<3>(p[0], p[1], interface->signed_distance(Point<2>(p[0], p[1])));
+      }
+      FunctionParser<3>                       parser;
+      std::shared_ptr<const DippingInterface> interface;
+    };
 
     // A function whose every returned value is checked for finiteness.
     template <int dim>
@@ -111,54 +150,60 @@ namespace ContactStefan
     , provided_exact(std::move(provided))
   {
     assert_two_dimensional<dim>();
+    if (prm.geometry.mesh_type == Parameters::Geometry::MeshType::dipping_interface)
+      dipping_interface = std::make_shared<const DippingInterface>(prm.geometry);
     if (provided_exact)
       exact = checked(make_exact(), "Exact solution/Function");
 
     for (const auto &[id, m] : prm.materials)
       {
         const std::string body = "Materials/Body " + std::to_string(id) + "/";
-        heat_sources[id]       = checked(parse<dim>({m.heat_source}), body + "Heat source");
+        heat_sources[id] =
+          checked(parsed({m.heat_source}, body + "Heat source"), body + "Heat source");
         heat_load |= !is_zero_expression(m.heat_source);
-        body_forces[id] =
-          checked(parse<dim>({m.body_force[0], m.body_force[1]}), body + "Body force");
+        body_forces[id] = checked(parsed({m.body_force[0], m.body_force[1]}, body + "Body force"),
+                                  body + "Body force");
         mechanical_load |=
           !is_zero_expression(m.body_force[0]) || !is_zero_expression(m.body_force[1]);
       }
     for (const auto &[id, bc] : prm.thermal_boundaries)
       {
-        thermal_boundaries[id] =
-          checked(function_or_exact(bc.value),
-                  "Boundary conditions/Thermal boundary " + std::to_string(id) + "/Value");
+        const std::string parameter =
+          "Boundary conditions/Thermal boundary " + std::to_string(id) + "/Value";
+        thermal_boundaries[id] = checked(function_or_exact(bc.value, parameter), parameter);
         heat_load |=
           bc.type == Parameters::ThermalBoundary::Type::flux && !is_zero_expression(bc.value);
       }
     initial =
-      checked(function_or_exact(prm.initial_condition.function), "Initial conditions/Function");
+      checked(function_or_exact(prm.initial_condition.function, "Initial conditions/Function"),
+              "Initial conditions/Function");
 
     using Mechanical = Parameters::MechanicalBoundary::Type;
     for (const auto &[id, bc] : prm.mechanical_boundaries)
       {
         const std::string section =
           "Boundary conditions/Mechanical boundary " + std::to_string(id) + "/";
-        mechanical_values[id] = checked(parse<dim>({bc.value[0], bc.value[1]}),
+        mechanical_values[id] = checked(parsed({bc.value[0], bc.value[1]}, section + "Value"),
                                         section + "Value",
                                         bc.type == Mechanical::displacement ?
                                           std::vector<bool>{bc.components[0], bc.components[1]} :
                                           std::vector<bool>());
         if (bc.type == Mechanical::obstacle)
-          obstacle_gaps[id] = checked(parse<dim>({bc.gap}), section + "Gap");
+          obstacle_gaps[id] = checked(parsed({bc.gap}, section + "Gap"), section + "Gap");
         mechanical_load |= bc.type == Mechanical::traction &&
                            (!is_zero_expression(bc.value[0]) || !is_zero_expression(bc.value[1]));
       }
     for (const auto &[pair, law] : prm.interface_pairs)
-      interface_gaps[pair] =
-        checked(parse<dim>({law.gap}),
-                !law.own_gap ?
-                  std::string("Contact/Interface gap") :
-                  "Contact/" + Parameters::InterfacePair::section(pair.first, pair.second) +
-                    "/Gap");
+      {
+        const std::string parameter =
+          !law.own_gap ?
+            std::string("Contact/Interface gap") :
+            "Contact/" + Parameters::InterfacePair::section(pair.first, pair.second) + "/Gap";
+        interface_gaps[pair] = checked(parsed({law.gap}, parameter), parameter);
+      }
     reference =
-      checked(parse<dim>({prm.coupling.reference_temperature}), "Coupling/Reference temperature");
+      checked(parsed({prm.coupling.reference_temperature}, "Coupling/Reference temperature"),
+              "Coupling/Reference temperature");
     reference->set_time(prm.time.start_time);
   }
 
@@ -178,7 +223,7 @@ namespace ContactStefan
   SceneFunctions<dim>::checked_expression(const std::vector<std::string> &expressions,
                                           const std::string              &parameter) const
   {
-    return checked(parse<dim>(expressions), parameter);
+    return checked(parsed(expressions, parameter), parameter);
   }
 
 
@@ -194,9 +239,26 @@ namespace ContactStefan
 
   template <int dim>
   std::unique_ptr<Function<dim>>
-  SceneFunctions<dim>::function_or_exact(const std::string &expression) const
+  SceneFunctions<dim>::function_or_exact(const std::string &expression,
+                                         const std::string &parameter) const
   {
-    return is_exact_keyword(expression) ? make_exact() : parse<dim>({expression});
+    return is_exact_keyword(expression) ? make_exact() : parsed({expression}, parameter);
+  }
+
+
+
+  template <int dim>
+  std::unique_ptr<Function<dim>>
+  SceneFunctions<dim>::parsed(const std::vector<std::string> &expressions,
+                              const std::string              &parameter) const
+  {
+    if (std::none_of(expressions.begin(), expressions.end(), uses_interface_distance))
+      return parse<dim>(expressions);
+    if (!dipping_interface)
+      throw InputError(parameter,
+                       "names interface_distance, which only Geometry/Mesh = dipping interface "
+                       "defines");
+    return std::make_unique<WithInterfaceDistance<dim>>(expressions, dipping_interface);
   }
 
 

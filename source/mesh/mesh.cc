@@ -5,6 +5,7 @@
 #include <deal.II/grid/grid_tools.h>
 
 #include <contact-stefan/core/common.h>
+#include <contact-stefan/core/dipping_interface.h>
 #include <contact-stefan/mesh/mesh.h>
 #include <contact-stefan/mesh/mesh_adaptation.h>
 
@@ -551,20 +552,18 @@ namespace ContactStefan
     // nodes is spaced uniformly on both sides of the interface, so the interface
     // is a mesh line; the nx columns are split in proportion to the bodies' mean
     // widths. Body 0 lies left of/below the interface, body 1 right of/above it.
-    void make_dipping_interface(Triangulation<2> &coarse,
-                                const Point<2>   &lower_left,
-                                const Point<2>   &upper_right,
-                                const double      xt,
-                                const double      dip,
-                                const double      dip_at_base,
-                                const unsigned    nx,
-                                const unsigned    ny)
+    void make_dipping_interface(Triangulation<2>       &coarse,
+                                const Point<2>         &lower_left,
+                                const Point<2>         &upper_right,
+                                const DippingInterface &interface,
+                                const unsigned          nx)
     {
       const double x0 = lower_left[0], x1 = upper_right[0];
       const double y0 = lower_left[1], y1 = upper_right[1];
-      const auto   fault_x = [&](const double y) {
-        return dipping_interface_x(xt, dip, dip_at_base, y1 - y0, y1 - y);
-      };
+      // The interface's node on each coarse row, bottom to top.
+      const std::vector<Point<2>> &rows      = interface.nodes();
+      const unsigned int           ny        = rows.size() - 1;
+      const auto                   fault_x   = [&](const double y) { return interface.x_at(y); };
       const double       mean_left = 0.5 * (fault_x(y1) + fault_x(y0)) - x0;
       const long         share     = std::lround(nx * mean_left / (x1 - x0));
       const unsigned int n_left =
@@ -591,8 +590,8 @@ namespace ContactStefan
       std::vector<Point<2>> vertices;
       for (unsigned int j = 0; j <= ny; ++j)
         {
-          const double y  = (j == ny ? y1 : y0 + j * (y1 - y0) / ny);
-          const double xf = fault_x(y);
+          const double y  = rows[j][1];
+          const double xf = rows[j][0];
           for (unsigned int i = 0; i <= nx; ++i)
             {
               const double x = i <= n_left ? x0 + i * (xf - x0) / n_left :
@@ -682,14 +681,8 @@ namespace ContactStefan
                                std::pow(4., refinement.initial_global_refinements);
           check_cell_count(cells, refinement, "Geometry/Subdivisions");
           Triangulation<dim> coarse;
-          make_dipping_interface(coarse,
-                                 g.lower_left,
-                                 g.upper_right,
-                                 g.interface_top_x,
-                                 g.interface_dip,
-                                 g.interface_dip_at_base,
-                                 g.subdivisions[0],
-                                 g.subdivisions[1]);
+          make_dipping_interface(
+            coarse, g.lower_left, g.upper_right, DippingInterface(g), g.subdivisions[0]);
           check_mesh(coarse, "the dipping-interface mesh");
           triangulation.copy_triangulation(coarse);
         }

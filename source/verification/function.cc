@@ -52,6 +52,9 @@ namespace ContactStefan
               "Exact solution/Type",
               "'function' needs Physics/Thermal = true");
       check_function(p->function, "Exact solution/Function", false);
+      require(!uses_interface_distance(p->function),
+              "Exact solution/Function",
+              "an exact temperature is a function of x, y, t only (not interface_distance)");
       return std::shared_ptr<const PartParameters>(p);
     };
     info.create = [](const RunContext<2> &run, const PartParameters &) {

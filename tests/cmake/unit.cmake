@@ -4,7 +4,7 @@
 
 # --- unit tests of the pure pieces --------------------------------------------
 foreach(unit enthalpy_law neumann_solution contact adaptation q1_kernels solidification_history
-    interface_conductance step_control mpi_start linear_solver)
+    interface_conductance step_control mpi_start linear_solver dipping_interface)
   add_executable(unit_${unit} unit_${unit}.cc)
   target_link_libraries(unit_${unit} contact_stefan)
   deal_ii_setup_target(unit_${unit})

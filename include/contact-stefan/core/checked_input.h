@@ -38,6 +38,13 @@ namespace ContactStefan
    */
   bool is_zero_expression(const std::string &expression);
 
+  /**
+   * Whether a function expression names the variable 'interface_distance' (the
+   * signed distance to a dipping interface, core/dipping_interface.h), which
+   * only a scene with Geometry/Mesh = dipping interface defines.
+   */
+  bool uses_interface_distance(const std::string &expression);
+
   /** The keyword that stands for the configured exact solution in a function entry. */
   inline bool is_exact_keyword(const std::string &expression)
   {
@@ -66,8 +73,10 @@ namespace ContactStefan
     std::string str(const double v);
 
     /**
-     * A muparser expression in x, y, t must parse and evaluate; "exact" is
-     * allowed where an exact solution can stand in (exact_allowed).
+     * A muparser expression in x, y, t (and interface_distance: whether the
+     * scene defines it is checked where the functions are built,
+     * scene_functions.cc) must parse and evaluate; "exact" is allowed where an
+     * exact solution can stand in (exact_allowed).
      */
     void check_function(const std::string &expression,
                         const std::string &path,

@@ -8,6 +8,10 @@
 // A user sets the time of a function before evaluating it (Function::set_time);
 // the functions are shared, so every evaluation site sets it.
 //
+// Where the mesh is a dipping interface, an expression may also name
+// interface_distance, the signed distance to the interface as meshed (positive
+// in body 0): data that follow a bent slab, for instance.
+//
 // Every function checks each value it returns: a NaN or an infinity (sqrt(-1-t),
 // log(0.5-t), 1/(x-0.5), ...) is recorded with the parameter, the point and the
 // time, and the next check_finite_values() -- called by each field after it has
@@ -18,6 +22,7 @@
 #include <deal.II/base/function.h>
 
 #include <contact-stefan/core/common.h>
+#include <contact-stefan/core/dipping_interface.h>
 #include <contact-stefan/core/parameters.h>
 
 #include <functional>
@@ -130,9 +135,17 @@ namespace ContactStefan
     };
 
   private:
+    /**
+     * The expression(s) parsed; with the variable interface_distance where they
+     * name it (refused, naming parameter, if the scene has no dipping interface).
+     */
+    std::unique_ptr<Function<dim>> parsed(const std::vector<std::string> &expressions,
+                                          const std::string              &parameter) const;
+
     /** A fresh copy of the exact temperature (each user sets its own time). */
     std::unique_ptr<Function<dim>> make_exact() const;
-    std::unique_ptr<Function<dim>> function_or_exact(const std::string &expression) const;
+    std::unique_ptr<Function<dim>> function_or_exact(const std::string &expression,
+                                                     const std::string &parameter) const;
 
     /** The parsed expression(s), wrapped so that every value is checked. */
     std::unique_ptr<Function<dim>> checked(std::unique_ptr<Function<dim>> function,
@@ -141,6 +154,8 @@ namespace ContactStefan
 
     const SceneParameters           &prm;
     std::unique_ptr<NonFiniteRecord> record;
+    /** The interface of Geometry/Mesh = dipping interface (null for other meshes). */
+    std::shared_ptr<const DippingInterface> dipping_interface;
     ExactTemperature                 provided_exact;
     std::unique_ptr<Function<dim>>                                                  exact, initial;
     std::map<std::pair<unsigned int, unsigned int>, std::unique_ptr<Function<dim>>> interface_gaps;
