@@ -46,6 +46,17 @@ scene(scenes/subduction-slab-by-interface-distance 1 ${CMAKE_SOURCE_DIR}/prm/sub
   subduction_continuous_slab ${SLAB_BY_INTERFACE_DISTANCE} ${SLAB_BOUNDS})
 scene(scenes/subduction-slab-by-interface-distance-mpi2 2 ${CMAKE_SOURCE_DIR}/prm/subduction.prm
   subduction_continuous_slab ${SLAB_BY_INTERFACE_DISTANCE} ${SLAB_BOUNDS})
+# The subduction zone with smooth data (benchmarks/scenes/subduction_bent_slab.prm,
+# doc/scenes.md section 4): the interface vertical at the base, temperatures
+# that follow it by interface_distance. Melt appears, the contact set changes,
+# energy is conserved.
+scene(scenes/subduction-bent-slab 1 ${CMAKE_SOURCE_DIR}/benchmarks/scenes/subduction_bent_slab.prm
+  subduction_bent_slab
+  "RESULT melt area>5e8"
+  "RESULT max active contact nodes over the steps>12.5"
+  "RESULT max energy-balance residual<1e-8"
+  "RESULT nodes with h outside H(Theta)<1"
+  "RESULT steps with relaxation fallback<1")
 # Casting, the first 20 s: the contact with the die opens as the shell
 # solidifies (active nodes fall from all 17), the liquid core shrinks.
 set(CASTING_BOUNDS
