@@ -3,7 +3,7 @@
 study of the application scenes, doc/scenes.md section 4).
 
 Level L refines the scene's mesh L more times at the same time step: by
-'Mesh refinement/Initial global refinements' = L (default), or, with
+L more 'Mesh refinement/Initial global refinements' than the scene's (default), or, with
 --subdivisions, by 'Geometry/Subdivisions' times 2^L (the casting's disk in
 ring refuses global refinement: refined cells would leave the circles). VTU
 output is switched off. The table gives each quantity per level and its change
@@ -26,7 +26,7 @@ import tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from ladder import get_entry, set_path  # noqa: E402
+from ladder import get_path, set_path  # noqa: E402
 from provenance import provenance_line  # noqa: E402
 
 DEFAULT_BINARY = os.path.join(HERE, "..", "build", "contact-stefan")
@@ -49,27 +49,38 @@ QUANTITIES = [
 COUNTS = {"temperature dofs", "displacement dofs", "active contact nodes", "wall time"}
 
 
-def run_level(binary, scene_text, level, subdivisions, settings, workdir, np_):
+def run_level(binary, scene_text, scene_dir, level, subdivisions, settings, workdir, np_):
     text = scene_text
-    if subdivisions:
-        n = [int(v) for v in get_entry(text, "Geometry/Subdivisions").split(",")]
-        text = set_path(text, "Geometry/Subdivisions", ", ".join(str(v * 2**level) for v in n))
-    elif level > 0:
-        text = set_path(text, "Mesh refinement/Initial global refinements", str(level))
-    directory = os.path.join(workdir, f"level-{level}")
-    text = set_path(text, "Output/Directory", directory)
-    text = set_path(text, "Output/VTU interval", "0")
     for entry in settings:
         path, value = entry.split("=", 1)
         text = set_path(text, path, value)
-    prm = os.path.join(workdir, f"level-{level}.prm")
+    if subdivisions:
+        value = get_path(text, "Geometry/Subdivisions", None)
+        if value is None:
+            sys.exit("scene_convergence.py: --subdivisions: the scene does not set "
+                     "Geometry/Subdivisions")
+        n = [int(v) for v in value.split(",")]
+        text = set_path(text, "Geometry/Subdivisions", ", ".join(str(v * 2**level) for v in n))
+    else:
+        # L more refinements than the scene's own.
+        base = int(get_path(text, "Mesh refinement/Initial global refinements", "0"))
+        text = set_path(text, "Mesh refinement/Initial global refinements", str(base + level))
+    text = set_path(text, "Output/Directory", os.path.join(workdir, f"level-{level}"))
+    text = set_path(text, "Output/VTU interval", "0")
+    # Beside the scene, so that its relative includes and meshes resolve; named
+    # by the process (two studies of scenes in one folder).
+    prm = os.path.join(scene_dir, f".convergence-{os.getpid()}-level-{level}.prm")
     with open(prm, "w") as f:
         f.write(text)
-    cmd = [binary, prm] if np_ == 1 else ["mpirun", "--allow-run-as-root", "--oversubscribe",
-                                           "-np", str(np_), binary, prm]
-    p = subprocess.run(cmd, capture_output=True, text=True)
+    try:
+        cmd = [binary, prm] if np_ == 1 else ["mpirun", "--allow-run-as-root", "--oversubscribe",
+                                               "-np", str(np_), binary, prm]
+        p = subprocess.run(cmd, capture_output=True, text=True)
+    finally:
+        os.remove(prm)
     if p.returncode != 0:
-        sys.exit(f"level {level} failed: {p.stderr.strip().splitlines()[-1:]}")
+        last = p.stderr.strip().splitlines()[-1:] or ["(no message)"]
+        sys.exit(f"scene_convergence.py: level {level} failed: {last[0]}")
     results = {k: float(v) for k, v in re.findall(r"^RESULT (.*?) = (\S+)$", p.stdout, re.M)}
     forces = [v for k, v in results.items() if k.startswith("contact force")]
     if forces:
@@ -108,8 +119,9 @@ def main():
     with tempfile.TemporaryDirectory() as workdir:
         runs = []
         for level in levels:
-            runs.append(run_level(args.binary, scene_text, level, args.subdivisions, args.set,
-                                  workdir, args.np))
+            runs.append(run_level(args.binary, scene_text,
+                                  os.path.dirname(os.path.abspath(args.scene)), level,
+                                  args.subdivisions, args.set, workdir, args.np))
             print(f"level {level}: {runs[-1].get('wall time', float('nan')):.1f} s",
                   file=sys.stderr)
     header = (["quantity"] + [f"L{l}" for l in levels] +

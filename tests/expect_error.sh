@@ -1,7 +1,9 @@
 #!/bin/bash
-# expect_error.sh BINARY SCENE.prm EXPECTED: the run must stop with exit code 1,
-# print exactly one line to stderr containing EXPECTED, and write nothing else.
-binary=$1 scene=$2 expected=$3
+# expect_error.sh BINARY SCENE.prm EXPECTED [check]: the run must stop with exit
+# code 1, print exactly one line to stderr containing EXPECTED, and write nothing
+# else. With 'check', --check must refuse the file too (the parameters alone
+# show the problem).
+binary=$1 scene=$2 expected=$3 check_must_refuse=${4:-}
 dir=$(mktemp -d) && cd "$dir" || exit 1
 trap 'rm -rf "$dir" "$TMPDIR"' EXIT
 # Its own Open MPI session directory (outside the checked directory): parallel
@@ -30,8 +32,12 @@ if [ $check_status -eq 1 ]; then
     { echo "--check reports another line:"; cat check_stderr.txt; exit 1; }
 elif [ $check_status -ne 0 ]; then
   echo "--check: exit code $check_status"; cat check_stderr.txt; exit 1
+elif [ "$check_must_refuse" = check ]; then
+  echo "--check passed a file it must refuse"; exit 1
 fi
 rm -f check_stdout.txt check_stderr.txt
 files=$(find . -type f ! -name stdout.txt ! -name stderr.txt)
 if [ -n "$files" ]; then echo "files were written: $files"; exit 1; fi
+directories=$(find . -mindepth 1 -type d)
+if [ -n "$directories" ]; then echo "directories were made: $directories"; exit 1; fi
 echo "OK: $(cat stderr.txt)"

@@ -7,9 +7,9 @@
 //   rows' interface nodes (dipping_interface_x); a point pushed off the middle
 //   of a chord along its normal by delta lies delta away, on the side it was
 //   pushed to; beyond the foot the nearest point is the foot node;
-// - the mesh generator puts its interface nodes on that polyline (body 0's
-//   right edge of every coarse row), so the sign agrees with the bodies at
-//   every cell centre of a twice refined mesh;
+// - the mesh generator puts its interface nodes on that polyline: every
+//   vertex of a face between the bodies of a twice refined mesh lies on it,
+//   and the sign agrees with the bodies at every cell centre;
 // - bad polylines are refused.
 #include <deal.II/base/mpi.h>
 
@@ -126,14 +126,26 @@ int main(int argc, char **argv)
     refinement.max_cells                  = 1000000;
     parallel::distributed::Triangulation<2> mesh(MPI_COMM_WORLD);
     make_mesh(scene, refinement, mesh);
-    unsigned int disagree = 0, cells = 0;
+    unsigned int disagree = 0, cells = 0, interface_vertices = 0;
+    double       off = 0;
     for (const auto &cell : mesh.active_cell_iterators())
       {
         ++cells;
         disagree += (interface.signed_distance(cell->center()) > 0) != (cell->material_id() == 0);
+        // The vertices of body 0's faces towards body 1 lie on the polyline.
+        for (const unsigned int f : cell->face_indices())
+          if (cell->material_id() == 0 && !cell->at_boundary(f) &&
+              cell->neighbor(f)->material_id() == 1)
+            for (unsigned int v = 0; v < 2; ++v)
+              {
+                ++interface_vertices;
+                off = std::max(off, std::abs(interface.signed_distance(cell->face(f)->vertex(v))));
+              }
       }
     std::printf("bent: %u cells of a twice refined mesh, %u on the wrong side\n", cells, disagree);
     check(disagree == 0, "bent: the sign agrees with the mesh's bodies at every cell centre");
+    check(interface_vertices == 2 * 80 && off < 1e-9 * 1e5,
+          "bent: the interface's vertices (of 80 faces) lie on the polyline to 1e-9 of the height");
   }
 
   // --- bad polylines ---------------------------------------------------------

@@ -92,11 +92,14 @@ namespace ContactStefan
                         "from (Interface top x, y1) down to y0 at Interface dip below the "
                         "horizontal, dipping towards +x; body 0 below it, body 1 above; "
                         "boundary ids as for the rectangle; every row of cells keeps its "
-                        "nodes on the interface. With this mesh every function of x, y, t "
-                        "may also name interface_distance: the distance to the interface "
-                        "as meshed (the polyline through its nodes on the coarse rows), "
+                        "nodes on the interface. With this mesh the scene's functions of x, "
+                        "y, t (loads, boundary, initial and reference data, gaps, and the "
+                        "exact data of Exact solution but its temperature Function) may "
+                        "also name interface_distance: the distance to the interface as "
+                        "meshed (the polyline through its nodes on the coarse rows), "
                         "positive in body 0 and negative in body 1, for data that follow a "
-                        "bent interface (Interface dip at base).");
+                        "bent interface (Interface dip at base). On the interface it is 0 "
+                        "to rounding, with either sign: data should be continuous there.");
       prm.declare_entry("Inner radius", "1", Patterns::Anything(), "Disk in ring: b (m), > 0.");
       prm.declare_entry("Outer radius", "2", Patterns::Anything(), "Disk in ring: c (m), > b.");
       prm.declare_entry("Interface top x",
@@ -576,6 +579,17 @@ namespace ContactStefan
 
 
 
+  void SceneParameters::check_variables(const std::string &expression,
+                                        const std::string &path) const
+  {
+    require(!uses_interface_distance(expression) ||
+              geometry.mesh_type == Parameters::Geometry::MeshType::dipping_interface,
+            path,
+            "names interface_distance, which only Geometry/Mesh = dipping interface defines");
+  }
+
+
+
   void SceneParameters::read(const std::string &filename, const std::vector<OwnerSection> &owners)
   {
     // .xml and .json files are read in those formats, everything else as .prm;
@@ -695,6 +709,33 @@ namespace ContactStefan
 
     initial_condition.parse(prm);
     check_function(initial_condition.function, "Initial conditions/Function", true);
+
+    // The scene's own functions (those SceneFunctions builds) name only the
+    // variables this mesh defines.
+    for (const auto &[id, m] : materials)
+      {
+        const std::string body = "Materials/" + body_section(id) + "/";
+        check_variables(m.heat_source, body + "Heat source");
+        for (const std::string &f : m.body_force)
+          check_variables(f, body + "Body force");
+      }
+    for (const auto &[id, bc] : thermal_boundaries)
+      check_variables(bc.value, "Boundary conditions/" + boundary_section(id) + "/Value");
+    for (const auto &[id, bc] : mechanical_boundaries)
+      {
+        const std::string section = "Boundary conditions/" + mechanical_section(id) + "/";
+        for (const std::string &f : bc.value)
+          check_variables(f, section + "Value");
+        check_variables(bc.gap, section + "Gap");
+      }
+    for (const auto &[pair, law] : interface_pairs)
+      check_variables(law.gap,
+                      !law.own_gap ?
+                        std::string("Contact/Interface gap") :
+                        "Contact/" + Parameters::InterfacePair::section(pair.first, pair.second) +
+                          "/Gap");
+    check_variables(coupling.reference_temperature, "Coupling/Reference temperature");
+    check_variables(initial_condition.function, "Initial conditions/Function");
 
     time.parse(prm);
     for (const OwnerSection &owner : owners)

@@ -25,7 +25,7 @@ namespace ContactStefan
       {
         std::error_code   error;
         const std::string directory = output.directory;
-        std::filesystem::create_directories(directory, error);
+        const bool        made      = std::filesystem::create_directories(directory, error);
         const std::string probe = directory + "/.contact-stefan-write-test";
         if (error || !std::filesystem::is_directory(directory))
           problem = "cannot create the directory '" + directory + "'";
@@ -38,6 +38,9 @@ namespace ContactStefan
           try
             {
               output_lock = std::make_unique<OutputDirectoryLock>(directory);
+              // A run refused before it writes leaves no empty directory behind.
+              if (made)
+                output_lock->created();
             }
           catch (const std::exception &e)
             {

@@ -242,6 +242,7 @@ namespace ContactStefan
 
 
   OutputDirectoryLock::OutputDirectoryLock(const std::string &directory)
+    : directory(directory)
   {
     // The directory itself is locked: a run that is refused later (bad input
     // found with the mesh) has written nothing into it.
@@ -269,6 +270,10 @@ namespace ContactStefan
     // ends: a killed run leaves no stale lock).
     if (descriptor >= 0)
       ::close(descriptor);
+    // (remove() leaves a directory that holds anything.)
+    std::error_code ignored;
+    if (remove_if_empty)
+      std::filesystem::remove(directory, ignored);
   }
 
 

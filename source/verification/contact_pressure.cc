@@ -104,6 +104,7 @@ namespace ContactStefan
       if (p->pressure.empty())
         return std::shared_ptr<const PartParameters>();
       check_function(p->pressure, "Exact solution/Contact pressure", false);
+      scene.check_variables(p->pressure, "Exact solution/Contact pressure");
       require(scene.physics.mechanics,
               "Exact solution/Contact pressure",
               "an exact contact pressure needs Physics/Mechanics = true");

@@ -141,7 +141,10 @@ namespace ContactStefan
               "Exact solution/Heat flux",
               "needs two functions (q_x, q_y) separated by a semicolon");
       for (const auto &f : p->flux)
-        check_function(f, "Exact solution/Heat flux", false);
+        {
+          check_function(f, "Exact solution/Heat flux", false);
+          scene.check_variables(f, "Exact solution/Heat flux");
+        }
       require(scene.physics.thermal,
               "Exact solution/Heat flux",
               "an exact heat flux needs Physics/Thermal = true");

@@ -93,6 +93,7 @@ namespace ContactStefan
       if (p->fraction.empty())
         return std::shared_ptr<const PartParameters>();
       check_function(p->fraction, "Exact solution/Liquid fraction", false);
+      scene.check_variables(p->fraction, "Exact solution/Liquid fraction");
       require(scene.physics.thermal,
               "Exact solution/Liquid fraction",
               "an exact liquid fraction needs Physics/Thermal = true");

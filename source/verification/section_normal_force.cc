@@ -143,7 +143,7 @@ namespace ContactStefan
                         "the steps, relative to the largest exact force (any Type).");
       prm.leave_subsection();
     };
-    info.parse = [](ParameterHandler &prm, const SceneParameters &, const bool) {
+    info.parse = [](ParameterHandler &prm, const SceneParameters &scene, const bool) {
       auto p = std::make_shared<SectionParameters>();
       prm.enter_subsection("Exact solution");
       p->force = prm.get("Section normal force");
@@ -151,6 +151,7 @@ namespace ContactStefan
       if (p->force.empty())
         return std::shared_ptr<const PartParameters>();
       check_function(p->force, "Exact solution/Section normal force", false);
+      scene.check_variables(p->force, "Exact solution/Section normal force");
       prm.enter_subsection("Output");
       const bool lines = !prm.get("Section lines").empty();
       prm.leave_subsection();

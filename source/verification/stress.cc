@@ -183,7 +183,10 @@ namespace ContactStefan
         "Exact solution/Stress",
         "needs four functions (sigma_xx, sigma_yy, sigma_xy, sigma_zz) separated by semicolons");
       for (const auto &f : p->stress)
-        check_function(f, "Exact solution/Stress", false);
+        {
+          check_function(f, "Exact solution/Stress", false);
+          scene.check_variables(f, "Exact solution/Stress");
+        }
       require(scene.physics.mechanics,
               "Exact solution/Stress",
               "an exact stress or contact pressure needs Physics/Mechanics = true");

@@ -8,7 +8,12 @@ foreach(prm ${bad_inputs})
   get_filename_component(name ${prm} NAME_WE)
   file(STRINGS ${prm} expect REGEX "^# EXPECT: ")
   string(REPLACE "# EXPECT: " "" expect "${expect}")
-  add_test(NAME bad_input/${name} COMMAND ${T}/expect_error.sh ${BIN} ${prm} "${expect}")
+  # '# CHECK: refuses': --check must refuse the file as well.
+  file(STRINGS ${prm} check REGEX "^# CHECK: refuses")
+  if(check)
+    set(check check)
+  endif()
+  add_test(NAME bad_input/${name} COMMAND ${T}/expect_error.sh ${BIN} ${prm} "${expect}" ${check})
 endforeach()
 # Cells far from square: the run goes on, with one warning naming the worst
 # cell, its aspect ratio and the parameter to change.

@@ -352,6 +352,14 @@ namespace ContactStefan
     std::string              source_text;
     std::vector<std::string> source_files;
 
+    /**
+     * Throws InputError naming path if the function expression names a
+     * variable this scene does not define: interface_distance (the signed
+     * distance to the interface, scene_functions.h) off a dipping-interface
+     * mesh.
+     */
+    void check_variables(const std::string &expression, const std::string &path) const;
+
     /** Declare everything for the given body and boundary lists, the owners' entries too. */
     static void declare(ParameterHandler                &prm,
                         const std::vector<unsigned int> &body_ids,

@@ -37,12 +37,23 @@ namespace ContactStefan
      * process that holds it. Not collective (rank 0).
      */
     explicit OutputDirectoryLock(const std::string &directory);
+    /**
+     * Releases the lock; a directory the run created (created()) and left
+     * empty, because it was refused before writing anything, is removed.
+     */
     ~OutputDirectoryLock();
+    /** The run made the directory (it did not exist before). */
+    void created()
+    {
+      remove_if_empty = true;
+    }
     OutputDirectoryLock(const OutputDirectoryLock &)            = delete;
     OutputDirectoryLock &operator=(const OutputDirectoryLock &) = delete;
 
   private:
-    int descriptor = -1;
+    std::string directory;
+    int         descriptor      = -1;
+    bool        remove_if_empty = false;
   };
 
   /**
