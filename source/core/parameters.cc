@@ -590,6 +590,38 @@ namespace ContactStefan
 
 
 
+  // The scene's own functions (those SceneFunctions builds) name only the
+  // variables this mesh defines.
+  void SceneParameters::check_scene_variables() const
+  {
+    for (const auto &[id, m] : materials)
+      {
+        const std::string body = "Materials/" + body_section(id) + "/";
+        check_variables(m.heat_source, body + "Heat source");
+        for (const std::string &f : m.body_force)
+          check_variables(f, body + "Body force");
+      }
+    for (const auto &[id, bc] : thermal_boundaries)
+      check_variables(bc.value, "Boundary conditions/" + boundary_section(id) + "/Value");
+    for (const auto &[id, bc] : mechanical_boundaries)
+      {
+        const std::string section = "Boundary conditions/" + mechanical_section(id) + "/";
+        for (const std::string &f : bc.value)
+          check_variables(f, section + "Value");
+        check_variables(bc.gap, section + "Gap");
+      }
+    for (const auto &[pair, law] : interface_pairs)
+      check_variables(law.gap,
+                      !law.own_gap ?
+                        std::string("Contact/Interface gap") :
+                        "Contact/" + Parameters::InterfacePair::section(pair.first, pair.second) +
+                          "/Gap");
+    check_variables(coupling.reference_temperature, "Coupling/Reference temperature");
+    check_variables(initial_condition.function, "Initial conditions/Function");
+  }
+
+
+
   void SceneParameters::read(const std::string &filename, const std::vector<OwnerSection> &owners)
   {
     // .xml and .json files are read in those formats, everything else as .prm;
@@ -710,32 +742,7 @@ namespace ContactStefan
     initial_condition.parse(prm);
     check_function(initial_condition.function, "Initial conditions/Function", true);
 
-    // The scene's own functions (those SceneFunctions builds) name only the
-    // variables this mesh defines.
-    for (const auto &[id, m] : materials)
-      {
-        const std::string body = "Materials/" + body_section(id) + "/";
-        check_variables(m.heat_source, body + "Heat source");
-        for (const std::string &f : m.body_force)
-          check_variables(f, body + "Body force");
-      }
-    for (const auto &[id, bc] : thermal_boundaries)
-      check_variables(bc.value, "Boundary conditions/" + boundary_section(id) + "/Value");
-    for (const auto &[id, bc] : mechanical_boundaries)
-      {
-        const std::string section = "Boundary conditions/" + mechanical_section(id) + "/";
-        for (const std::string &f : bc.value)
-          check_variables(f, section + "Value");
-        check_variables(bc.gap, section + "Gap");
-      }
-    for (const auto &[pair, law] : interface_pairs)
-      check_variables(law.gap,
-                      !law.own_gap ?
-                        std::string("Contact/Interface gap") :
-                        "Contact/" + Parameters::InterfacePair::section(pair.first, pair.second) +
-                          "/Gap");
-    check_variables(coupling.reference_temperature, "Coupling/Reference temperature");
-    check_variables(initial_condition.function, "Initial conditions/Function");
+    check_scene_variables();
 
     time.parse(prm);
     for (const OwnerSection &owner : owners)

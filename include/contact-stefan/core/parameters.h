@@ -360,6 +360,11 @@ namespace ContactStefan
      */
     void check_variables(const std::string &expression, const std::string &path) const;
 
+  private:
+    /** check_variables() for every function of the scene itself. */
+    void check_scene_variables() const;
+
+  public:
     /** Declare everything for the given body and boundary lists, the owners' entries too. */
     static void declare(ParameterHandler                &prm,
                         const std::vector<unsigned int> &body_ids,
