@@ -49,6 +49,24 @@ QUANTITIES = [
 COUNTS = {"temperature dofs", "displacement dofs", "active contact nodes", "wall time"}
 
 
+def expanded(path, depth=0):
+    """The scene's text with its 'include' lines replaced by the included files'
+    (relative to the including file), so that entries set in an include can be
+    read and changed here (contact-stefan refuses an entry set twice)."""
+    if depth > 20:
+        sys.exit(f"scene_convergence.py: includes nested too deeply at {path}")
+    directory = os.path.dirname(os.path.abspath(path))
+    lines = []
+    with open(path) as f:
+        for line in f:
+            m = re.match(r"^\s*include\s+(\S+)", line)
+            if m:
+                lines.append(expanded(os.path.join(directory, m.group(1)), depth + 1))
+            else:
+                lines.append(line)
+    return "".join(lines)
+
+
 def run_level(binary, scene_text, scene_dir, level, subdivisions, settings, workdir, np_):
     text = scene_text
     for entry in settings:
@@ -114,8 +132,7 @@ def main():
     args = p.parse_args()
     levels = [int(v) for v in args.levels.split(",")]
     print(provenance_line(args.binary))
-    with open(args.scene) as f:
-        scene_text = f.read()
+    scene_text = expanded(args.scene)
     with tempfile.TemporaryDirectory() as workdir:
         runs = []
         for level in levels:

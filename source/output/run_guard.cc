@@ -249,7 +249,23 @@ namespace ContactStefan
     descriptor = ::open(directory.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
     if (descriptor < 0)
       throw std::runtime_error("cannot open the directory '" + directory + "' to lock it");
-    if (::flock(descriptor, LOCK_EX | LOCK_NB) != 0)
+    if (::flock(descriptor, LOCK_EX | LOCK_NB) == 0)
+      {
+        // The lock must be on the directory the path names now: a refused run
+        // that made the directory removes it (below) while it holds the lock,
+        // and this run may have opened it just before.
+        struct stat locked, named;
+        if (::fstat(descriptor, &locked) != 0 || ::stat(directory.c_str(), &named) != 0 ||
+            locked.st_dev != named.st_dev || locked.st_ino != named.st_ino)
+          {
+            ::close(descriptor);
+            descriptor = -1;
+            throw std::runtime_error("the directory '" + directory +
+                                     "' was removed by another run while this one locked it; "
+                                     "start the run again");
+          }
+      }
+    else
       {
         struct stat status;
         const long  holder = ::fstat(descriptor, &status) == 0 ? lock_holder(status) : 0;
@@ -268,12 +284,13 @@ namespace ContactStefan
   {
     // Closing releases the lock (so does the end of the process, however it
     // ends: a killed run leaves no stale lock).
-    if (descriptor >= 0)
-      ::close(descriptor);
-    // (remove() leaves a directory that holds anything.)
+    // Removed while the lock is held (remove() leaves a directory that holds
+    // anything): a run waiting for the directory finds it gone, or its own.
     std::error_code ignored;
     if (remove_if_empty)
       std::filesystem::remove(directory, ignored);
+    if (descriptor >= 0)
+      ::close(descriptor);
   }
 
 

@@ -3,7 +3,8 @@
 //
 //  * OutputDirectoryLock: one run at a time writes into an output directory.
 //    The lock is an advisory flock() on the directory itself (no file is
-//    written, so a run refused for bad input leaves the directory as it was);
+//    written, so a run refused for bad input leaves the directory as it was,
+//    or removes it if it made it and wrote nothing into it);
 //    a refused run names the holder's process id from the kernel's lock table.
 //    The kernel drops the lock with the process, so a killed run never leaves
 //    a stale lock behind.
