@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iomanip>
 #include <stdexcept>
+#include <vector>
 
 namespace ContactStefan
 {
@@ -25,7 +26,20 @@ namespace ContactStefan
       {
         std::error_code   error;
         const std::string directory = output.directory;
-        const bool        made      = std::filesystem::create_directories(directory, error);
+        // The directories this run makes, the deepest first: the output
+        // directory and any parents that did not exist either.
+        std::vector<std::string> made;
+        {
+          std::filesystem::path p = std::filesystem::path(directory).lexically_normal();
+          if (!p.has_filename())
+            p = p.parent_path();
+          while (!p.empty() && !std::filesystem::exists(p, error))
+            {
+              made.push_back(p.string());
+              p = p.parent_path();
+            }
+        }
+        std::filesystem::create_directories(directory, error);
         const std::string probe = directory + "/.contact-stefan-write-test";
         if (error || !std::filesystem::is_directory(directory))
           problem = "cannot create the directory '" + directory + "'";
@@ -39,8 +53,7 @@ namespace ContactStefan
             {
               output_lock = std::make_unique<OutputDirectoryLock>(directory);
               // A run refused before it writes leaves no empty directory behind.
-              if (made)
-                output_lock->created();
+              output_lock->created(made);
             }
           catch (const std::exception &e)
             {

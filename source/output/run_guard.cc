@@ -287,8 +287,9 @@ namespace ContactStefan
     // Removed while the lock is held (remove() leaves a directory that holds
     // anything): a run waiting for the directory finds it gone, or its own.
     std::error_code ignored;
-    if (remove_if_empty)
-      std::filesystem::remove(directory, ignored);
+    for (const std::string &d : made)
+      if (!std::filesystem::remove(d, ignored))
+        break;
     if (descriptor >= 0)
       ::close(descriptor);
   }

@@ -39,22 +39,25 @@ namespace ContactStefan
      */
     explicit OutputDirectoryLock(const std::string &directory);
     /**
-     * Releases the lock; a directory the run created (created()) and left
-     * empty, because it was refused before writing anything, is removed.
+     * Releases the lock; the directories the run made (created()) and left
+     * empty, because it was refused before writing anything, are removed.
      */
     ~OutputDirectoryLock();
-    /** The run made the directory (it did not exist before). */
-    void created()
+    /**
+     * The directories the run made, the deepest first: the output directory
+     * (if it did not exist before) and the parents it made with it.
+     */
+    void created(const std::vector<std::string> &directories)
     {
-      remove_if_empty = true;
+      made = directories;
     }
     OutputDirectoryLock(const OutputDirectoryLock &)            = delete;
     OutputDirectoryLock &operator=(const OutputDirectoryLock &) = delete;
 
   private:
-    std::string directory;
-    int         descriptor      = -1;
-    bool        remove_if_empty = false;
+    std::string              directory;
+    int                      descriptor = -1;
+    std::vector<std::string> made;
   };
 
   /**
