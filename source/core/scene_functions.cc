@@ -158,11 +158,10 @@ namespace ContactStefan
     for (const auto &[id, m] : prm.materials)
       {
         const std::string body = "Materials/Body " + std::to_string(id) + "/";
-        heat_sources[id] =
-          checked(parsed({m.heat_source}, body + "Heat source"), body + "Heat source");
+        heat_sources[id]       = checked_expression({m.heat_source}, body + "Heat source");
         heat_load |= !is_zero_expression(m.heat_source);
-        body_forces[id] = checked(parsed({m.body_force[0], m.body_force[1]}, body + "Body force"),
-                                  body + "Body force");
+        body_forces[id] =
+          checked_expression({m.body_force[0], m.body_force[1]}, body + "Body force");
         mechanical_load |=
           !is_zero_expression(m.body_force[0]) || !is_zero_expression(m.body_force[1]);
       }
@@ -183,13 +182,14 @@ namespace ContactStefan
       {
         const std::string section =
           "Boundary conditions/Mechanical boundary " + std::to_string(id) + "/";
-        mechanical_values[id] = checked(parsed({bc.value[0], bc.value[1]}, section + "Value"),
-                                        section + "Value",
-                                        bc.type == Mechanical::displacement ?
-                                          std::vector<bool>{bc.components[0], bc.components[1]} :
-                                          std::vector<bool>());
+        mechanical_values[id] =
+          checked_expression({bc.value[0], bc.value[1]},
+                             section + "Value",
+                             bc.type == Mechanical::displacement ?
+                               std::vector<bool>{bc.components[0], bc.components[1]} :
+                               std::vector<bool>());
         if (bc.type == Mechanical::obstacle)
-          obstacle_gaps[id] = checked(parsed({bc.gap}, section + "Gap"), section + "Gap");
+          obstacle_gaps[id] = checked_expression({bc.gap}, section + "Gap");
         mechanical_load |= bc.type == Mechanical::traction &&
                            (!is_zero_expression(bc.value[0]) || !is_zero_expression(bc.value[1]));
       }
@@ -199,7 +199,7 @@ namespace ContactStefan
           !law.own_gap ?
             std::string("Contact/Interface gap") :
             "Contact/" + Parameters::InterfacePair::section(pair.first, pair.second) + "/Gap";
-        interface_gaps[pair] = checked(parsed({law.gap}, parameter), parameter);
+        interface_gaps[pair] = checked_expression({law.gap}, parameter);
       }
     reference =
       checked(parsed({prm.coupling.reference_temperature}, "Coupling/Reference temperature"),
@@ -221,9 +221,10 @@ namespace ContactStefan
   template <int dim>
   std::unique_ptr<Function<dim>>
   SceneFunctions<dim>::checked_expression(const std::vector<std::string> &expressions,
-                                          const std::string              &parameter) const
+                                          const std::string              &parameter,
+                                          const std::vector<bool>        &used) const
   {
-    return checked(parsed(expressions, parameter), parameter);
+    return checked(parsed(expressions, parameter), parameter, used);
   }
 
 
@@ -254,10 +255,10 @@ namespace ContactStefan
   {
     if (std::none_of(expressions.begin(), expressions.end(), uses_interface_distance))
       return parse<dim>(expressions);
-    if (!dipping_interface)
-      throw InputError(parameter,
-                       "names interface_distance, which only Geometry/Mesh = dipping interface "
-                       "defines");
+    // (Refused off a dipping-interface mesh when the parameters were read; the
+    // same check again for a SceneParameters made otherwise.)
+    for (const std::string &e : expressions)
+      prm.check_variables(e, parameter);
     return std::make_unique<WithInterfaceDistance<dim>>(expressions, dipping_interface);
   }
 

@@ -108,10 +108,13 @@ namespace ContactStefan
     /**
      * A function of the expressions (one per component, of x, y, t, with pi)
      * whose every value is checked like the scene's own (check_finite_values()
-     * names parameter): for a part's exact data, e.g. 'Exact solution/Stress'.
+     * names parameter): the scene's own data, and a part's exact data, e.g.
+     * 'Exact solution/Stress'. used: the components whose values are checked
+     * (all if empty).
      */
     std::unique_ptr<Function<dim>> checked_expression(const std::vector<std::string> &expressions,
-                                                      const std::string &parameter) const;
+                                                      const std::string              &parameter,
+                                                      const std::vector<bool> &used = {}) const;
     /** The same without the check (parsed once; the caller checks its values). */
     static std::unique_ptr<Function<dim>> expression(const std::vector<std::string> &expressions);
 
