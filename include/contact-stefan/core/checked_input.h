@@ -74,9 +74,9 @@ namespace ContactStefan
 
     /**
      * A muparser expression in x, y, t (and interface_distance: whether the
-     * scene defines it is checked where the functions are built,
-     * scene_functions.cc) must parse and evaluate; "exact" is allowed where an
-     * exact solution can stand in (exact_allowed).
+     * scene defines it is SceneParameters::check_variables' question) must
+     * parse and evaluate; "exact" is allowed where an exact solution can stand
+     * in (exact_allowed).
      */
     void check_function(const std::string &expression,
                         const std::string &path,
