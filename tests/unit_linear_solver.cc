@@ -3,7 +3,8 @@
 // limit') must solve like a fresh factorisation of the same values, pick the
 // kept factor closest to the new values, fall back to a factorisation when
 // too many rows change, reorder by nested dissection ('Solver/Reordering
-// cost'), and report a matrix that is not positive definite.
+// cost'), order the rows the caller names last ('Solver/Front layers ordered
+// last'), and report a matrix that is not positive definite.
 //
 // The matrix is the 5-point Laplacian on a 300 x 20 strip plus a small shift;
 // "fixing" a node (as the enthalpy step fixes a node on a plateau) clears its
@@ -296,6 +297,77 @@ int main(int argc, char *argv[])
           reported = std::string(e.what()).find("not positive definite") != std::string::npos;
         }
       check(reported, "an indefinite change: 'not positive definite'");
+    }
+  // The rows about a front ordered last (LinearSolver::set_volatile_rows, as
+  // the enthalpy step does with 'Solver/Front layers ordered last'): the
+  // columns within 2 of the front's. A front marching 40 columns is then
+  // mostly row modifications at the end of the factor, with a new ordering
+  // each time it has left the band; without the rows named, on CHOLMOD's own
+  // ordering (and no nested dissection), every step factorises.
+  for (const bool named : {true, false})
+    {
+      std::printf("--- front ordered last: %s\n", named ? "rows named" : "rows not named");
+      prm.kept_factorisations = 2;
+      prm.row_update_limit    = 0.5;
+      prm.reordering_cost     = 0;
+      ConditionalOStream silent(std::cout, false);
+      LinearSolver       solver(
+        prm, 0, silent, "test", Parameters::LinearSolvers::AMGUpdate::recompute, 0.02, 2);
+      unsigned int front = 100, asked = 0;
+      if (named)
+        solver.set_volatile_rows([&]() {
+          ++asked;
+          std::vector<char> rows(n, 0);
+          for (unsigned int j = front - 2; j <= front + 2; ++j)
+            for (unsigned int i = 0; i < my; ++i)
+              rows[node(i, j)] = 1;
+          return rows;
+        });
+      fill(A, column(front), 2.);
+      solver.initialize(A, 1);
+      solver.solve(x, b);
+      double worst = difference_to_fresh(prm, A, b, x);
+      for (unsigned int step = 1; step <= 40; ++step)
+        {
+          front = 100 + step;
+          fill(A, column(front), 2.);
+          solver.update(A, 1 + step);
+          solver.solve(x, b);
+          worst = std::max(worst, difference_to_fresh(prm, A, b, x));
+        }
+      const LinearSolverStatistics c = solver.take_statistics();
+      std::printf("  %u factorisations, %u modified, %llu rows, %u reorderings, asked %u times\n",
+                  c.cholmod_factorisations,
+                  c.row_updates,
+                  c.replaced_rows,
+                  c.reorderings,
+                  asked);
+      if (named)
+        {
+          check(c.row_updates >= 30 && c.cholmod_factorisations == 1 + c.reorderings &&
+                  c.reorderings >= 1,
+                "rows named: mostly modifications, a new ordering as the front leaves its band");
+          check(asked == 1 + c.reorderings, "... the rows asked for at every analysis");
+        }
+      else
+        check(c.cholmod_factorisations == 41 && c.row_updates == 0,
+              "rows not named: every step factorises (AMD's paths are too long)");
+      check(worst < 1e-11, "... every solve as a fresh factorisation's to 1e-11");
+    }
+
+  // Rows named that are all the rows, or none: CHOLMOD's own ordering.
+  for (const bool every : {true, false})
+    {
+      ConditionalOStream silent(std::cout, false);
+      LinearSolver       solver(
+        prm, 0, silent, "test", Parameters::LinearSolvers::AMGUpdate::recompute, 0.02, 2);
+      solver.set_volatile_rows([&]() { return std::vector<char>(n, every ? 1 : 0); });
+      fill(A, column(7), 2.);
+      solver.initialize(A, 1);
+      solver.solve(x, b);
+      check(difference_to_fresh(prm, A, b, x) < 1e-12,
+            std::string(every ? "every row" : "no row") +
+              " named: solves as a fresh factorisation");
     }
   return UnitTest::finish();
 }

@@ -10,7 +10,9 @@
 
 namespace ContactStefan
 {
-  void LinearSolver::Cholmod::analyse(const bool nested, const std::string &name)
+  void LinearSolver::Cholmod::analyse(const bool               nested,
+                                      const std::string       &name,
+                                      const std::vector<char> &last)
   {
     for (auto &entry : kept)
       cholmod_free_factor(&entry.second.L, &common);
@@ -24,10 +26,37 @@ namespace ContactStefan
     // BLAS, and with Debian's reference BLAS it took 2.7x longer on the
     // Stefan strip (16 441 unknowns); the row modifications need it too.
     common.supernodal = CHOLMOD_SIMPLICIAL;
-    common.nmethods   = nested ? 1 : 0;
-    if (nested)
-      common.method[0].ordering = CHOLMOD_METIS;
-    L = cholmod_analyze(A, &common);
+    const int  n      = static_cast<int>(A->ncol);
+    const auto marked =
+      std::count_if(last.begin(), last.end(), [](const char c) { return c != 0; });
+    front_last = !nested && static_cast<int>(last.size()) == n && marked > 0 && marked < n;
+    if (front_last)
+      {
+        // The rows expected to change after all others: CAMD's constraint
+        // sets 0 (the rest) and 1 (them), each ordered by approximate minimum
+        // degree. A row replaced later then has its path to the root of the
+        // elimination tree among them: the columns to update are those of
+        // the front's band and the separators next to it, not most of the
+        // factor (AMD's deep trees) or a path of nested dissection's
+        // separators across the whole domain.
+        std::vector<int> member(n), permutation(n);
+        for (int i = 0; i < n; ++i)
+          member[i] = last[i] != 0;
+        if (cholmod_camd(A, nullptr, 0, member.data(), permutation.data(), &common))
+          {
+            common.nmethods           = 1;
+            common.method[0].ordering = CHOLMOD_GIVEN;
+            L = cholmod_analyze_p(A, permutation.data(), nullptr, 0, &common);
+          }
+        front_last = L != nullptr;
+      }
+    if (L == nullptr)
+      {
+        common.nmethods = nested ? 1 : 0;
+        if (nested)
+          common.method[0].ordering = CHOLMOD_METIS;
+        L = cholmod_analyze(A, &common);
+      }
     if (L == nullptr && nested)
       {
         // (A CHOLMOD without METIS: its own choice again.)
@@ -39,7 +68,7 @@ namespace ContactStefan
     nested_dissection   = nested;
     factorisation_flops = common.fl;
     rejected_flops      = 0;
-    const int   n       = static_cast<int>(A->ncol);
+    modified_since      = 0;
     const auto *perm    = static_cast<const int *>(L->Perm);
     factor_index.resize(n);
     for (int i = 0; i < n; ++i)
@@ -251,7 +280,7 @@ namespace ContactStefan
                   cholmod->row_position[next[c]++] = p;
                 }
             }
-        cholmod->analyse(false, name);
+        cholmod->analyse(false, name, volatile_rows ? volatile_rows() : std::vector<char>());
       }
     else
       {
@@ -350,6 +379,34 @@ namespace ContactStefan
         if (cholmod->replacement_work(F, rows, budget) > budget)
           {
             base = -2;
+            // Where the caller names the rows that change next (a front that
+            // has left the band ordered last at the last analysis), order
+            // them last afresh: an analysis by CAMD costs about what AMD's
+            // does, a few factorisations' worth less than nested dissection.
+            // Not if the last such ordering has served no modification: the
+            // rows it named were not those that changed, and nested
+            // dissection below is the remedy.
+            if (volatile_rows && 10 * rows.size() < cholmod->A->ncol &&
+                !(cholmod->front_last && cholmod->modified_since == 0))
+              {
+                try
+                  {
+                    cholmod->analyse(false, name, volatile_rows());
+                  }
+                catch (...)
+                  {
+                    // (Nothing usable is left: the next update() starts afresh.)
+                    cholmod.reset();
+                    throw;
+                  }
+                if (cholmod->front_last)
+                  {
+                    cholmod_numeric();
+                    cholmod->key = key;
+                    ++statistics.reorderings;
+                    return;
+                  }
+              }
             // A factorisation that row modifications could not replace:
             // AMD's elimination trees are deep, so each modified row costs
             // a path through most of the factor; nested dissection's are
@@ -437,6 +494,7 @@ namespace ContactStefan
         cholmod->unchecked = !rows.empty() || unchecked_source;
         if (!rows.empty())
           {
+            ++cholmod->modified_since;
             ++statistics.row_updates;
             statistics.replaced_rows += rows.size();
           }

@@ -100,6 +100,20 @@ namespace ContactStefan
         "analysis costs in factorisation flops (a timed build by hand, doc/performance.md): 48 ms for the 80 881 stored "
         "entries of the Stefan strip at nx = 400, whose factorisation of "
         "2.3e7 flops took 13 ms (2026-11-28, development VM). 0: never reorder.");
+      prm.declare_entry("Front layers ordered last",
+                        "2",
+                        Patterns::Integer(0, 1000),
+                        "cholmod, enthalpy step: the nodes within this many matrix neighbours "
+                        "of a phase front (a node on a plateau, or next to a node in another "
+                        "phase) are ordered after all others (CAMD), when a matrix is first "
+                        "analysed and again whenever the front has left them and a row "
+                        "modification became too expensive ('Row update limit'); the nodes a "
+                        "moving front fixes and frees are then replaced at the end of the "
+                        "factor. The Stefan strip took 13 % (nx = 400) and 16 % (nx = 800) less "
+                        "time with 2 than with 0, Neumann case A at level 4 14 % less, its "
+                        "adaptive run 4 % less; 1 and 3 measured within 2 % of 2 "
+                        "(doc/performance.md, 2026-11-28). 0: CHOLMOD's own ordering, then "
+                        "nested dissection ('Reordering cost').");
       prm.declare_entry("CG tolerance",
                         "1e-12",
                         Patterns::Double(0),
@@ -171,6 +185,7 @@ namespace ContactStefan
       kept_factorisations = prm.get_integer("Kept factorisations");
       row_update_limit    = get_finite(prm, "Solver/", "Row update limit");
       reordering_cost     = get_finite(prm, "Solver/", "Reordering cost");
+      front_layers_last   = prm.get_integer("Front layers ordered last");
       cg_tolerance        = get_finite(prm, "Solver/", "CG tolerance");
       amg_rebuild_ratio   = get_finite(prm, "Solver/", "AMG rebuild ratio");
       {

@@ -51,8 +51,11 @@ set(CONDUCTANCE_TRANSIENT_BOUNDS
 set(CONDUCTANCE_ADAPTIVE "SET:Mesh refinement/Adaptive refinement interval=1"
   "SET:Mesh refinement/Initial global refinements=1"
   "SET:Mesh refinement/Initial adaptive refinements=2" "SET:Mesh refinement/Maximum level=3")
+# (One reference for 1 and 2 ranks: on 1 rank without the reordering about the
+# front, which drops CHOLMOD's kept factorisations and so counts 3 more
+# factorisations than KLU on 2 ranks, which keeps them.)
 scene(conductance/transient-melting 1 ${T}/scenes/conductance_transient.prm
-  conductance_transient ${CONDUCTANCE_TRANSIENT_BOUNDS})
+  conductance_transient ${CONDUCTANCE_TRANSIENT_BOUNDS} "SET:Solver/Front layers ordered last=0")
 scene(conductance/transient-melting-mpi2 2 ${T}/scenes/conductance_transient.prm
   conductance_transient ${CONDUCTANCE_TRANSIENT_BOUNDS})
 scene(conductance/transient-melting-adaptive 1 ${T}/scenes/conductance_transient.prm

@@ -48,12 +48,16 @@ namespace ContactStefan
     std::uint64_t                                   key = 0;
     std::vector<std::pair<std::uint64_t, Factor>>   kept;
     // CHOLMOD's flop count of one numeric factorisation (from the analysis),
-    // whether the ordering is nested dissection, and the flops of the
+    // whether the ordering is nested dissection or puts the caller's
+    // volatile rows last (LinearSolver::set_volatile_rows), the flops of the
     // factorisations on this analysis that were too expensive as row
-    // modifications (Solver/Reordering cost).
-    double factorisation_flops = 0;
-    bool   nested_dissection   = false;
-    double rejected_flops      = 0;
+    // modifications (Solver/Reordering cost), and how many factors of this
+    // analysis were modified row by row.
+    double       factorisation_flops = 0;
+    bool         nested_dissection   = false;
+    bool         front_last          = false;
+    double       rejected_flops      = 0;
+    unsigned int modified_since      = 0;
     // Work space of the row modifications: a column of pattern and one of
     // values (n x 1 each), a mark per unknown.
     cholmod_sparse  *row_pattern = nullptr, *row_values = nullptr;
@@ -81,8 +85,10 @@ namespace ContactStefan
     Cholmod &operator=(const Cholmod &) = delete;
 
     // The ordering and the symbolic factor of A's pattern: CHOLMOD's choice
-    // (AMD on our matrices), or nested dissection by METIS.
-    void analyse(const bool nested, const std::string &name);
+    // (AMD on our matrices), nested dissection by METIS, or (not nested, some
+    // but not all rows marked in `last`, one entry per unknown) CAMD with the
+    // marked rows after all others.
+    void analyse(const bool nested, const std::string &name, const std::vector<char> &last = {});
 
     std::size_t n_values() const
     {

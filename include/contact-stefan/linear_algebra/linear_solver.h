@@ -19,6 +19,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -47,6 +48,7 @@ namespace ContactStefan
     unsigned int       row_updates            = 0;
     unsigned long long replaced_rows          = 0;
     unsigned int       reorderings            = 0;
+    unsigned int       partial_factorisations = 0;
 
     LinearSolverStatistics &operator+=(const LinearSolverStatistics &other)
     {
@@ -59,6 +61,7 @@ namespace ContactStefan
       row_updates += other.row_updates;
       replaced_rows += other.replaced_rows;
       reorderings += other.reorderings;
+      partial_factorisations += other.partial_factorisations;
       return *this;
     }
 
@@ -100,6 +103,18 @@ namespace ContactStefan
      * default, the constant, only fits a scalar operator). Empty: the default.
      */
     void set_near_null_space(std::vector<std::vector<double>> modes);
+    /**
+     * The rows the caller expects to change next (the nodes about a melting
+     * front), asked for whenever CHOLMOD orders a matrix: a nonzero entry per
+     * locally owned row puts that row after all others in the fill-reducing
+     * order (CAMD with two constraint sets), so that replacing it modifies
+     * only the end of the factor. Unset, or an answer without such rows or
+     * with only such rows: the ordering is CHOLMOD's own.
+     */
+    void set_volatile_rows(std::function<std::vector<char>()> rows)
+    {
+      volatile_rows = std::move(rows);
+    }
     /**
      * Factorise A, or build the AMG hierarchy of A. A must stay alive; its
      * values may change in place only if update() follows before the next solve().
@@ -239,6 +254,7 @@ namespace ContactStefan
      */
     struct Cholmod;
     std::shared_ptr<Cholmod> cholmod;
+    std::function<std::vector<char>()> volatile_rows;
     /**
      * Copy the matrix's lower triangle into CHOLMOD's column storage; with
      * analyse, set up its pattern and find the ordering and the symbolic

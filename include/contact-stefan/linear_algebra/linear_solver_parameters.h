@@ -41,6 +41,8 @@ namespace ContactStefan
       // dissection analysis; the factorisations row modifications could not
       // replace may cost this much before the matrix is reordered; 0: never.
       double reordering_cost;
+      // Solver/Front layers ordered last (0: off).
+      unsigned int front_layers_last;
       double       cg_tolerance;
       double       amg_rebuild_ratio;
       // What update() does to an AMG hierarchy when the matrix values change

@@ -304,6 +304,14 @@ namespace ContactStefan
     // phases, or a node on a plateau.
     void front_points(std::vector<Point<dim>> &points) const;
     /**
+     * One entry per locally owned node, nonzero within `layers` matrix
+     * neighbours of a phase front (a node on a plateau, or one whose neighbour
+     * is in another phase): the rows the next active sets change, which the
+     * direct solver orders last (LinearSolver::set_volatile_rows). Empty on
+     * several ranks (the direct path there is not CHOLMOD's).
+     */
+    std::vector<char> volatile_rows(const unsigned int layers) const;
+    /**
      * The Kelly jump indicator of the temperature, per active cell (zero on
      * cells that are not owned).
      */

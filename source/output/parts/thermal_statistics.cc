@@ -127,7 +127,7 @@ namespace ContactStefan
                         "enthalpy solver: rows replaced",
                         static_cast<double>(linear.replaced_rows));
             results.add(Slot::thermal,
-                        "enthalpy solver: reorderings by nested dissection",
+                        "enthalpy solver: reorderings (front last or nested dissection)",
                         linear.reorderings);
           }
         results.add(Slot::thermal_consistency,

@@ -1,11 +1,15 @@
 // What the thermal field tells the mesh adaptation (mesh_adaptation.h): where
 // the phase fronts are, and the jump indicator of the temperature
-// (doc/adaptivity.md); and what it tells the adaptive step control: the
-// change of the last step (doc/time_stepping.md).
+// (doc/adaptivity.md); what it tells the direct solver: the rows about the
+// fronts, which change next (Solver/Front layers ordered last); and what it
+// tells the adaptive step control: the change of the last step
+// (doc/time_stepping.md).
 #include <contact-stefan/core/q1_kernels.h>
 #include <contact-stefan/thermal/thermal_field.h>
 
 #include <cmath>
+
+#include <Epetra_CrsMatrix.h>
 
 namespace ContactStefan
 {
@@ -33,6 +37,55 @@ namespace ContactStefan
           if (plateau || highest > lowest)
             points.push_back(cell->center());
         }
+  }
+
+
+
+  // The nodes of the front as front_points() finds its cells, by the matrix's
+  // neighbours, then `layers` rings of neighbours around them (breadth first).
+  template <int dim>
+  std::vector<char> ThermalField<dim>::volatile_rows(const unsigned int layers) const
+  {
+    if (Utilities::MPI::n_mpi_processes(mpi_communicator) != 1)
+      return {};
+    const Epetra_CrsMatrix &M = system_matrix.trilinos_matrix();
+    const double           *h = entries(enthalpy);
+    std::vector<double>     index(n_owned);
+    for (unsigned int i = 0; i < n_owned; ++i)
+      index[i] = owned_node_law(i).phase_index(h[i]);
+    std::vector<char> marked(n_owned, 0);
+    std::vector<int>  layer, next;
+    const auto        row = [&](const int r, const auto &visit) {
+      int     length;
+      double *values;
+      int    *columns;
+      M.ExtractMyRowView(r, length, values, columns);
+      for (int k = 0; k < length; ++k)
+        visit(M.ColMap().GID(columns[k]));
+    };
+    for (unsigned int r = 0; r < n_owned; ++r)
+      {
+        bool front = index[r] != std::floor(index[r]);
+        row(r, [&](const int c) { front = front || index[c] != index[r]; });
+        if (front)
+          {
+            marked[r] = 1;
+            layer.push_back(r);
+          }
+      }
+    for (unsigned int l = 0; l < layers && !layer.empty(); ++l, layer.swap(next))
+      {
+        next.clear();
+        for (const int r : layer)
+          row(r, [&](const int c) {
+            if (!marked[c])
+              {
+                marked[c] = 1;
+                next.push_back(c);
+              }
+          });
+      }
+    return marked;
   }
 
 
@@ -84,6 +137,7 @@ namespace ContactStefan
 
 
   template void ThermalField<2>::front_points(std::vector<Point<2>> &) const;
+  template std::vector<char>         ThermalField<2>::volatile_rows(const unsigned int) const;
   template void ThermalField<2>::error_indicator(dealii::Vector<float> &) const;
   template std::pair<double, double> ThermalField<2>::step_change() const;
 } // namespace ContactStefan

@@ -53,6 +53,11 @@ namespace ContactStefan
     , time(prm.time.start_time)
   {
     assert_two_dimensional<dim>();
+    // A moving front changes the rows of the nodes it fixes and frees: the
+    // direct solver orders the nodes about it last (Solver/Front layers ordered last).
+    if (materials.phase_change_present() && linear_prm.front_layers_last > 0)
+      linear_solver.set_volatile_rows(
+        [this, layers = linear_prm.front_layers_last]() { return volatile_rows(layers); });
     for (const auto &[pair, law] : prm.interface_pairs)
       if (law.thermal_contact == Parameters::InterfacePair::ThermalContact::conductance)
         {
