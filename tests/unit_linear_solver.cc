@@ -355,19 +355,45 @@ int main(int argc, char *argv[])
       check(worst < 1e-11, "... every solve as a fresh factorisation's to 1e-11");
     }
 
-  // Rows named that are all the rows, or none: CHOLMOD's own ordering.
-  for (const bool every : {true, false})
+  // Rows named that are all the rows, or none (from the start, or from the
+  // middle of a march on): CHOLMOD's own ordering, and no reordering for them.
+  for (const std::string naming : {"every row", "no row", "no row after 20 columns"})
     {
       ConditionalOStream silent(std::cout, false);
       LinearSolver       solver(
         prm, 0, silent, "test", Parameters::LinearSolvers::AMGUpdate::recompute, 0.02, 2);
-      solver.set_volatile_rows([&]() { return std::vector<char>(n, every ? 1 : 0); });
-      fill(A, column(7), 2.);
+      unsigned int front = 100;
+      solver.set_volatile_rows([&]() {
+        std::vector<char> rows(n, naming == "every row" ? 1 : 0);
+        if (naming == "no row after 20 columns" && front < 120)
+          for (unsigned int j = front - 2; j <= front + 2; ++j)
+            for (unsigned int i = 0; i < my; ++i)
+              rows[node(i, j)] = 1;
+        return rows;
+      });
+      fill(A, column(front), 2.);
       solver.initialize(A, 1);
       solver.solve(x, b);
-      check(difference_to_fresh(prm, A, b, x) < 1e-12,
-            std::string(every ? "every row" : "no row") +
-              " named: solves as a fresh factorisation");
+      double                 worst = difference_to_fresh(prm, A, b, x);
+      LinearSolverStatistics at_20;
+      for (unsigned int step = 1; step <= 40; ++step)
+        {
+          front = 100 + step;
+          fill(A, column(front), 2.);
+          solver.update(A, 1 + step);
+          solver.solve(x, b);
+          worst = std::max(worst, difference_to_fresh(prm, A, b, x));
+          if (step == 20)
+            at_20 = solver.take_statistics();
+        }
+      const LinearSolverStatistics c = solver.take_statistics();
+      std::printf("  %s named: %u reorderings in the first 20 columns, %u after\n",
+                  naming.c_str(),
+                  at_20.reorderings,
+                  c.reorderings);
+      check(c.reorderings == 0 && (naming != "no row after 20 columns" || at_20.reorderings >= 1),
+            naming + " named: no reordering for it");
+      check(worst < 1e-11, "... every solve as a fresh factorisation's to 1e-11");
     }
   return UnitTest::finish();
 }

@@ -580,4 +580,35 @@ namespace ContactStefan
       }
     check_finite(x, "the solution of the " + name + " system (overflow in the data?)");
   }
+
+
+  void mark_neighbours(const TrilinosWrappers::SparseMatrix &A,
+                       std::vector<char>                    &rows,
+                       const unsigned int                    layers)
+  {
+    const Epetra_CrsMatrix &M = A.trilinos_matrix();
+    const int               n = M.NumMyRows();
+    AssertThrow(static_cast<int>(rows.size()) == n, ExcInternalError());
+    std::vector<int> layer, next;
+    for (int r = 0; r < n; ++r)
+      if (rows[r])
+        layer.push_back(r);
+    for (unsigned int l = 0; l < layers && !layer.empty(); ++l, layer.swap(next))
+      {
+        next.clear();
+        for (const int r : layer)
+          {
+            int     length;
+            double *values;
+            int    *columns;
+            M.ExtractMyRowView(r, length, values, columns);
+            for (int k = 0; k < length; ++k)
+              if (const int c = M.ColMap().GID(columns[k]); c >= 0 && c < n && !rows[c])
+                {
+                  rows[c] = 1;
+                  next.push_back(c);
+                }
+          }
+      }
+  }
 } // namespace ContactStefan

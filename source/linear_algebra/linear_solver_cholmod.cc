@@ -346,6 +346,32 @@ namespace ContactStefan
 
 
 
+  // A new ordering of the same pattern (nested dissection, or the rows in
+  // `last` last) and A's values factorised on it. The kept factors are of the
+  // old ordering and go with it: a set that recurs is factorised again (so the
+  // factorisations counted depend on when the ordering changed, and can
+  // differ from those of the Amesos path on several ranks).
+  void LinearSolver::reorder_cholmod(const bool               nested,
+                                     const std::vector<char> &last,
+                                     const std::uint64_t      key)
+  {
+    try
+      {
+        cholmod->analyse(nested, name, last);
+      }
+    catch (...)
+      {
+        // (Nothing usable is left: the next update() starts afresh.)
+        cholmod.reset();
+        throw;
+      }
+    cholmod_numeric();
+    cholmod->key = key;
+    ++statistics.reorderings;
+  }
+
+
+
   // The CHOLMOD path of update(): keep the current factor (if it has a key) and
   // factorise into the storage of the least recently used one once 'Kept
   // factorisations' are kept: all share the one symbolic analysis. Where
@@ -383,29 +409,22 @@ namespace ContactStefan
             // has left the band ordered last at the last analysis), order
             // them last afresh: an analysis by CAMD costs about what AMD's
             // does, a few factorisations' worth less than nested dissection.
-            // Not if the last such ordering has served no modification: the
-            // rows it named were not those that changed, and nested
-            // dissection below is the remedy.
-            if (volatile_rows && 10 * rows.size() < cholmod->A->ncol &&
-                !(cholmod->front_last && cholmod->modified_since == 0))
+            // Not once such an ordering has served no modification (the rows
+            // named were not those that changed: nested dissection below is
+            // the remedy, for the rest of this pattern's life), nor when the
+            // caller names no row or every row (nothing to order last).
+            if (cholmod->front_last && cholmod->modified_since == 0)
+              cholmod->front_last_failed = true;
+            std::vector<char> last;
+            if (volatile_rows && !cholmod->front_last_failed && !cholmod->nested_dissection &&
+                10 * rows.size() < cholmod->A->ncol)
+              last = volatile_rows();
+            const auto named =
+              std::count_if(last.begin(), last.end(), [](const char c) { return c != 0; });
+            if (named > 0 && named < static_cast<long>(cholmod->A->ncol))
               {
-                try
-                  {
-                    cholmod->analyse(false, name, volatile_rows());
-                  }
-                catch (...)
-                  {
-                    // (Nothing usable is left: the next update() starts afresh.)
-                    cholmod.reset();
-                    throw;
-                  }
-                if (cholmod->front_last)
-                  {
-                    cholmod_numeric();
-                    cholmod->key = key;
-                    ++statistics.reorderings;
-                    return;
-                  }
+                reorder_cholmod(false, last, key);
+                return;
               }
             // A factorisation that row modifications could not replace:
             // AMD's elimination trees are deep, so each modified row costs
@@ -422,19 +441,7 @@ namespace ContactStefan
                 if (cholmod->rejected_flops >=
                     prm.reordering_cost * static_cast<double>(cholmod->n_values()))
                   {
-                    try
-                      {
-                        cholmod->analyse(true, name);
-                      }
-                    catch (...)
-                      {
-                        // (Nothing usable is left: the next update() starts afresh.)
-                        cholmod.reset();
-                        throw;
-                      }
-                    cholmod_numeric();
-                    cholmod->key = key;
-                    ++statistics.reorderings;
+                    reorder_cholmod(true, {}, key);
                     return;
                   }
               }

@@ -99,19 +99,22 @@ namespace ContactStefan
         "The default is what the "
         "analysis costs in factorisation flops (a timed build by hand, doc/performance.md): 48 ms for the 80 881 stored "
         "entries of the Stefan strip at nx = 400, whose factorisation of "
-        "2.3e7 flops took 13 ms (2026-11-28, development VM). 0: never reorder.");
+        "2.3e7 flops took 13 ms (2026-11-28, development VM). 0: never reorder by "
+        "nested dissection ('Front layers ordered last' still orders the rows "
+        "about a front last afresh).");
       prm.declare_entry("Front layers ordered last",
                         "2",
                         Patterns::Integer(0, 1000),
-                        "cholmod, enthalpy step: the nodes within this many matrix neighbours "
-                        "of a phase front (a node on a plateau, or next to a node in another "
-                        "phase) are ordered after all others (CAMD), when a matrix is first "
-                        "analysed and again whenever the front has left them and a row "
-                        "modification became too expensive ('Row update limit'); the nodes a "
-                        "moving front fixes and frees are then replaced at the end of the "
-                        "factor. The Stefan strip took 13 % (nx = 400) and 16 % (nx = 800) less "
-                        "time with 2 than with 0, Neumann case A at level 4 14 % less, its "
-                        "adaptive run 4 % less; 1 and 3 measured within 2 % of 2 "
+                        "cholmod: the rows an active set changes next are ordered after all "
+                        "others (CAMD), when a matrix is first analysed and again whenever "
+                        "they have moved away and a row modification became too expensive "
+                        "('Row update limit'): the nodes a moving front fixes and frees are "
+                        "then replaced at the end of the factor. Enthalpy step: the nodes of "
+                        "a phase front (on a plateau, or next to a node of the same material "
+                        "in another phase) and this many layers of matrix neighbours around "
+                        "them. The Stefan strip took 8-12 % (nx = 400) and 16 % (nx = 800) "
+                        "less time with 2 than with 0, Neumann case A at level 4 14 % less, "
+                        "its adaptive run 4 % less; 1 and 3 layers measured within 4 % of 2 "
                         "(doc/performance.md, 2026-11-28). 0: CHOLMOD's own ordering, then "
                         "nested dissection ('Reordering cost').");
       prm.declare_entry("CG tolerance",

@@ -13,14 +13,18 @@ set(BIRTH_EXACT
   "RESULT max relative stress L2 error (recovered)<1e-12"
   "RESULT max energy-balance residual<1e-12"
   "RESULT nodes with h outside H(Theta)<1")
-scene(birth/layer 1 ${T}/scenes/birth_layer.prm birth_layer ${BIRTH_EXACT}
+# (One reference for 1 and 2 ranks: on 1 rank without the reordering about the
+# front, which drops CHOLMOD's kept factorisations and counts one more than
+# KLU on 2 ranks.)
+set(BIRTH_ONE_COUNT "SET:Solver/Front layers ordered last=0")
+scene(birth/layer 1 ${T}/scenes/birth_layer.prm birth_layer ${BIRTH_EXACT} ${BIRTH_ONE_COUNT}
   "RESULT material points born>255.5" "RESULT material points born<256.5")
 scene(birth/layer-mpi2 2 ${T}/scenes/birth_layer.prm birth_layer ${BIRTH_EXACT})
 # Theta_0 = 50: the same run, to the last digit of every RESULT line and
 # statistics row (birth_layer.output): nothing of a body that is stress-free at
 # solidification depends on Theta_0 once it has been melt.
 scene(birth/layer-reference-50 1 ${T}/scenes/birth_layer.prm birth_layer
-  "SET:Coupling/Reference temperature=50" ${BIRTH_EXACT})
+  "SET:Coupling/Reference temperature=50" ${BIRTH_EXACT} ${BIRTH_ONE_COUNT})
 # Another cooling path: to Theta_m - 20 first, then back up to Theta_m - 10.
 set(BIRTH_PATH_B "if(t < 1, -20, -10)")
 scene(birth/layer-cooling-path 1 ${T}/scenes/birth_layer.prm birth_layer-cooling-path

@@ -56,6 +56,7 @@ namespace ContactStefan
     double       factorisation_flops = 0;
     bool         nested_dissection   = false;
     bool         front_last          = false;
+    bool         front_last_failed   = false; // an ordering of the named rows served nothing
     double       rejected_flops      = 0;
     unsigned int modified_since      = 0;
     // Work space of the row modifications: a column of pattern and one of

@@ -48,7 +48,6 @@ namespace ContactStefan
     unsigned int       row_updates            = 0;
     unsigned long long replaced_rows          = 0;
     unsigned int       reorderings            = 0;
-    unsigned int       partial_factorisations = 0;
 
     LinearSolverStatistics &operator+=(const LinearSolverStatistics &other)
     {
@@ -61,7 +60,6 @@ namespace ContactStefan
       row_updates += other.row_updates;
       replaced_rows += other.replaced_rows;
       reorderings += other.reorderings;
-      partial_factorisations += other.partial_factorisations;
       return *this;
     }
 
@@ -291,6 +289,8 @@ namespace ContactStefan
      * hierarchies.
      */
     void refactorise_cholmod(const std::uint64_t key);
+    /** Order the pattern afresh (refactorise_cholmod()) and factorise A's values. */
+    void reorder_cholmod(const bool nested, const std::vector<char> &last, const std::uint64_t key);
     void refactorise_direct(const TrilinosWrappers::SparseMatrix &A, const std::uint64_t key);
     bool update_amg(const TrilinosWrappers::SparseMatrix &A, const std::uint64_t key);
     void keep_and_recompute_amg(const TrilinosWrappers::SparseMatrix &A, const std::uint64_t key);
@@ -341,6 +341,15 @@ namespace ContactStefan
     std::vector<double> null_space;
     unsigned int        null_space_dimension = 0;
   };
+
+  /**
+   * The rows within `layers` neighbours of the rows marked in `rows` (one
+   * entry per locally owned row of A, serial: column indices are row
+   * indices), by A's sparsity pattern, breadth first; marked in place.
+   */
+  void mark_neighbours(const TrilinosWrappers::SparseMatrix &A,
+                       std::vector<char>                    &rows,
+                       const unsigned int                    layers);
 } // namespace ContactStefan
 
 #endif

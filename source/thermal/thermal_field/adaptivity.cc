@@ -42,7 +42,8 @@ namespace ContactStefan
 
 
   // The nodes of the front as front_points() finds its cells, by the matrix's
-  // neighbours, then `layers` rings of neighbours around them (breadth first).
+  // neighbours of the same enthalpy law, then `layers` rings of neighbours
+  // around them (mark_neighbours).
   template <int dim>
   std::vector<char> ThermalField<dim>::volatile_rows(const unsigned int layers) const
   {
@@ -54,37 +55,23 @@ namespace ContactStefan
     for (unsigned int i = 0; i < n_owned; ++i)
       index[i] = owned_node_law(i).phase_index(h[i]);
     std::vector<char> marked(n_owned, 0);
-    std::vector<int>  layer, next;
-    const auto        row = [&](const int r, const auto &visit) {
-      int     length;
-      double *values;
-      int    *columns;
-      M.ExtractMyRowView(r, length, values, columns);
-      for (int k = 0; k < length; ++k)
-        visit(M.ColMap().GID(columns[k]));
-    };
     for (unsigned int r = 0; r < n_owned; ++r)
       {
+        int     length;
+        double *values;
+        int    *columns;
+        M.ExtractMyRowView(r, length, values, columns);
+        // (Only against a neighbour of the same law: a mould without
+        // transitions beside a molten casting is not a front.)
         bool front = index[r] != std::floor(index[r]);
-        row(r, [&](const int c) { front = front || index[c] != index[r]; });
-        if (front)
+        for (int k = 0; k < length && !front; ++k)
           {
-            marked[r] = 1;
-            layer.push_back(r);
+            const int c = M.ColMap().GID(columns[k]);
+            front       = owned_law[c] == owned_law[r] && index[c] != index[r];
           }
+        marked[r] = front;
       }
-    for (unsigned int l = 0; l < layers && !layer.empty(); ++l, layer.swap(next))
-      {
-        next.clear();
-        for (const int r : layer)
-          row(r, [&](const int c) {
-            if (!marked[c])
-              {
-                marked[c] = 1;
-                next.push_back(c);
-              }
-          });
-      }
+    mark_neighbours(system_matrix, marked, layers);
     return marked;
   }
 
