@@ -304,38 +304,53 @@ int main(int argc, char *argv[])
   // mostly row modifications at the end of the factor, with a new ordering
   // each time it has left the band; without the rows named, on CHOLMOD's own
   // ordering (and no nested dissection), every step factorises.
+  prm.kept_factorisations = 2;
+  prm.row_update_limit    = 0.5;
+  prm.reordering_cost     = 0;
+  const auto band         = [&](const unsigned int front) {
+    std::vector<char> rows(n, 0);
+    for (unsigned int j = front - 2; j <= front + 2; ++j)
+      for (unsigned int i = 0; i < my; ++i)
+        rows[node(i, j)] = 1;
+    return rows;
+  };
+  // Column 100 fixed, then the front (`front`, which the solver's callback
+  // reads) marching to column 140, a column per update. Returns the largest
+  // difference of a solve to a fresh factorisation's; the statistics of the
+  // first 20 columns go to at_20, the rest stay in the solver.
+  const auto march = [&](LinearSolver &solver, unsigned int &front, LinearSolverStatistics &at_20) {
+    front = 100;
+    fill(A, column(front), 2.);
+    solver.initialize(A, 1);
+    solver.solve(x, b);
+    double worst = difference_to_fresh(prm, A, b, x);
+    for (unsigned int step = 1; step <= 40; ++step)
+      {
+        front = 100 + step;
+        fill(A, column(front), 2.);
+        solver.update(A, 1 + step);
+        solver.solve(x, b);
+        worst = std::max(worst, difference_to_fresh(prm, A, b, x));
+        if (step == 20)
+          at_20 = solver.take_statistics();
+      }
+    return worst;
+  };
+  ConditionalOStream silent(std::cout, false);
   for (const bool named : {true, false})
     {
       std::printf("--- front ordered last: %s\n", named ? "rows named" : "rows not named");
-      prm.kept_factorisations = 2;
-      prm.row_update_limit    = 0.5;
-      prm.reordering_cost     = 0;
-      ConditionalOStream silent(std::cout, false);
-      LinearSolver       solver(
+      LinearSolver solver(
         prm, 0, silent, "test", Parameters::LinearSolvers::AMGUpdate::recompute, 0.02, 2);
       unsigned int front = 100, asked = 0;
       if (named)
         solver.set_volatile_rows([&]() {
           ++asked;
-          std::vector<char> rows(n, 0);
-          for (unsigned int j = front - 2; j <= front + 2; ++j)
-            for (unsigned int i = 0; i < my; ++i)
-              rows[node(i, j)] = 1;
-          return rows;
+          return band(front);
         });
-      fill(A, column(front), 2.);
-      solver.initialize(A, 1);
-      solver.solve(x, b);
-      double worst = difference_to_fresh(prm, A, b, x);
-      for (unsigned int step = 1; step <= 40; ++step)
-        {
-          front = 100 + step;
-          fill(A, column(front), 2.);
-          solver.update(A, 1 + step);
-          solver.solve(x, b);
-          worst = std::max(worst, difference_to_fresh(prm, A, b, x));
-        }
-      const LinearSolverStatistics c = solver.take_statistics();
+      LinearSolverStatistics c;
+      const double           worst = march(solver, front, c);
+      c += solver.take_statistics();
       std::printf("  %u factorisations, %u modified, %llu rows, %u reorderings, asked %u times\n",
                   c.cholmod_factorisations,
                   c.row_updates,
@@ -359,33 +374,16 @@ int main(int argc, char *argv[])
   // middle of a march on): CHOLMOD's own ordering, and no reordering for them.
   for (const std::string naming : {"every row", "no row", "no row after 20 columns"})
     {
-      ConditionalOStream silent(std::cout, false);
-      LinearSolver       solver(
+      LinearSolver solver(
         prm, 0, silent, "test", Parameters::LinearSolvers::AMGUpdate::recompute, 0.02, 2);
       unsigned int front = 100;
       solver.set_volatile_rows([&]() {
-        std::vector<char> rows(n, naming == "every row" ? 1 : 0);
         if (naming == "no row after 20 columns" && front < 120)
-          for (unsigned int j = front - 2; j <= front + 2; ++j)
-            for (unsigned int i = 0; i < my; ++i)
-              rows[node(i, j)] = 1;
-        return rows;
+          return band(front);
+        return std::vector<char>(n, naming == "every row" ? 1 : 0);
       });
-      fill(A, column(front), 2.);
-      solver.initialize(A, 1);
-      solver.solve(x, b);
-      double                 worst = difference_to_fresh(prm, A, b, x);
       LinearSolverStatistics at_20;
-      for (unsigned int step = 1; step <= 40; ++step)
-        {
-          front = 100 + step;
-          fill(A, column(front), 2.);
-          solver.update(A, 1 + step);
-          solver.solve(x, b);
-          worst = std::max(worst, difference_to_fresh(prm, A, b, x));
-          if (step == 20)
-            at_20 = solver.take_statistics();
-        }
+      const double                 worst = march(solver, front, at_20);
       const LinearSolverStatistics c = solver.take_statistics();
       std::printf("  %s named: %u reorderings in the first 20 columns, %u after\n",
                   naming.c_str(),
