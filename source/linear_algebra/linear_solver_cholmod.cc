@@ -413,11 +413,14 @@ namespace ContactStefan
             // named were not those that changed: nested dissection below is
             // the remedy, for the rest of this pattern's life), nor when the
             // caller names no row or every row (nothing to order last).
-            if (cholmod->front_last && cholmod->modified_since == 0)
+            // (Only changes of fewer than a tenth of the rows count, as below:
+            // a change of most rows is expensive on any ordering.)
+            const bool local = 10 * rows.size() < cholmod->A->ncol;
+            if (local && cholmod->front_last && cholmod->modified_since == 0)
               cholmod->front_last_failed = true;
             std::vector<char> last;
-            if (volatile_rows && !cholmod->front_last_failed && !cholmod->nested_dissection &&
-                10 * rows.size() < cholmod->A->ncol)
+            if (local && volatile_rows && !cholmod->front_last_failed &&
+                !cholmod->nested_dissection)
               last = volatile_rows();
             const auto named =
               std::count_if(last.begin(), last.end(), [](const char c) { return c != 0; });
