@@ -112,10 +112,11 @@ namespace ContactStefan
                         "then replaced at the end of the factor. Enthalpy step: the nodes of "
                         "a phase front (on a plateau, or next to a node of the same material "
                         "in another phase) and this many layers of matrix neighbours around "
-                        "them. The Stefan strip took 8-12 % (nx = 400) and 16 % (nx = 800) "
-                        "less time with 2 than with 0, Neumann case A at level 4 14 % less, "
-                        "its adaptive run 4 % less; 1 and 3 layers measured within 4 % of 2 "
-                        "(doc/performance.md, 2026-11-28). 0: CHOLMOD's own ordering, then "
+                        "them. The Stefan strip took 8-12 % (nx = 400) and 10-16 % "
+                        "(nx = 800) less time with 2 than with 0, Neumann case A at level 4 "
+                        "14-15 % less, its adaptive run 4-6 % less; 1 and 3 layers measured "
+                        "within 4 % of 2 (hand runs, doc/performance.md, 2026-11-28). 0: "
+                        "CHOLMOD's own ordering, then "
                         "nested dissection ('Reordering cost').");
       prm.declare_entry("CG tolerance",
                         "1e-12",

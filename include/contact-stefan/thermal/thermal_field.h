@@ -305,8 +305,9 @@ namespace ContactStefan
     void front_points(std::vector<Point<dim>> &points) const;
     /**
      * One entry per locally owned node, nonzero within `layers` matrix
-     * neighbours of a phase front (a node on a plateau, or one whose neighbour
-     * is in another phase): the rows the next active sets change, which the
+     * neighbours of a phase front (a node on a plateau, or one with a
+     * neighbour of the same material in another phase): the rows the next
+     * active sets change, which the
      * direct solver orders last (LinearSolver::set_volatile_rows). Empty on
      * several ranks (the direct path there is not CHOLMOD's).
      */
