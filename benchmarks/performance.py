@@ -31,6 +31,11 @@ AMG set-ups, from the run's 'RESULT elasticity solver: ...' lines; --set
     benchmarks/performance.py --problem contact --levels 4 --markdown --plot doc/figures/perf
     benchmarks/performance.py --problem contact --levels 6 --no-fenicsx \
         --set "Solver/Linear solver=cg-amg"
+    benchmarks/performance.py --problem stefan --sizes 200,280,400 --markdown
+
+--sizes runs the given sizes instead of the ladder, by both codes (issue 33 asks
+the Stefan strip at nx = 280): the ratio at equal error then interpolates between
+FEniCSx's runs at the neighbouring sizes.
 
 FEniCSx runs when /usr/bin/python3 can import dolfinx (Debian:
 python3-dolfinx-real); --no-fenicsx skips it. Time benchmarks on a quiet
@@ -92,27 +97,29 @@ def append_setting(text, setting):
     return set_path(text, "/".join(parts), value.strip())
 
 
-def run_ours(binary, problem, level, np_, workdir, settings=()):
+def size_of_level(problem, level):
+    """N (contact) or nx (stefan) of a level of the ladder."""
+    return (32 if problem == "contact" else 100) * 2**level
+
+
+def run_ours(binary, problem, size, np_, workdir, settings=()):
     with open(SCENES[problem]) as f:
         text = f.read()
     for setting in settings:
         text = append_setting(text, setting)
     if problem == "contact":
-        n = 32 * 2**level
-        text = set_entry(text, "Subdivisions", f"{n}, {n}")
-        size = n
+        text = set_entry(text, "Subdivisions", f"{size}, {size}")
     else:
-        nx = 100 * 2**level
-        text = set_entry(text, "Subdivisions", f"{nx}, {nx // 10}")
-        text = set_entry(text, "Time step", repr(0.1 / nx))
-        size = nx
-    text = set_entry(text, "Directory", os.path.join(workdir, f"{problem}-{level}"))
-    prm = os.path.join(workdir, f"{problem}-{level}.prm")
+        # (nx a multiple of 10: ny = nx/10 keeps the cells square)
+        text = set_entry(text, "Subdivisions", f"{size}, {size // 10}")
+        text = set_entry(text, "Time step", repr(0.1 / size))
+    text = set_entry(text, "Directory", os.path.join(workdir, f"{problem}-{size}"))
+    prm = os.path.join(workdir, f"{problem}-{size}.prm")
     with open(prm, "w") as f:
         f.write(text)
     cmd = [binary, prm] if np_ == 1 else ["mpirun", "--allow-run-as-root", "--oversubscribe",
                                           "-np", str(np_), binary, prm]
-    parsed = run(cmd, f"contact-stefan {problem} level {level}")
+    parsed = run(cmd, f"contact-stefan {problem} at size {size}")
     if parsed is None:
         return None
     results, timers = parsed
@@ -121,11 +128,10 @@ def run_ours(binary, problem, level, np_, workdir, settings=()):
     return results
 
 
-def run_fenicsx(problem, level, workdir):
+def run_fenicsx(problem, size, workdir):
     script = FENICSX_SCRIPTS[problem]
-    size = (32 if problem == "contact" else 100) * 2**level
     flag = "--n" if problem == "contact" else "--nx"
-    parsed = run([FENICSX_PYTHON, script, flag, str(size)], f"FEniCSx {problem} level {level}")
+    parsed = run([FENICSX_PYTHON, script, flag, str(size)], f"FEniCSx {problem} at size {size}")
     if parsed is None:
         return {"size": size, "failed": True}
     results, _ = parsed
@@ -354,6 +360,9 @@ def main():
     parser.add_argument("--binary", default=DEFAULT_BINARY)
     parser.add_argument("--no-fenicsx", action="store_true")
     parser.add_argument("--fenicsx-levels", type=int, help="FEniCSx levels (default: --levels)")
+    parser.add_argument("--sizes", help="comma-separated sizes (N of the contact block, nx of "
+                                        "the Stefan strip, a multiple of 10) to run instead of "
+                                        "the ladder's levels, by both codes; e.g. 200,280,400")
     parser.add_argument("--markdown", action="store_true")
     parser.add_argument("--plot", help="write PLOT-<problem>.png (and PLOT-<problem>-cg.png "
                                        "where CG solved the elasticity system)")
@@ -372,35 +381,49 @@ def main():
         print("performance.py: FEniCSx not found for /usr/bin/python3 "
               "(apt-get install python3-dolfinx-real); contact-stefan only", file=sys.stderr)
     problems = ["contact", "stefan"] if args.problem == "all" else [args.problem]
+    sizes = None
+    if args.sizes:
+        try:
+            sizes = [int(x) for x in args.sizes.split(",")]
+        except ValueError:
+            sys.exit(f"performance.py: --sizes '{args.sizes}' is not a comma-separated list "
+                     "of integers")
+        if any(n < 10 for n in sizes) or ("stefan" in problems and any(n % 10 for n in sizes)):
+            sys.exit(f"performance.py: --sizes '{args.sizes}': every size must be at least 10 "
+                     "(and a multiple of 10 for the Stefan strip, whose ny = nx/10)")
     with tempfile.TemporaryDirectory() as workdir:
         for problem in problems:
             ours, theirs = [], []
-            for level in range(args.levels):
-                r = run_ours(args.binary, problem, level, args.np, workdir, args.set)
+            ladder = sizes or [size_of_level(problem, level) for level in range(args.levels)]
+            for size in ladder:
+                r = run_ours(args.binary, problem, size, args.np, workdir, args.set)
                 if r is None:
                     sys.exit(1)
                 ours.append(r)
-                print(f"{problem} level {level}: contact-stefan {r['wall time']:.2f} s",
+                print(f"{problem} size {size}: contact-stefan {r['wall time']:.2f} s",
                       file=sys.stderr)
             if fenicsx:
                 # Untimed warm-up: FEniCSx compiles its forms on first use.
-                run_fenicsx(problem, 0, workdir)
-                for level in range(args.fenicsx_levels if args.fenicsx_levels is not None
-                                   else args.levels):
-                    t = run_fenicsx(problem, level, workdir)
+                run_fenicsx(problem, size_of_level(problem, 0), workdir)
+                theirs_ladder = sizes or [
+                    size_of_level(problem, level)
+                    for level in range(args.fenicsx_levels if args.fenicsx_levels is not None
+                                       else args.levels)]
+                for size in theirs_ladder:
+                    t = run_fenicsx(problem, size, workdir)
                     theirs.append(t)
                     took = "failed" if t.get("failed") else f"{t['wall time']:.2f} s"
-                    print(f"{problem} level {level}: FEniCSx {took}", file=sys.stderr)
+                    print(f"{problem} size {size}: FEniCSx {took}", file=sys.stderr)
             report(problem, ours, theirs, args.markdown)
             compared = []
             if args.compare_set:
-                for level in range(args.levels):
-                    r = run_ours(args.binary, problem, level, args.np, workdir,
+                for size in ladder:
+                    r = run_ours(args.binary, problem, size, args.np, workdir,
                                  args.set + args.compare_set)
                     if r is None:
                         sys.exit(1)
                     compared.append(r)
-                    print(f"{problem} level {level}: contact-stefan with "
+                    print(f"{problem} size {size}: contact-stefan with "
                           f"{', '.join(args.compare_set)} {r['wall time']:.2f} s", file=sys.stderr)
                 label = ", ".join(args.compare_set)
                 print(f"## {problem}: contact-stefan with {label}")

@@ -2,6 +2,7 @@
 // modifications of a factor when an active set changes a few rows, recall of
 // kept factors and the solve (doc/algorithms.md §4).
 #include <contact-stefan/linear_algebra/cholmod_factor.h>
+#include <contact-stefan/linear_algebra/crs_rows.h>
 
 #include <algorithm>
 #include <stdexcept>
@@ -286,15 +287,16 @@ namespace ContactStefan
       {
         // New values on the analysed pattern: a gather through the map built
         // with the pattern (no index lookups, no sorting).
-        auto       *value  = static_cast<double *>(cholmod->A->x);
-        const int  *target = cholmod->position_of_entry.data();
-        std::size_t entry  = 0;
+        auto         *value  = static_cast<double *>(cholmod->A->x);
+        const int    *target = cholmod->position_of_entry.data();
+        std::size_t   entry  = 0;
+        const CrsRows row_of(M);
         for (int r = 0; r < n; ++r)
           {
             int     length;
             double *values;
             int    *columns;
-            M.ExtractMyRowView(r, length, values, columns);
+            row_of(r, length, values, columns);
             // A pattern unlike the analysed one (the owner must call clear()
             // before it reinitialises the matrix) is an internal error, not a
             // buffer overrun.
@@ -376,8 +378,7 @@ namespace ContactStefan
   // factorise into the storage of the least recently used one once 'Kept
   // factorisations' are kept: all share the one symbolic analysis. Where
   // only a few rows changed against the current or a kept factor, that
-  // factor is copied (or modified in place) and its rows replaced instead
-  // (Solver/Row update limit).
+  // factor's rows are replaced in place instead (Solver/Row update limit).
   void LinearSolver::refactorise_cholmod(const std::uint64_t key)
   {
     cholmod_factorise(false);
@@ -450,9 +451,53 @@ namespace ContactStefan
               }
           }
       }
-    // The storage of the new factor: the current one's (nothing is kept), a
-    // new one (fewer than 'Kept factorisations' are kept), or the least
-    // recently used kept one's; the current factor is kept.
+    // A modification is made in place of its base, which is given up: a copy
+    // of the base, to keep it as well, cost about what the modification does
+    // (the Stefan strip at nx = 400 took 13 % longer with the copies, although
+    // they saved 93 of 277 factorisations by recall). Where the base is a kept
+    // factor, the current one takes its place among the kept.
+    if (base == -1 || base >= 0)
+      {
+        Cholmod::Factor base_factor;
+        if (base == -1)
+          base_factor = Cholmod::Factor{cholmod->L, std::move(cholmod->values), cholmod->unchecked};
+        else
+          {
+            base_factor = std::move(kept[base].second);
+            kept.erase(kept.begin() + base);
+            if (prm.kept_factorisations > 0 && cholmod->key != 0)
+              kept.insert(
+                kept.begin(),
+                {cholmod->key,
+                 Cholmod::Factor{cholmod->L, std::move(cholmod->values), cholmod->unchecked}});
+            else
+              cholmod_free_factor(&cholmod->L, &cholmod->common);
+          }
+        cholmod->L         = base_factor.L;
+        cholmod->values    = {};
+        cholmod->key       = 0;
+        cholmod->unchecked = false;
+        if (cholmod->replace_rows(cholmod->L, rows))
+          {
+            const auto *value = static_cast<const double *>(cholmod->A->x);
+            cholmod->values.assign(value, value + cholmod->n_values());
+            // (No row to replace: the base factors these very values.)
+            cholmod->unchecked = !rows.empty() || base_factor.unchecked;
+            if (!rows.empty())
+              {
+                ++cholmod->modified_since;
+                ++statistics.row_updates;
+                statistics.replaced_rows += rows.size();
+              }
+          }
+        else
+          cholmod_numeric();
+        cholmod->key = key;
+        return;
+      }
+    // A factorisation afresh. Its storage: the current factor's (nothing is
+    // kept), a new one (fewer than 'Kept factorisations' are kept), or the
+    // least recently used kept one's; the current factor is kept.
     const bool      keep_current = prm.kept_factorisations > 0 && cholmod->key != 0;
     Cholmod::Factor storage;
     if (!keep_current)
@@ -461,32 +506,16 @@ namespace ContactStefan
       {
         storage = std::move(kept.back().second);
         kept.pop_back();
-        if (base == static_cast<int>(kept.size()))
-          base = -3; // the storage itself
       }
-    const bool unchecked_source = base == -1 ? cholmod->unchecked :
-                                  base >= 0  ? kept[base].second.unchecked :
-                                  base == -3 ? storage.unchecked :
-                                               false;
-    // A factor to copy into the storage: the one closest to the new values
-    // unless that is the storage itself.
-    cholmod_factor *source = base >= 0                    ? kept[base].second.L :
-                             (base == -1 && keep_current) ? cholmod->L :
-                                                            nullptr;
-    if (source != nullptr || storage.L == nullptr)
+    if (storage.L == nullptr)
       {
-        // (To be factorised afresh into new storage: a copy of any factor
-        // for its symbolic analysis, the current one.) Copied before the
-        // current factor moves to the kept ones, so that a failed copy
-        // leaves every factor with one owner.
-        cholmod_factor *copy =
-          cholmod_copy_factor(source != nullptr ? source : cholmod->L, &cholmod->common);
-        if (storage.L != nullptr && (copy != nullptr || keep_current))
-          cholmod_free_factor(&storage.L, &cholmod->common);
-        if (copy == nullptr)
+        // (New storage: a copy of the current factor, for its symbolic
+        // analysis.) Copied before the current factor moves to the kept ones,
+        // so that a failed copy leaves every factor with one owner.
+        storage.L = cholmod_copy_factor(cholmod->L, &cholmod->common);
+        if (storage.L == nullptr)
           throw std::runtime_error("cholmod could not copy a factor of the " + name +
                                    " matrix (out of memory?)");
-        storage.L = copy;
       }
     if (keep_current)
       kept.insert(kept.begin(),
@@ -496,21 +525,7 @@ namespace ContactStefan
     cholmod->values    = {};
     cholmod->key       = 0;
     cholmod->unchecked = false;
-    if (base != -2 && cholmod->replace_rows(cholmod->L, rows))
-      {
-        const auto *value = static_cast<const double *>(cholmod->A->x);
-        cholmod->values.assign(value, value + cholmod->n_values());
-        // (No row to replace: the copy factors these very values.)
-        cholmod->unchecked = !rows.empty() || unchecked_source;
-        if (!rows.empty())
-          {
-            ++cholmod->modified_since;
-            ++statistics.row_updates;
-            statistics.replaced_rows += rows.size();
-          }
-      }
-    else
-      cholmod_numeric();
+    cholmod_numeric();
     cholmod->key = key;
   }
 

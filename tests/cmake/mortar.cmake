@@ -433,11 +433,13 @@ foreach(setting ${MORTAR_CONDUCTANCE_LAW})
 endforeach()
 foreach(np 1 2 3)
   set(suffix "")
+  set(counts "")
   if(np GREATER 1)
     set(suffix "-mpi${np}")
+    klu_factorisations(counts 175)
   endif()
   scene(mortar/conductance-melting-adaptive${suffix} ${np} ${T}/scenes/mortar_melting.prm
-    mortar_conductance_melting_adaptive ${MORTAR_MELTING_ADAPTIVE} ${MORTAR_CONDUCTANCE_SET}
+    mortar_conductance_melting_adaptive ${MORTAR_MELTING_ADAPTIVE} ${MORTAR_CONDUCTANCE_SET} ${counts}
     "RESULT mesh adaptations>10.5"
     "RESULT max energy-balance residual<1e-14"
     "RESULT heat rate contact interface 1-2>0.1"

@@ -9,6 +9,27 @@ function(scene name np scene reference)
   set_tests_properties(${name} PROPERTIES PROCESSORS ${np})
 endfunction()
 
+# A variant on KLU (several ranks, or 'Direct solver type' = Amesos_Klu) that
+# shares its reference with the serial CHOLMOD run: KLU keeps every factor it
+# replaces for recall, CHOLMOD modifies some in place (doc/algorithms.md §4),
+# so the two count factorisations differently. The variant leaves the count
+# out of the comparison and checks its own, n.
+function(klu_factorisations var n)
+  math(EXPR below "${n} - 1")
+  set(${var} "IGNORE:RESULT enthalpy matrix factorisations"
+    "IGNORE:RESULT calls enthalpy step: factorise"
+    "RESULT enthalpy matrix factorisations>${below}.5"
+    "RESULT enthalpy matrix factorisations<${n}.5" PARENT_SCOPE)
+endfunction()
+
+# (An IGNORE: of a line the reference does not have is refused: a misspelt
+# name must not leave a test that compares less than it says.)
+add_test(NAME harness/ignore-unknown-line
+  COMMAND ${T}/run_scene.sh ${BIN} ${P}/neumann_A.prm ${T}/references/neumann_A.output 1
+          "IGNORE:RESULT enthalpy matrix factorisationz")
+set_tests_properties(harness/ignore-unknown-line PROPERTIES PASS_REGULAR_EXPRESSION
+  "IGNORE:RESULT enthalpy matrix factorisationz: no such line in .*neumann_A.output")
+
 # Bounds about 1.5 times the measured values: a reference regenerated from a
 # wrong code cannot pass them.
 set(NEUMANN_A_BOUNDS
@@ -19,7 +40,8 @@ set(NEUMANN_A_BOUNDS
   "RESULT steps with relaxation fallback<1")
 scene(neumann/A 1 ${P}/neumann_A.prm neumann_A ${NEUMANN_A_BOUNDS})
 # Two ranks must reproduce the serial statistics (same reference).
-scene(neumann/A-mpi2 2 ${P}/neumann_A.prm neumann_A ${NEUMANN_A_BOUNDS})
+klu_factorisations(NEUMANN_A_KLU 12)
+scene(neumann/A-mpi2 2 ${P}/neumann_A.prm neumann_A ${NEUMANN_A_BOUNDS} ${NEUMANN_A_KLU})
 # A serial run's MPI start (app/mpi_start.h) must leave the results alone and
 # keep working when the user wants Open MPI's daemon (a singleton that is not
 # isolated) or Open MPI's own defaults throughout (the switch at 'plain').
@@ -61,9 +83,11 @@ scene(neumann/A-cg-amg-mpi2 2 ${P}/neumann_A.prm neumann_A-cg-amg
 # The direct path on one rank is CHOLMOD by default (KLU on several ranks):
 # KLU on one rank gives the same results.
 scene(neumann/A-klu 1 ${P}/neumann_A.prm neumann_A "SET:Solver/Direct solver type=Amesos_Klu"
-  ${NEUMANN_A_BOUNDS})
-# Without kept factorisations: the same solution with 20 factorisations
-# instead of 12 (the set without plateau nodes recurs).
+  ${NEUMANN_A_BOUNDS} ${NEUMANN_A_KLU})
+# Without kept factorisations: the same solution with 20 factorisations, as
+# the default counts on one rank too (the factors CHOLMOD modifies row by row
+# are not kept; KLU, which keeps them, counts 12: the set without plateau
+# nodes recurs).
 scene(neumann/A-no-kept-factorisations 1 ${P}/neumann_A.prm neumann_A-no-kept
   "SET:Solver/Kept factorisations=0" ${NEUMANN_A_BOUNDS})
 scene(contact/hertz-C1-klu 1 ${P}/hertz_C1.prm hertz_C1
@@ -132,8 +156,9 @@ scene(neumann/A-large-step-active-set-mpi2 2 ${P}/neumann_A.prm neumann_A_large_
   "RESULT relative space-time L2 error temperature>0.0106213"
   "RESULT relative space-time L2 error temperature<0.0106214")
 # Two ranks (Gauss-Seidel within each rank's nodes) take the same iterations.
+klu_factorisations(LARGE_STEP_KLU 62)
 scene(neumann/A-large-step-truncated-newton-mpi2 2 ${P}/neumann_A.prm
-  neumann_A_large_step ${LARGE_STEP} ${TRUNCATED_NEWTON} ${STEP_BOUNDS}
+  neumann_A_large_step ${LARGE_STEP} ${TRUNCATED_NEWTON} ${STEP_BOUNDS} ${LARGE_STEP_KLU}
   "RESULT mean active-set iterations<6"
   "RESULT relative space-time L2 error temperature>0.0106213"
   "RESULT relative space-time L2 error temperature<0.0106214")

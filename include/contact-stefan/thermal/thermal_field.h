@@ -71,6 +71,7 @@
 #include <memory>
 #include <vector>
 
+#include <Epetra_Import.h>
 #include <Epetra_Vector.h>
 
 namespace ContactStefan
@@ -387,15 +388,24 @@ namespace ContactStefan
     void assemble_system(const bool assemble_matrix);
     /**
      * result = A Theta (hanging nodes condensed) for the current temperature,
-     * from the assembled A; with absolute, |A| |Theta| entrywise (the size of
-     * the terms against which the round-off of (A Theta)_i is measured).
+     * from the assembled A.
      */
-    void conductivity_times(Vector &result, const bool absolute = false) const;
+    void conductivity_times(Vector &result) const;
+    /**
+     * A Theta and, entrywise, |A| |Theta| (the size of the terms against which
+     * the round-off of (A Theta)_i is measured), in one pass over the rows.
+     */
+    void conductivity_times(Vector &product, Vector &absolute_product) const;
     /**
      * Imports owned values (one per row of the conductivity matrix) onto its
      * column map.
      */
     void to_columns(const Epetra_Vector &values, std::vector<double> &result) const;
+    /**
+     * ghosted <- values (an owned vector), the ghost entries included, through
+     * ghost_import. Collective.
+     */
+    void to_ghosted(const Vector &values, Vector &ghosted) const;
     /**
      * One linear solve with every node on the linear piece of its current
      * phase state: the plateau constraints come from phase_state_ghosted, the
@@ -608,7 +618,7 @@ namespace ContactStefan
     unsigned int                   conductivity_matrix_version = 0;
     Vector                         step_load;
     std::vector<double>            fixed_column_value;
-    mutable std::vector<double>    column_values;
+    mutable std::vector<double>    column_values, column_values_2;
     LinearSolver                   linear_solver;
     // set_initial_guess(): a guess to test before the next linear solve, the
     // relative residual that lets it stand, and how many stood.
@@ -624,6 +634,14 @@ namespace ContactStefan
      */
     Vector temperature, temperature_ghosted, enthalpy_ghosted;
     Vector phase_state, phase_state_ghosted;
+    /**
+     * The exchange from the owned vectors' layout to the ghosted ones' (the
+     * same for all of them), built with the DoFs: deal.II's assignment of an
+     * owned vector to a ghosted one builds it afresh, which cost a few per cent
+     * of the Stefan strip's run (the owned-to-ghosted copies of every
+     * active-set iteration).
+     */
+    std::unique_ptr<Epetra_Import> ghost_import;
     /**
      * Per-node data: lumped mass m_i, heat load F_i of the step, and the
      * coefficients of one iteration's system m_i d_i Theta_i + tau (A Theta)_i =
@@ -713,6 +731,13 @@ namespace ContactStefan
                               dirichlet_nodes;
     std::vector<unsigned int> owned_law;
     std::vector<char>         owned_free;
+    /**
+     * Per owned row, per mesh: a hanging node?, and the local column index of
+     * its diagonal entry in system_matrix and conductivity_matrix (the same
+     * layout).
+     */
+    std::vector<char>         owned_hanging;
+    std::vector<int>          owned_diagonal_column;
     void                      index_local_entries();
     static double            *entries(Vector &v)
     {

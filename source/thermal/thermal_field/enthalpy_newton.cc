@@ -194,7 +194,7 @@ namespace ContactStefan
             local_changes += free[i] && it > 1 && s != static_cast<unsigned int>(state[i]);
             state[i] = s;
           }
-        phase_state_ghosted = phase_state;
+        to_ghosted(phase_state, phase_state_ghosted);
         report.state_changes += Utilities::MPI::sum(local_changes, mpi_communicator);
 
         temperature                  = theta; // the Krylov solvers' initial guess
@@ -229,8 +229,8 @@ namespace ContactStefan
             for (unsigned int i = 0; i < n_owned; ++i)
               state[i] = free[i] ? owned_node_law(i).state_of_enthalpy(h[i]) :
                                    owned_node_law(i).state_of_temperature(t_in[i]);
-            enthalpy_ghosted    = enthalpy;
-            phase_state_ghosted = phase_state;
+            to_ghosted(enthalpy, enthalpy_ghosted);
+            to_ghosted(phase_state, phase_state_ghosted);
             if (verbosity >= 1)
               pcout << "      truncated Newton " << it << ": " << report.plateau_nodes
                     << " plateau nodes, converged" << std::endl;
@@ -250,7 +250,7 @@ namespace ContactStefan
     double       *h    = entries(enthalpy);
     for (unsigned int i = 0; i < n_owned; ++i)
       h[i] = owned_node_law(i).enthalpy(t_in[i]);
-    enthalpy_ghosted = enthalpy;
+    to_ghosted(enthalpy, enthalpy_ghosted);
     set_nodal_state_from_enthalpy();
     return false;
   }

@@ -19,6 +19,7 @@
 // doc/algorithms.md). Should it still hit its iteration limit, the step falls
 // back to the nonlinear relaxation iteration, slower but always convergent.
 
+#include <contact-stefan/linear_algebra/crs_rows.h>
 #include <contact-stefan/thermal/thermal_field.h>
 
 #include <algorithm>
@@ -47,6 +48,9 @@ namespace ContactStefan
   // cells. The lumped mass stays the condensed diagonal m_i on hanging meshes
   // (distributing a cell's diagonal mass through hanging-node constraints would
   // couple the parents). d and g are nodal vectors.
+
+
+
   template <int dim>
   void ThermalField<dim>::assemble_system(const bool assemble_matrix)
   {
@@ -54,40 +58,45 @@ namespace ContactStefan
     const Epetra_CrsMatrix &A = conductivity_matrix.trilinos_matrix();
     // Edited in place: the matrix keeps its layout (and the AMG hierarchy
     // built on it stays attached to it).
-    Epetra_CrsMatrix &S       = const_cast<Epetra_CrsMatrix &>(system_matrix.trilinos_matrix());
-    const Epetra_Map &columns = A.ColMap();
+    Epetra_CrsMatrix &S = const_cast<Epetra_CrsMatrix &>(system_matrix.trilinos_matrix());
 
     // The prescribed value of every column (NaN: free or hanging), decided by
     // the column's owner and imported: a column of a condensed hanging-node
     // row may lie outside this process's relevant set.
+    // (From the list of constraint lines, not a lookup per row: the lines are
+    // the prescribed and plateau nodes, a fraction of the rows.)
+    std::vector<char> fixed_row(n_owned, 0);
     {
       Epetra_Vector owned_values(A.DomainMap());
-      for (int r = 0; r < A.DomainMap().NumMyElements(); ++r)
-        {
-          const types::global_dof_index dof = A.DomainMap().GID(r);
-          owned_values[r] =
-            (constraints.is_constrained(dof) && !hanging_node_constraints.is_constrained(dof)) ?
-              constraints.get_inhomogeneity(dof) :
-              std::numeric_limits<double>::quiet_NaN();
-        }
+      for (int r = 0; r < static_cast<int>(n_owned); ++r)
+        owned_values[r] = std::numeric_limits<double>::quiet_NaN();
+      for (const auto &line : constraints.get_lines())
+        if (line.index >= first_owned && line.index < first_owned + n_owned &&
+            !owned_hanging[line.index - first_owned])
+          {
+            const auto r    = line.index - first_owned;
+            fixed_row[r]    = 1;
+            owned_values[r] = line.inhomogeneity;
+          }
       to_columns(owned_values, fixed_column_value);
     }
-    // Row r is owned node r (index_local_entries() checks it).
+    // Row r is owned node r (index_local_entries() checks it), and so is its
+    // diagonal column (owned_diagonal_column).
+    const CrsRows row_of_A(A), row_of_S(S);
     const double *load = entries(step_load), *m = entries(lumped_mass);
     const double *capacity = entries(nodal_diagonal), *nodal = entries(nodal_rhs);
     double       *rhs_entries = entries(system_rhs);
     for (int r = 0; r < static_cast<int>(n_owned); ++r)
       {
-        const types::global_dof_index dof             = first_owned + r;
-        const int                     diagonal_column = columns.LID(static_cast<int>(dof));
-        int                           n_a, n_s;
-        double                       *a, *s;
-        int                          *index_a, *index_s;
-        A.ExtractMyRowView(r, n_a, a, index_a);
-        S.ExtractMyRowView(r, n_s, s, index_s);
+        const int diagonal_column = owned_diagonal_column[r];
+        int       n_a, n_s;
+        double   *a, *s;
+        int      *index_a, *index_s;
+        row_of_A(r, n_a, a, index_a);
+        row_of_S(r, n_s, s, index_s);
         Assert(n_a == n_s, ExcInternalError());
-        const bool hanging  = hanging_node_constraints.is_constrained(dof);
-        const bool fixed    = !hanging && constraints.is_constrained(dof);
+        const bool hanging  = owned_hanging[r];
+        const bool fixed    = fixed_row[r];
         double     diagonal = 0, rhs = hanging ? 0. : load[r];
         for (int k = 0; k < n_a; ++k)
           {
@@ -112,7 +121,7 @@ namespace ContactStefan
             const double scale =
               diagonal > 0 ? diagonal : m[r] * owned_node_law(r).max_heat_capacity();
             diagonal = scale > 0 ? scale : 1.;
-            rhs      = diagonal * constraints.get_inhomogeneity(dof);
+            rhs      = diagonal * constraints.get_inhomogeneity(first_owned + r);
           }
         else if (!hanging)
           {
@@ -206,6 +215,16 @@ namespace ContactStefan
 
 
 
+  template <int dim>
+  void ThermalField<dim>::to_ghosted(const Vector &values, Vector &ghosted) const
+  {
+    AssertThrow(ghosted.trilinos_vector().Import(values.trilinos_vector(), *ghost_import, Insert) ==
+                  0,
+                ExcInternalError());
+  }
+
+
+
   // values (over the conductivity matrix's domain map, i.e. the owned rows)
   // onto its column map, in column order.
   template <int dim>
@@ -227,31 +246,45 @@ namespace ContactStefan
 
 
 
+  // Both products of conductivity_times() in one pass over the rows (the
+  // energy balance needs both after every step).
   template <int dim>
-  void ThermalField<dim>::conductivity_times(Vector &result, const bool absolute) const
+  void ThermalField<dim>::conductivity_times(Vector &product, Vector &absolute_product) const
   {
-    if (!absolute)
-      {
-        conductivity_matrix.vmult(result, temperature);
-        return;
-      }
     const Epetra_CrsMatrix &A = conductivity_matrix.trilinos_matrix();
     Epetra_Vector           owned_values(A.DomainMap());
     const double           *theta = entries(temperature);
+    to_columns(*temperature.trilinos_vector()(0), column_values);
+    std::vector<double> &signed_columns = column_values_2;
+    signed_columns.swap(column_values);
     for (int r = 0; r < A.DomainMap().NumMyElements(); ++r)
       owned_values[r] = std::abs(theta[r]);
     to_columns(owned_values, column_values);
+    double       *Ax = entries(product), *Ax_abs = entries(absolute_product);
+    const CrsRows row_of(A);
     for (int r = 0; r < A.RowMap().NumMyElements(); ++r)
       {
         int     n;
         double *a;
         int    *index;
-        A.ExtractMyRowView(r, n, a, index);
-        double sum = 0;
+        row_of(r, n, a, index);
+        double sum = 0, sum_abs = 0;
         for (int k = 0; k < n; ++k)
-          sum += std::abs(a[k]) * column_values[index[k]];
-        entries(result)[r] = sum;
+          {
+            sum += a[k] * signed_columns[index[k]];
+            sum_abs += std::abs(a[k]) * column_values[index[k]];
+          }
+        Ax[r]     = sum;
+        Ax_abs[r] = sum_abs;
       }
+  }
+
+
+
+  template <int dim>
+  void ThermalField<dim>::conductivity_times(Vector &result) const
+  {
+    conductivity_matrix.vmult(result, temperature);
   }
 
 
@@ -373,7 +406,7 @@ namespace ContactStefan
         linear_solver.solve(temperature, system_rhs, tolerance);
       constraints.distribute(temperature);
     }
-    temperature_ghosted = temperature;
+    to_ghosted(temperature, temperature_ghosted);
 
     Vector A_theta(owned, mpi_communicator);
     conductivity_times(A_theta);
@@ -450,8 +483,7 @@ namespace ContactStefan
 
         // Residual of the step equations at Theta = beta(h), relative to the
         // size of their terms.
-        conductivity_times(A_theta);
-        conductivity_times(A_abs_theta, true);
+        conductivity_times(A_theta, A_abs_theta);
         double residual = 0, scale = 0;
         for (const auto dof : owned)
           if (!dirichlet_constraints.is_constrained(dof))
@@ -491,8 +523,7 @@ namespace ContactStefan
   double ThermalField<dim>::compute_energy_balance(unsigned int &inconsistent) const
   {
     Vector A_theta(owned, mpi_communicator), A_abs_theta(owned, mpi_communicator);
-    conductivity_times(A_theta);
-    conductivity_times(A_abs_theta, true);
+    conductivity_times(A_theta, A_abs_theta);
     double        free_sum = 0, scale = 0;
     unsigned int  inconsistent_nodes = 0;
     const double *h = entries(enthalpy), *h_old = entries(old_enthalpy), *m = entries(lumped_mass);
@@ -679,8 +710,8 @@ namespace ContactStefan
             local_changes += free[i];
           }
       }
-    enthalpy_ghosted    = enthalpy;
-    phase_state_ghosted = phase_state;
+    to_ghosted(enthalpy, enthalpy_ghosted);
+    to_ghosted(phase_state, phase_state_ghosted);
     return Utilities::MPI::sum(local_changes, mpi_communicator);
   }
 
@@ -940,7 +971,10 @@ namespace ContactStefan
   template void ThermalField<2>::apply_conductivity(const Vector &theta, Vector &result) const;
   template void ThermalField<2>::to_columns(const Epetra_Vector &values,
                                             std::vector<double> &result) const;
-  template void ThermalField<2>::conductivity_times(Vector &result, const bool absolute) const;
+  template void         ThermalField<2>::conductivity_times(Vector &result) const;
+  template void         ThermalField<2>::conductivity_times(Vector &product,
+                                                    Vector &absolute_product) const;
+  template void         ThermalField<2>::to_ghosted(const Vector &values, Vector &ghosted) const;
   template unsigned int ThermalField<2>::solve_for_pieces(Vector &h_new, const double tolerance);
   template unsigned int ThermalField<2>::relaxation_fallback();
   template double       ThermalField<2>::compute_energy_balance(unsigned int &inconsistent) const;

@@ -347,7 +347,7 @@ namespace ContactStefan
   {
     if (!have_thermal_mortar)
       return;
-    enthalpy_ghosted = enthalpy;
+    to_ghosted(enthalpy, enthalpy_ghosted);
     double *h = entries(enthalpy), *state = entries(phase_state);
     for (const auto &[slave, line] : mortar_lines)
       if (owned.is_element(slave))
@@ -359,8 +359,8 @@ namespace ContactStefan
           h[i]     = value;
           state[i] = owned_node_law(i).state_of_enthalpy(value);
         }
-    enthalpy_ghosted    = enthalpy;
-    phase_state_ghosted = phase_state;
+    to_ghosted(enthalpy, enthalpy_ghosted);
+    to_ghosted(phase_state, phase_state_ghosted);
   }
 
 

@@ -138,6 +138,8 @@ namespace ContactStefan
     conductivity_matrix_version = conductivity_version - 1;
     for (Vector *v : {&temperature_ghosted, &enthalpy_ghosted, &phase_state_ghosted})
       v->reinit(owned, relevant, mpi_communicator);
+    ghost_import = std::make_unique<Epetra_Import>(temperature_ghosted.trilinos_vector().Map(),
+                                                   temperature.trilinos_vector().Map());
 
     // Per cell, in closed form (q1_kernels.h): the lumped mass m_K (the vertex
     // rule makes the Q1 mass matrix diagonal; m_i is the sum of the cells'
@@ -442,7 +444,7 @@ namespace ContactStefan
             }
         }
       if (extrapolate)
-        phase_state_ghosted = phase_state;
+        to_ghosted(phase_state, phase_state_ghosted);
       // A front predicted to reach new nodes: the first solve of the step only
       // tests that guess (active_set_iteration()).
       predicted_set_changed = Utilities::MPI::sum(local_changes, mpi_communicator) > 0;
@@ -652,6 +654,20 @@ namespace ContactStefan
     relevant_entry.clear();
     for (const auto dof : relevant)
       relevant_entry.push_back(ghosted.LID(static_cast<int>(dof)));
+    // Per owned row: a hanging node? and the local column of its diagonal
+    // entry in the matrices (assemble_system() reads them for every row of
+    // every solve).
+    const Epetra_Map &columns = system_matrix.trilinos_matrix().ColMap();
+    owned_hanging.assign(n_owned, 0);
+    owned_diagonal_column.assign(n_owned, -1);
+    for (unsigned int i = 0; i < n_owned; ++i)
+      {
+        owned_hanging[i]         = hanging_node_constraints.is_constrained(first_owned + i);
+        owned_diagonal_column[i] = columns.LID(static_cast<int>(first_owned + i));
+      }
+    require_everywhere(std::find(owned_diagonal_column.begin(), owned_diagonal_column.end(), -1) ==
+                         owned_diagonal_column.end(),
+                       "an owned temperature DoF has no diagonal entry in the system matrix");
     cell_nodes.assign(triangulation.n_active_cells(), {});
     std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
     for (const auto &cell : dof_handler.active_cell_iterators())
@@ -735,9 +751,9 @@ namespace ContactStefan
         state[i] = owned_node_law(i).state_of_enthalpy(h[i]);
       }
     hanging_node_constraints.distribute(temperature);
-    temperature_ghosted = temperature;
-    enthalpy_ghosted    = enthalpy;
-    phase_state_ghosted = phase_state;
+    to_ghosted(temperature, temperature_ghosted);
+    to_ghosted(enthalpy, enthalpy_ghosted);
+    to_ghosted(phase_state, phase_state_ghosted);
   }
 
 
@@ -777,7 +793,7 @@ namespace ContactStefan
     // its mass, and its fraction is through that body's last transition (of
     // the node's own law).
     Vector h_ghosted(owned, relevant, mpi_communicator);
-    h_ghosted          = enthalpy;
+    to_ghosted(enthalpy, h_ghosted);
     const double *h    = entries(h_ghosted);
     double        area = 0;
     for (const auto &[melting, w] : melt_weights)
