@@ -391,6 +391,11 @@ def main():
         if any(n < 10 for n in sizes) or ("stefan" in problems and any(n % 10 for n in sizes)):
             sys.exit(f"performance.py: --sizes '{args.sizes}': every size must be at least 10 "
                      "(and a multiple of 10 for the Stefan strip, whose ny = nx/10)")
+        if len(set(sizes)) != len(sizes):
+            sys.exit(f"performance.py: --sizes '{args.sizes}' names a size twice")
+        if len(problems) > 1 or args.fenicsx_levels is not None:
+            sys.exit("performance.py: --sizes needs one --problem (N and nx differ) and "
+                     "replaces --levels and --fenicsx-levels")
     with tempfile.TemporaryDirectory() as workdir:
         for problem in problems:
             ours, theirs = [], []

@@ -43,9 +43,11 @@ run() { # run NP [OPTION]: in the current directory
 }
 # What must agree: RESULT lines (no wall time, no timer call counts) and the
 # statistics without wall_time. The linear solvers' work ('RESULT ... solver:
-# ...') depends on the partition: compared only when both halves ran on the
-# same number of ranks (where the resumed run must repeat the same work).
-solver_lines='^RESULT [a-z]* solver: '
+# ...', and the factorisation counts: CHOLMOD on one rank modifies some factors
+# in place where KLU on several keeps them for recall) depends on the
+# partition: compared only when both halves ran on the same number of ranks
+# (where the resumed run must repeat the same work).
+solver_lines='^RESULT [a-z]* solver: \|^RESULT [a-z]* matrix factorisations = '
 [ "$np" = "$np_resume" ] && solver_lines='^$^'
 deterministic() { # deterministic STDOUT STATISTICS
   grep '^RESULT' "$1" | grep -v -e 'RESULT wall time' -e 'RESULT calls ' -e "$solver_lines"

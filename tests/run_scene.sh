@@ -20,7 +20,8 @@
 # comparison on both sides (a variant that shares a reference but counts
 # differently by design, e.g. factorisations: KLU keeps every factor for
 # recall, CHOLMOD modifies some in place); its value is then checked by
-# requirements, and such a test never rewrites the reference.
+# requirements, and such a test never rewrites the reference (with
+# UPDATE_REFERENCE=1 it passes without writing).
 # With UPDATE_REFERENCE=1 the reference is rewritten instead (after the
 # requirements pass): references are produced by the code, never by hand.
 set -u
@@ -116,7 +117,8 @@ done
 
 if [ "${UPDATE_REFERENCE:-0}" = 1 ]; then
   if [ ${#ignored[@]} -gt 0 ]; then
-    echo "reference $reference not written: this test leaves lines of it out"; exit 1
+    echo "reference $reference not written: this test leaves lines of it out"
+    passed=1; exit 0
   fi
   cp "$out" "$reference"; echo "reference $reference written"; passed=1; exit 0
 fi

@@ -67,9 +67,8 @@ namespace ContactStefan
                         "set that recurs, as the set without plateau nodes does each time a "
                         "melting front passes a row of nodes, is solved without factorising "
                         "or recomputing again. Each costs the memory of one factor or "
-                        "hierarchy. 0: keep none. (cholmod keeps only factors replaced by a "
-                        "fresh factorisation: one it modifies row by row, 'Row update limit', "
-                        "is modified in place.)");
+                        "hierarchy. 0: keep none. (cholmod: a factor it modifies row by row, "
+                        "'Row update limit', is modified in place and not kept.)");
       prm.declare_entry(
         "Row update limit",
         "0.5",

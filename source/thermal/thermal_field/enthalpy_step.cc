@@ -48,9 +48,6 @@ namespace ContactStefan
   // cells. The lumped mass stays the condensed diagonal m_i on hanging meshes
   // (distributing a cell's diagonal mass through hanging-node constraints would
   // couple the parents). d and g are nodal vectors.
-
-
-
   template <int dim>
   void ThermalField<dim>::assemble_system(const bool assemble_matrix)
   {
