@@ -453,7 +453,7 @@ namespace ContactStefan
       }
     // A modification is made in place of its base, which is given up: a copy
     // of the base, to keep it as well, cost about what the modification does
-    // (the Stefan strip at nx = 400 took 13 % longer with the copies, although
+    // (the Stefan strip at nx = 400 took 15 % longer with the copies, although
     // they saved 93 of 277 factorisations by recall). Where the base is a kept
     // factor, the current one takes its place among the kept.
     if (base == -1 || base >= 0)
