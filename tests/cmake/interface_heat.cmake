@@ -51,14 +51,13 @@ set(CONDUCTANCE_TRANSIENT_BOUNDS
 set(CONDUCTANCE_ADAPTIVE "SET:Mesh refinement/Adaptive refinement interval=1"
   "SET:Mesh refinement/Initial global refinements=1"
   "SET:Mesh refinement/Initial adaptive refinements=2" "SET:Mesh refinement/Maximum level=3")
-# (One reference for 1 and 2 ranks: on 1 rank without CHOLMOD's row
-# modifications, which give up the factor they modify (and the reorderings
-# about the front, which drop the kept ones), so that CHOLMOD keeps and
-# recalls factorisations as KLU on 2 ranks does and counts as many.)
+# (One reference for 1 and 2 ranks; KLU on 2 ranks counts its own
+# factorisations, klu_factorisations.)
 scene(conductance/transient-melting 1 ${T}/scenes/conductance_transient.prm
-  conductance_transient ${CONDUCTANCE_TRANSIENT_BOUNDS} "SET:Solver/Row update limit=0")
-scene(conductance/transient-melting-mpi2 2 ${T}/scenes/conductance_transient.prm
   conductance_transient ${CONDUCTANCE_TRANSIENT_BOUNDS})
+klu_factorisations(CONDUCTANCE_TRANSIENT_KLU 12)
+scene(conductance/transient-melting-mpi2 2 ${T}/scenes/conductance_transient.prm
+  conductance_transient ${CONDUCTANCE_TRANSIENT_BOUNDS} ${CONDUCTANCE_TRANSIENT_KLU})
 scene(conductance/transient-melting-adaptive 1 ${T}/scenes/conductance_transient.prm
   conductance_transient_adaptive ${CONDUCTANCE_ADAPTIVE} ${CONDUCTANCE_TRANSIENT_BOUNDS})
 scene(conductance/transient-melting-adaptive-mpi2 2 ${T}/scenes/conductance_transient.prm

@@ -618,7 +618,9 @@ namespace ContactStefan
     unsigned int                   conductivity_matrix_version = 0;
     Vector                         step_load;
     std::vector<double>            fixed_column_value;
-    mutable std::vector<double>    column_values, column_values_2;
+    // (Scratch of the row loops: column_values holds |Theta| or another
+    // imported vector, signed_column_values Theta.)
+    mutable std::vector<double>    column_values, signed_column_values;
     LinearSolver                   linear_solver;
     // set_initial_guess(): a guess to test before the next linear solve, the
     // relative residual that lets it stand, and how many stood.

@@ -251,9 +251,7 @@ namespace ContactStefan
     const Epetra_CrsMatrix &A = conductivity_matrix.trilinos_matrix();
     Epetra_Vector           owned_values(A.DomainMap());
     const double           *theta = entries(temperature);
-    to_columns(*temperature.trilinos_vector()(0), column_values);
-    std::vector<double> &signed_columns = column_values_2;
-    signed_columns.swap(column_values);
+    to_columns(*temperature.trilinos_vector()(0), signed_column_values);
     for (int r = 0; r < A.DomainMap().NumMyElements(); ++r)
       owned_values[r] = std::abs(theta[r]);
     to_columns(owned_values, column_values);
@@ -268,7 +266,7 @@ namespace ContactStefan
         double sum = 0, sum_abs = 0;
         for (int k = 0; k < n; ++k)
           {
-            sum += a[k] * signed_columns[index[k]];
+            sum += a[k] * signed_column_values[index[k]];
             sum_abs += std::abs(a[k]) * column_values[index[k]];
           }
         Ax[r]     = sum;
