@@ -9,7 +9,8 @@
 set -u
 binary=$1 scene=$2
 # The MPI start settings checked below are the program's own, not the caller's.
-unset OMPI_MCA_pml OMPI_MCA_ess_singleton_isolated CONTACT_STEFAN_SERIAL_MPI
+unset OMPI_MCA_pml OMPI_MCA_ess_singleton_isolated OMPI_MCA_orte_jobfam_session_dir \
+  CONTACT_STEFAN_SERIAL_MPI
 here=$(cd "$(dirname "$0")" && pwd)
 work=$(mktemp -d "$PWD/provenance.XXXXXX") && cd "$work" || exit 1
 passed=0
@@ -29,9 +30,9 @@ echo "first run: exit code $?"
 CONTACT_STEFAN_SERIAL_MPI=plain "$binary" --resume scene.prm > second.txt 2>&1
 echo "resumed run: exit code $?"
 version=$("$binary" --version)
-/usr/bin/python3 - "$version" <<'PYTHON' && passed=1
-import json, sys
-version = sys.argv[1]
+/usr/bin/python3 - "$version" "$TMPDIR" "$(id -u)" <<'PYTHON' && passed=1
+import json, re, sys
+version, tmpdir, uid = sys.argv[1:4]
 record = json.load(open("out/provenance.json"))
 scene = open("scene.prm").read()
 problems = []
@@ -53,6 +54,11 @@ for name, run, code, status, resumed in (("resumed", record, 0, "finished", True
     if resumed:
         check(start == {"CONTACT_STEFAN_SERIAL_MPI": "plain"}, "%s: mpi_start %r" % (name, start))
     else:
+        # (the isolated singleton's own session directory, named by the
+        # process id, in the TMPDIR set above)
+        session = start.pop("OMPI_MCA_orte_jobfam_session_dir", "")
+        check(re.fullmatch(re.escape(tmpdir) + r"/contact-stefan-mpi\.%s/[0-9]+" % uid, session),
+              "%s: session directory %r" % (name, session))
         check(start == {"OMPI_MCA_ess_singleton_isolated": "1", "OMPI_MCA_pml": "ob1"},
               "%s: mpi_start %r" % (name, start))
     check(run.get("parameters") == scene, "%s: the parameter text differs" % name)

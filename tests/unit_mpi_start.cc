@@ -1,6 +1,7 @@
 // Unit test of how a run starts MPI (app/mpi_start.h): a process started by
 // itself gets the serial settings (no daemon, the ob1 layer); under a launcher, with the switch
-// at 'plain', or for a variable the user set, nothing is changed; a bad switch
+// at 'plain', or for a variable the user set, nothing is changed; an isolated
+// singleton gets a session directory of its own; a bad switch
 // value is refused in one line that names the variable; the provenance record
 // lists what was set. Prints deterministic lines; returns 1 if any check fails.
 #include <contact-stefan/app/mpi_start.h>
@@ -37,14 +38,50 @@ namespace
 int main()
 {
   const auto all = MpiStart::serial_settings();
+  // A fixed identity, so that the printed lines do not depend on the process.
+  const MpiStart::Process process{1000, 4242};
+  const auto              settings = [&](const std::map<std::string, std::string> &variables) {
+    return MpiStart::settings_to_make(environment(variables), process);
+  };
+  const std::string session = MpiStart::session_directory_variable();
 
-  // Started by itself: every setting (no daemon, the ob1 layer).
-  const auto alone = MpiStart::settings_to_make(environment({}));
-  check(alone.size() == all.size(), "alone: every serial setting is made");
+  // Started by itself: every setting (no daemon, the ob1 layer) and the
+  // isolated singleton's own session directory.
+  const auto alone = settings({});
+  check(alone.size() == all.size() + 1, "alone: every serial setting and the session directory");
   check(value_in(alone, "OMPI_MCA_pml") == "ob1", "alone: the ob1 layer");
   check(value_in(alone, "OMPI_MCA_ess_singleton_isolated") == "1", "alone: no orted daemon");
+  check(value_in(alone, session) == "/tmp/contact-stefan-mpi.1000/4242",
+        "alone: a session directory named by user and process");
   for (const auto &[name, value] : alone)
     std::printf("  %s=%s\n", name.c_str(), value.c_str());
+
+  // Two processes: two session directories (Open MPI would give both
+  // jf.0/1, which the first to finish removes under the other).
+  check(value_in(MpiStart::settings_to_make(environment({}), {1000, 4243}), session) !=
+          value_in(alone, session),
+        "another process: another session directory");
+  // Where Open MPI puts its own: orte_tmpdir_base, else TMPDIR, TEMP, TMP.
+  check(value_in(settings({{"TMPDIR", "/scratch/me/"}, {"TMP", "/var/tmp"}}), session) ==
+          "/scratch/me/contact-stefan-mpi.1000/4242",
+        "TMPDIR before TMP, its trailing slash dropped");
+  check(value_in(settings({{"TMPDIR", ""}, {"TMP", "/var/tmp"}}), session) ==
+          "/var/tmp/contact-stefan-mpi.1000/4242",
+        "an empty TMPDIR is passed over");
+  check(value_in(settings({{"OMPI_MCA_orte_tmpdir_base", "/fast"}, {"TMPDIR", "/scratch"}}),
+                 session) == "/fast/contact-stefan-mpi.1000/4242",
+        "Open MPI's orte_tmpdir_base first");
+  check(value_in(settings({{session, "/mine"}}), session) == "(not set)",
+        "user's session directory: not overwritten");
+  for (const char *isolated : {"1", "true", "YES"})
+    check(value_in(settings({{"OMPI_MCA_ess_singleton_isolated", isolated}}), session) !=
+            "(not set)",
+          std::string("user's isolated singleton (") + isolated + "): its own session directory");
+  for (const char *not_isolated : {"0", "False", "no"})
+    check(value_in(settings({{"OMPI_MCA_ess_singleton_isolated", not_isolated}}), session) ==
+            "(not set)",
+          std::string("user's singleton with a daemon (") + not_isolated +
+            "): no session directory set");
 
   // Under each launcher: nothing, whatever else is set; the switch is not read.
   for (const char *rank_variable : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"})
@@ -61,8 +98,7 @@ int main()
   // the user wants not isolated must still start: nothing made here may need
   // an isolated one (the run-time's state and error managers would, and were
   // shown failing in MPI_Init by a reviewer; they are not in the list).
-  const auto user =
-    MpiStart::settings_to_make(environment({{"OMPI_MCA_ess_singleton_isolated", "0"}}));
+  const auto user = settings({{"OMPI_MCA_ess_singleton_isolated", "0"}});
   check(user.size() == all.size() - 1, "user's singleton: the others are made");
   check(value_in(user, "OMPI_MCA_ess_singleton_isolated") == "(not set)",
         "user's singleton: not overwritten");
@@ -76,8 +112,7 @@ int main()
   check(MpiStart::settings_to_make(environment({{"CONTACT_STEFAN_SERIAL_MPI", "plain"}})).empty(),
         "switch 'plain': nothing is made");
   for (const char *value : {"fast", ""})
-    check(MpiStart::settings_to_make(environment({{"CONTACT_STEFAN_SERIAL_MPI", value}})).size() ==
-            all.size(),
+    check(settings({{"CONTACT_STEFAN_SERIAL_MPI", value}}).size() == all.size() + 1,
           std::string("switch '") + value + "': every setting");
   bool refused = false;
   try
@@ -119,8 +154,10 @@ int main()
   const auto recorded =
     MpiStart::recorded_settings(environment({{"OMPI_MCA_pml", "ob1"},
                                              {"OMPI_MCA_orte_hnp_uri", "x"},
+                                             {session, "/tmp/s"},
                                              {"CONTACT_STEFAN_SERIAL_MPI", "fast"}}));
-  check(recorded.size() == 2 && value_in(recorded, "OMPI_MCA_pml") == "ob1" &&
+  check(recorded.size() == 3 && value_in(recorded, "OMPI_MCA_pml") == "ob1" &&
+          value_in(recorded, session) == "/tmp/s" &&
           value_in(recorded, "CONTACT_STEFAN_SERIAL_MPI") == "fast",
         "record: the set settings and the switch, not mpirun's own variables");
 

@@ -12,6 +12,11 @@ set_tests_properties(cli/version PROPERTIES PASS_REGULAR_EXPRESSION
   "^contact-stefan ([0-9a-f]+ [0-9-]+|unknown \\(not built from a git checkout\\)).*\\(.*build, deal\\.II [0-9.]+\\)")
 add_test(NAME cli/provenance
   COMMAND ${T}/check_provenance.sh ${BIN} ${T}/scenes/column_heat_then_cool.prm)
+# Serial runs side by side: one writing checkpoints while another starts and
+# ends (each daemon-less singleton has its own Open MPI session directory,
+# app/mpi_start.h).
+add_test(NAME cli/concurrent-serial-runs
+  COMMAND ${T}/check_concurrent_serial.sh ${BIN} ${P}/neumann_A.prm)
 add_test(NAME cli/parameter_reference_is_current
   COMMAND sh -c "${BIN} --print-parameters | diff -u ${CMAKE_SOURCE_DIR}/doc/parameters.prm -")
 foreach(prm ${P}/neumann_A.prm ${P}/neumann_C.prm ${P}/neumann_two_transitions.prm)

@@ -14,6 +14,22 @@
 // than the machine's noise in a whole run, and two of them (the run-time's
 // state and error managers) break a singleton that is not isolated: not done.
 //
+// An isolated singleton needs a session directory of its own. Open MPI names
+// every isolated singleton alike (job family 0, job 1), so all of them share
+// the session directory <tmp>/ompi.<host>.<uid>/jf.0/1, and each removes it at
+// MPI_Finalize when it finds it empty. Open MPI's shared-file-pointer
+// component puts a file there at every MPI_File_open (a checkpoint's mesh
+// files), so a serial run that wrote a checkpoint after another serial run had
+// ended found the directory gone: "unable to open file for mmap", and a failed
+// run (p4est aborted) when the directory vanished between the component's
+// query and its open -- 1 of 18 and 3 of 90 runs, 6 at a time, each with a
+// checkpoint per step (2026-11-29), and one CI run of the test suite. Hence
+// the run's own job-family directory, <tmp>/contact-stefan-mpi.<uid>/<pid>,
+// which Open MPI creates and removes at MPI_Finalize like its own (a run
+// killed by SIGKILL leaves it behind, empty or with one stale file, as Open
+// MPI's own directories are left). <tmp> is Open MPI's choice: the parameter
+// orte_tmpdir_base, else TMPDIR, TEMP, TMP, else /tmp.
+//
 // Rules: under a launcher (mpirun, mpiexec, or srun with PMI-2 or PMIx)
 // nothing is set and the switch below is not read, because the launcher and
 // the cluster know the transport; a variable set in the environment stays as
@@ -31,6 +47,8 @@
 #include <string>
 #include <utility>
 #include <vector>
+
+#include <unistd.h>
 
 namespace ContactStefan
 {
@@ -65,6 +83,62 @@ namespace ContactStefan
       return [](const char *variable) -> const char * { return std::getenv(variable); };
     }
 
+    /** The variable of an isolated singleton's own session directory. */
+    inline const char *session_directory_variable()
+    {
+      return "OMPI_MCA_orte_jobfam_session_dir";
+    }
+
+    /** A process's identity, for its session directory. */
+    struct Process
+    {
+      unsigned long user_id;
+      long          process_id;
+    };
+
+    /** This process's identity. */
+    inline Process this_process()
+    {
+      return {static_cast<unsigned long>(getuid()), static_cast<long>(getpid())};
+    }
+
+    /**
+     * The session directory of an isolated singleton (see the top of this
+     * file): <tmp>/contact-stefan-mpi.<uid>/<pid>, <tmp> as Open MPI chooses
+     * it.
+     */
+    inline std::string session_directory(const Lookup &lookup, const Process &process)
+    {
+      std::string base = "/tmp";
+      for (const char *variable : {"OMPI_MCA_orte_tmpdir_base", "TMPDIR", "TEMP", "TMP"})
+        if (const char *value = lookup(variable); value && *value)
+          {
+            base = value;
+            break;
+          }
+      while (base.size() > 1 && base.back() == '/')
+        base.pop_back();
+      return base + "/contact-stefan-mpi." + std::to_string(process.user_id) + "/" +
+             std::to_string(process.process_id);
+    }
+
+    /**
+     * Whether a singleton started with these settings may be isolated: unless
+     * the user set the variable to a false value (0, false, no in any case).
+     * (A session directory of its own does no harm to a singleton with a
+     * daemon, which shares it with its daemon only.)
+     */
+    inline bool isolated_singleton(const Lookup &lookup)
+    {
+      const char *value = lookup("OMPI_MCA_ess_singleton_isolated");
+      if (value == nullptr)
+        return true;
+      std::string lower;
+      for (const char *c = value; *c; ++c)
+        lower += (*c >= 'A' && *c <= 'Z') ? char(*c - 'A' + 'a') : *c;
+      return lower != "0" && lower != "false" && lower != "no";
+    }
+
     /** The variable that switches the serial settings off. */
     inline const char *switch_variable()
     {
@@ -86,11 +160,14 @@ namespace ContactStefan
     /**
      * The settings this process should make before MPI_Init: none under a
      * launcher or with CONTACT_STEFAN_SERIAL_MPI=plain; else those of
-     * serial_settings() whose variable is not set yet. Without a launcher, a
-     * value of the switch other than "fast" (the default, also when empty) or
+     * serial_settings() whose variable is not set yet, and, when the
+     * singleton is isolated (by these settings or by the user), its own
+     * session directory unless the user set one. Without a launcher, a value
+     * of the switch other than "fast" (the default, also when empty) or
      * "plain" is refused with one line (std::invalid_argument).
      */
-    inline std::vector<Setting> settings_to_make(const Lookup &lookup)
+    inline std::vector<Setting> settings_to_make(const Lookup  &lookup,
+                                                 const Process &process = this_process())
     {
       std::vector<Setting> to_make;
       if (started_by_launcher(lookup))
@@ -113,6 +190,8 @@ namespace ContactStefan
       for (const auto &setting : serial_settings())
         if (lookup(setting.first.c_str()) == nullptr)
           to_make.push_back(setting);
+      if (isolated_singleton(lookup) && lookup(session_directory_variable()) == nullptr)
+        to_make.emplace_back(session_directory_variable(), session_directory(lookup, process));
       return to_make;
     }
 
@@ -127,9 +206,9 @@ namespace ContactStefan
     }
 
     /**
-     * For the provenance record: the variables of serial_settings() and the
-     * switch that are set, with their values, whoever set them (this program,
-     * the user or mpirun, which passes the user's OMPI_MCA_ variables on).
+     * For the provenance record: the variables of serial_settings(), the
+     * session directory's and the switch that are set, with their values, whoever set them (this
+     * program, the user or mpirun, which passes the user's OMPI_MCA_ variables on).
      */
     inline std::vector<Setting> recorded_settings(const Lookup &lookup)
     {
@@ -137,6 +216,8 @@ namespace ContactStefan
       for (const auto &setting : serial_settings())
         if (const char *value = lookup(setting.first.c_str()))
           recorded.emplace_back(setting.first, value);
+      if (const char *value = lookup(session_directory_variable()))
+        recorded.emplace_back(session_directory_variable(), value);
       if (const char *value = lookup(switch_variable()))
         recorded.emplace_back(switch_variable(), value);
       return recorded;
