@@ -7,17 +7,25 @@
 # (app/mpi_start.h). Here run A writes a checkpoint per step; once its first
 # checkpoint exists it is held (SIGSTOP) while run B starts and ends, then it
 # goes on and must write more checkpoints, end with exit code 0 and print no
-# Open MPI complaint. A TMPDIR of its own keeps the other tests' runs out.
+# Open MPI complaint. Run A is held to Open MPI's shared-file-pointer component
+# sm, the one that puts a file into the session directory at every
+# MPI_File_open, so that the check means the same whatever the environment
+# would select; without the directory, Open MPI 4.1 prints "unable to open file
+# for mmap" and goes on without a shared file pointer (exit code 0), which the
+# check of run A's output catches. A TMPDIR of its own keeps the other tests'
+# runs out.
 set -u
 binary=$1 scene=$2
 here=$(cd "$(dirname "$0")" && pwd)
-unset OMPI_MCA_orte_jobfam_session_dir OMPI_MCA_ess_singleton_isolated CONTACT_STEFAN_SERIAL_MPI
+unset OMPI_MCA_orte_jobfam_session_dir OMPI_MCA_orte_tmpdir_base OMPI_MCA_ess_singleton_isolated \
+  OMPI_MCA_io OMPI_MCA_sharedfp CONTACT_STEFAN_SERIAL_MPI
 work=$(mktemp -d "$PWD/concurrent.XXXXXX") && cd "$work" || exit 1
 TMPDIR=$(mktemp -d) && export TMPDIR
 passed=0
 a_pid=
 trap '[ -n "$a_pid" ] && kill -9 "$a_pid" 2> /dev/null; rm -rf "$TMPDIR";
       [ "$passed" = 1 ] && rm -rf "$work"' EXIT
+trap 'exit 1' TERM INT
 for run in A B; do
   cp "$scene" "$run.prm"
   "$here/apply_settings.sh" "$run.prm" "SET:Output/Directory=out$run" > /dev/null || exit 1
@@ -27,7 +35,7 @@ done
 tau=$(awk -F= '/^ *set Time step *=/ { print $2 * 1 / 30; exit }' "$scene")
 "$here/apply_settings.sh" A.prm "SET:Checkpoint/Interval (steps)=1" \
   "SET:Time stepping/Time step=$tau" > /dev/null || exit 1
-"$binary" A.prm > A.txt 2>&1 &
+OMPI_MCA_sharedfp=sm "$binary" A.prm > A.txt 2>&1 &
 a_pid=$!
 for _ in $(seq 600); do
   [ -d outA/checkpoint ] && break
@@ -38,7 +46,7 @@ if ! kill -STOP "$a_pid" 2> /dev/null || [ ! -d outA/checkpoint ]; then
   echo "FAIL run A ended or wrote no checkpoint before run B could start"; cat A.txt; exit 1
 fi
 steps_before=$(grep -c '^Step ' A.txt)
-"$binary" B.prm > B.txt 2>&1
+timeout 120 "$binary" B.prm > B.txt 2>&1
 b_code=$?
 kill -CONT "$a_pid"
 wait "$a_pid"

@@ -10,7 +10,7 @@ set -u
 binary=$1 scene=$2
 # The MPI start settings checked below are the program's own, not the caller's.
 unset OMPI_MCA_pml OMPI_MCA_ess_singleton_isolated OMPI_MCA_orte_jobfam_session_dir \
-  CONTACT_STEFAN_SERIAL_MPI
+  OMPI_MCA_orte_tmpdir_base CONTACT_STEFAN_SERIAL_MPI
 here=$(cd "$(dirname "$0")" && pwd)
 work=$(mktemp -d "$PWD/provenance.XXXXXX") && cd "$work" || exit 1
 passed=0
@@ -54,10 +54,11 @@ for name, run, code, status, resumed in (("resumed", record, 0, "finished", True
     if resumed:
         check(start == {"CONTACT_STEFAN_SERIAL_MPI": "plain"}, "%s: mpi_start %r" % (name, start))
     else:
-        # (the isolated singleton's own session directory, named by the
-        # process id, in the TMPDIR set above)
+        # (the run's own session directory, <host>.<pid>.XXXXXX made by
+        # mkdtemp in the TMPDIR set above)
         session = start.pop("OMPI_MCA_orte_jobfam_session_dir", "")
-        check(re.fullmatch(re.escape(tmpdir) + r"/contact-stefan-mpi\.%s/[0-9]+" % uid, session),
+        check(re.fullmatch(re.escape(tmpdir) + r"/contact-stefan-mpi\.%s/[^/]+\.[0-9]+\.\w{6}" % uid,
+                           session),
               "%s: session directory %r" % (name, session))
         check(start == {"OMPI_MCA_ess_singleton_isolated": "1", "OMPI_MCA_pml": "ob1"},
               "%s: mpi_start %r" % (name, start))

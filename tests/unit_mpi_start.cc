@@ -1,16 +1,21 @@
 // Unit test of how a run starts MPI (app/mpi_start.h): a process started by
 // itself gets the serial settings (no daemon, the ob1 layer); under a launcher, with the switch
-// at 'plain', or for a variable the user set, nothing is changed; an isolated
-// singleton gets a session directory of its own; a bad switch
+// at 'plain', or for a variable the user set, nothing is changed; a serial
+// run gets a session directory of its own, made by mkdtemp in a parent closed
+// to others; a bad switch
 // value is refused in one line that names the variable; the provenance record
 // lists what was set. Prints deterministic lines; returns 1 if any check fails.
 #include <contact-stefan/app/mpi_start.h>
 
+#include <cstdlib>
 #include <map>
 #include <stdexcept>
 #include <string>
 
 #include "unit_test_tools.h"
+
+#include <sys/stat.h>
+#include <unistd.h>
 
 using namespace ContactStefan;
 using UnitTest::check;
@@ -38,51 +43,80 @@ namespace
 int main()
 {
   const auto all = MpiStart::serial_settings();
-  // A fixed identity, so that the printed lines do not depend on the process.
-  const MpiStart::Process process{1000, 4242};
-  const auto              settings = [&](const std::map<std::string, std::string> &variables) {
-    return MpiStart::settings_to_make(environment(variables), process);
-  };
-  const std::string session = MpiStart::session_directory_variable();
 
-  // Started by itself: every setting (no daemon, the ob1 layer) and the
-  // isolated singleton's own session directory.
-  const auto alone = settings({});
-  check(alone.size() == all.size() + 1, "alone: every serial setting and the session directory");
+  // Started by itself: every setting (no daemon, the ob1 layer).
+  const auto alone = MpiStart::settings_to_make(environment({}));
+  check(alone.size() == all.size(), "alone: every serial setting is made");
   check(value_in(alone, "OMPI_MCA_pml") == "ob1", "alone: the ob1 layer");
   check(value_in(alone, "OMPI_MCA_ess_singleton_isolated") == "1", "alone: no orted daemon");
-  check(value_in(alone, session) == "/tmp/contact-stefan-mpi.1000/4242",
-        "alone: a session directory named by user and process");
   for (const auto &[name, value] : alone)
     std::printf("  %s=%s\n", name.c_str(), value.c_str());
 
-  // Two processes: two session directories (Open MPI would give both
-  // jf.0/1, which the first to finish removes under the other).
-  check(value_in(MpiStart::settings_to_make(environment({}), {1000, 4243}), session) !=
-          value_in(alone, session),
-        "another process: another session directory");
-  // Where Open MPI puts its own: orte_tmpdir_base, else TMPDIR, TEMP, TMP.
-  check(value_in(settings({{"TMPDIR", "/scratch/me/"}, {"TMP", "/var/tmp"}}), session) ==
-          "/scratch/me/contact-stefan-mpi.1000/4242",
-        "TMPDIR before TMP, its trailing slash dropped");
-  check(value_in(settings({{"TMPDIR", ""}, {"TMP", "/var/tmp"}}), session) ==
-          "/var/tmp/contact-stefan-mpi.1000/4242",
-        "an empty TMPDIR is passed over");
-  check(value_in(settings({{"OMPI_MCA_orte_tmpdir_base", "/fast"}, {"TMPDIR", "/scratch"}}),
-                 session) == "/fast/contact-stefan-mpi.1000/4242",
-        "Open MPI's orte_tmpdir_base first");
-  check(value_in(settings({{session, "/mine"}}), session) == "(not set)",
-        "user's session directory: not overwritten");
-  for (const char *isolated : {"1", "true", "YES"})
-    check(value_in(settings({{"OMPI_MCA_ess_singleton_isolated", isolated}}), session) !=
-            "(not set)",
-          std::string("user's isolated singleton (") + isolated + "): its own session directory");
-  for (const char *not_isolated : {"0", "False", "no"})
-    check(value_in(settings({{"OMPI_MCA_ess_singleton_isolated", not_isolated}}), session) ==
-            "(not set)",
-          std::string("user's singleton with a daemon (") + not_isolated +
-            "): no session directory set");
+  // The session directory: wanted by a fast serial start whose user set none.
+  const std::string session = MpiStart::session_directory_variable();
+  check(MpiStart::wants_session_directory(environment({})), "alone: a session directory");
+  check(MpiStart::wants_session_directory(environment({{"OMPI_MCA_ess_singleton_isolated", "0"}})),
+        "a singleton with a daemon: a session directory too (it shares it with its daemon)");
+  check(!MpiStart::wants_session_directory(environment({{session, "/mine"}})),
+        "the user's session directory: none made");
+  check(!MpiStart::wants_session_directory(environment({{"CONTACT_STEFAN_SERIAL_MPI", "plain"}})),
+        "switch 'plain': none made");
+  check(!MpiStart::wants_session_directory(environment({{"OMPI_COMM_WORLD_SIZE", "2"}})),
+        "under a launcher: none made");
+  // Where: OMPI_MCA_orte_tmpdir_base, else the first non-empty of TMPDIR,
+  // TEMP, TMP, else /tmp.
+  check(MpiStart::session_base(environment({})) == "/tmp", "base: /tmp by default");
+  check(MpiStart::session_base(environment({{"TEMP", "/t1"}, {"TMP", "/t2"}})) == "/t1",
+        "base: TEMP before TMP");
+  check(MpiStart::session_base(environment({{"TMPDIR", "/scratch/me//"}, {"TMP", "/t2"}})) ==
+          "/scratch/me",
+        "base: TMPDIR before TMP, trailing slashes dropped");
+  check(MpiStart::session_base(environment({{"TMPDIR", ""}, {"TMP", "/t2"}})) == "/t2",
+        "base: an empty TMPDIR passed over");
+  check(MpiStart::session_base(
+          environment({{"OMPI_MCA_orte_tmpdir_base", "/fast"}, {"TMPDIR", "/scratch"}})) == "/fast",
+        "base: Open MPI's orte_tmpdir_base first");
+  check(MpiStart::session_base(environment({{"TMPDIR", "///"}})) == "/" &&
+          MpiStart::in_directory("/", "x") == "/x",
+        "base: '/' without a doubled slash");
 
+  // Made for real in a scratch directory: mode 0700, a new name each time, in
+  // the parent while it is this user's and closed to others, beside it otherwise.
+  {
+    char scratch[] = "/tmp/unit_mpi_start.XXXXXX";
+    check(mkdtemp(scratch) != nullptr, "scratch directory");
+    const std::string base   = scratch;
+    const auto        uid    = static_cast<unsigned long>(getuid());
+    const std::string parent = base + "/contact-stefan-mpi." + std::to_string(uid);
+    const auto        mode   = [](const std::string &path) {
+      struct stat status;
+      return lstat(path.c_str(), &status) == 0 && S_ISDIR(status.st_mode) ?
+                        int(status.st_mode & 07777) :
+                        -1;
+    };
+    const std::string first  = MpiStart::make_session_directory(base, uid, "node", 42);
+    const std::string second = MpiStart::make_session_directory(base, uid, "node", 42);
+    check(first.rfind(parent + "/node.42.", 0) == 0 && mode(first) == 0700,
+          "made in the parent as <host>.<pid>.XXXXXX, mode 0700");
+    check(mode(parent) == 0700, "the parent made, mode 0700");
+    check(!second.empty() && second != first && mode(second) == 0700,
+          "the same host and process id again: another directory");
+    chmod(parent.c_str(), 0770);
+    const std::string open_parent = MpiStart::make_session_directory(base, uid, "node", 42);
+    check(open_parent.rfind(base + "/contact-stefan-mpi." + std::to_string(uid) + ".node.42.", 0) ==
+              0 &&
+            mode(open_parent) == 0700,
+          "a group-writable parent: passed over for the base");
+    chmod(parent.c_str(), 0700);
+    const std::string moved = parent + ".moved";
+    rename(parent.c_str(), moved.c_str());
+    check(symlink(moved.c_str(), parent.c_str()) == 0, "a symlink in the parent's place");
+    const std::string linked = MpiStart::make_session_directory(base, uid, "node", 42);
+    check(linked.rfind(parent + ".node.42.", 0) == 0, "a symlinked parent: passed over");
+    check(MpiStart::make_session_directory(base + "/missing/deeper", uid, "node", 42).empty(),
+          "a base that does not exist: none made");
+    check(std::system(("rm -rf '" + base + "'").c_str()) == 0, "scratch directory removed");
+  }
   // Under each launcher: nothing, whatever else is set; the switch is not read.
   for (const char *rank_variable : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"})
     check(MpiStart::settings_to_make(environment({{rank_variable, "2"}})).empty(),
@@ -98,7 +132,8 @@ int main()
   // the user wants not isolated must still start: nothing made here may need
   // an isolated one (the run-time's state and error managers would, and were
   // shown failing in MPI_Init by a reviewer; they are not in the list).
-  const auto user = settings({{"OMPI_MCA_ess_singleton_isolated", "0"}});
+  const auto user =
+    MpiStart::settings_to_make(environment({{"OMPI_MCA_ess_singleton_isolated", "0"}}));
   check(user.size() == all.size() - 1, "user's singleton: the others are made");
   check(value_in(user, "OMPI_MCA_ess_singleton_isolated") == "(not set)",
         "user's singleton: not overwritten");
@@ -112,7 +147,8 @@ int main()
   check(MpiStart::settings_to_make(environment({{"CONTACT_STEFAN_SERIAL_MPI", "plain"}})).empty(),
         "switch 'plain': nothing is made");
   for (const char *value : {"fast", ""})
-    check(settings({{"CONTACT_STEFAN_SERIAL_MPI", value}}).size() == all.size() + 1,
+    check(MpiStart::settings_to_make(environment({{"CONTACT_STEFAN_SERIAL_MPI", value}})).size() ==
+            all.size(),
           std::string("switch '") + value + "': every setting");
   bool refused = false;
   try

@@ -46,11 +46,12 @@ int main(int argc, char *argv[])
   const bool started_by_mpirun = MpiStart::started_by_launcher(MpiStart::process_environment());
   // Started by itself, this process is MPI's only rank: before MPI_Init reads
   // the environment it asks for no orted daemon and for the ob1 layer, which
-  // spares the loading of interconnect drivers (app/mpi_start.h). Under mpirun
-  // nothing is changed.
+  // spares the loading of interconnect drivers, and gets a session directory
+  // of its own if MPI is to start (app/mpi_start.h). Under mpirun nothing is
+  // changed.
   try
     {
-      MpiStart::prepare();
+      MpiStart::prepare(!check_requested || started_by_mpirun);
     }
   catch (const std::invalid_argument &e)
     {

@@ -14,21 +14,32 @@
 // than the machine's noise in a whole run, and two of them (the run-time's
 // state and error managers) break a singleton that is not isolated: not done.
 //
-// An isolated singleton needs a session directory of its own. Open MPI names
-// every isolated singleton alike (job family 0, job 1), so all of them share
-// the session directory <tmp>/ompi.<host>.<uid>/jf.0/1, and each removes it at
+// A serial run needs a session directory of its own. Open MPI names every
+// isolated singleton alike (job family 0, job 1), so all of them share the
+// session directory <tmp>/ompi.<host>.<uid>/jf.0/1, and each removes it at
 // MPI_Finalize when it finds it empty. Open MPI's shared-file-pointer
 // component puts a file there at every MPI_File_open (a checkpoint's mesh
 // files), so a serial run that wrote a checkpoint after another serial run had
 // ended found the directory gone: "unable to open file for mmap", and a failed
 // run (p4est aborted) when the directory vanished between the component's
 // query and its open -- 1 of 18 and 3 of 90 runs, 6 at a time, each with a
-// checkpoint per step (2026-11-29), and one CI run of the test suite. Hence
-// the run's own job-family directory, <tmp>/contact-stefan-mpi.<uid>/<pid>,
-// which Open MPI creates and removes at MPI_Finalize like its own (a run
-// killed by SIGKILL leaves it behind, empty or with one stale file, as Open
-// MPI's own directories are left). <tmp> is Open MPI's choice: the parameter
-// orte_tmpdir_base, else TMPDIR, TEMP, TMP, else /tmp.
+// checkpoint per step (2026-11-29), and one CI run of the test suite. Hence a
+// job-family directory per run (OMPI_MCA_orte_jobfam_session_dir), made before
+// MPI_Init by mkdtemp as <tmp>/contact-stefan-mpi.<uid>/<host>.<pid>.XXXXXX
+// (mode 0700, a name no other run can take, on a shared file system too) and
+// removed by Open MPI at MPI_Finalize like its own; a run killed by SIGKILL
+// leaves it behind, empty or with one stale file, as Open MPI's own are left.
+// The parent is used only if it is a directory of this user closed to others
+// (not a symlink, not group- or world-writable); else the directory is made
+// in <tmp> itself, as contact-stefan-mpi.<uid>.<host>.<pid>.XXXXXX. <tmp> is
+// the environment's OMPI_MCA_orte_tmpdir_base, else the first non-empty of
+// TMPDIR, TEMP and TMP, else /tmp (Open MPI's order; unlike Open MPI, an empty
+// variable is passed over and its parameter files are not read). If no
+// directory can be made, Open MPI's default stands. One name stays shared:
+// the semaphore /dev/shm/sem.OMPIO_<file name> that the same component opens
+// and unlinks within each MPI_File_open (harmless between runs of one user).
+// With CONTACT_STEFAN_SERIAL_MPI=plain no directory is made: a singleton with
+// its daemon has a job family of its own.
 //
 // Rules: under a launcher (mpirun, mpiexec, or srun with PMI-2 or PMIx)
 // nothing is set and the switch below is not read, because the launcher and
@@ -48,6 +59,7 @@
 #include <utility>
 #include <vector>
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 namespace ContactStefan
@@ -83,31 +95,19 @@ namespace ContactStefan
       return [](const char *variable) -> const char * { return std::getenv(variable); };
     }
 
-    /** The variable of an isolated singleton's own session directory. */
+    /** The variable of a serial run's own session directory. */
     inline const char *session_directory_variable()
     {
       return "OMPI_MCA_orte_jobfam_session_dir";
     }
 
-    /** A process's identity, for its session directory. */
-    struct Process
-    {
-      unsigned long user_id;
-      long          process_id;
-    };
-
-    /** This process's identity. */
-    inline Process this_process()
-    {
-      return {static_cast<unsigned long>(getuid()), static_cast<long>(getpid())};
-    }
-
     /**
-     * The session directory of an isolated singleton (see the top of this
-     * file): <tmp>/contact-stefan-mpi.<uid>/<pid>, <tmp> as Open MPI chooses
-     * it.
+     * Where a serial run's session directory goes (see the top of this
+     * file): the environment's OMPI_MCA_orte_tmpdir_base, else the first
+     * non-empty of TMPDIR, TEMP and TMP, else /tmp; without trailing slashes
+     * ("/" stays "/").
      */
-    inline std::string session_directory(const Lookup &lookup, const Process &process)
+    inline std::string session_base(const Lookup &lookup)
     {
       std::string base = "/tmp";
       for (const char *variable : {"OMPI_MCA_orte_tmpdir_base", "TMPDIR", "TEMP", "TMP"})
@@ -118,25 +118,52 @@ namespace ContactStefan
           }
       while (base.size() > 1 && base.back() == '/')
         base.pop_back();
-      return base + "/contact-stefan-mpi." + std::to_string(process.user_id) + "/" +
-             std::to_string(process.process_id);
+      return base;
+    }
+
+    /** A file name in a directory ("/" without a doubled slash). */
+    inline std::string in_directory(const std::string &directory, const std::string &name)
+    {
+      return directory == "/" ? "/" + name : directory + "/" + name;
     }
 
     /**
-     * Whether a singleton started with these settings may be isolated: unless
-     * the user set the variable to a false value (0, false, no in any case).
-     * (A session directory of its own does no harm to a singleton with a
-     * daemon, which shares it with its daemon only.)
+     * Makes a fresh session directory by mkdtemp (mode 0700):
+     * <base>/contact-stefan-mpi.<uid>/<host>.<pid>.XXXXXX, the parent made
+     * (mode 0700) if it is missing; if the parent is not a directory of
+     * user_id closed to others (a symlink, another owner, group- or
+     * world-writable), <base>/contact-stefan-mpi.<uid>.<host>.<pid>.XXXXXX.
+     * Returns its path, or "" if none could be made.
      */
-    inline bool isolated_singleton(const Lookup &lookup)
+    inline std::string make_session_directory(const std::string  &base,
+                                              const unsigned long user_id,
+                                              const std::string  &host,
+                                              const long          process_id)
     {
-      const char *value = lookup("OMPI_MCA_ess_singleton_isolated");
-      if (value == nullptr)
-        return true;
-      std::string lower;
-      for (const char *c = value; *c; ++c)
-        lower += (*c >= 'A' && *c <= 'Z') ? char(*c - 'A' + 'a') : *c;
-      return lower != "0" && lower != "false" && lower != "no";
+      const std::string name   = "contact-stefan-mpi." + std::to_string(user_id);
+      const std::string parent = in_directory(base, name);
+      const std::string leaf   = host + "." + std::to_string(process_id) + ".XXXXXX";
+      (void)mkdir(parent.c_str(), S_IRWXU);
+      struct stat status;
+      const bool  usable = lstat(parent.c_str(), &status) == 0 && S_ISDIR(status.st_mode) &&
+                          status.st_uid == user_id && (status.st_mode & (S_IRWXG | S_IRWXO)) == 0;
+      std::string path =
+        usable ? in_directory(parent, leaf) : in_directory(base, name + "." + leaf);
+      return mkdtemp(path.data()) != nullptr ? path : std::string();
+    }
+
+    /** This machine's name up to its first dot ("host" if it has none). */
+    inline std::string short_host_name()
+    {
+      char name[256] = {};
+      if (gethostname(name, sizeof(name) - 1) != 0 || name[0] == 0)
+        return "host";
+      std::string host = name;
+      host             = host.substr(0, host.find('.'));
+      for (char &c : host)
+        if (c == '/')
+          c = '_';
+      return host;
     }
 
     /** The variable that switches the serial settings off. */
@@ -158,20 +185,15 @@ namespace ContactStefan
     }
 
     /**
-     * The settings this process should make before MPI_Init: none under a
-     * launcher or with CONTACT_STEFAN_SERIAL_MPI=plain; else those of
-     * serial_settings() whose variable is not set yet, and, when the
-     * singleton is isolated (by these settings or by the user), its own
-     * session directory unless the user set one. Without a launcher, a value
-     * of the switch other than "fast" (the default, also when empty) or
-     * "plain" is refused with one line (std::invalid_argument).
+     * Whether this process is a serial run with the switch at "fast" (the
+     * default, also when empty): no launcher, and the switch not "plain".
+     * Without a launcher, a value of the switch other than "fast" or "plain"
+     * is refused with one line (std::invalid_argument).
      */
-    inline std::vector<Setting> settings_to_make(const Lookup  &lookup,
-                                                 const Process &process = this_process())
+    inline bool fast_serial_start(const Lookup &lookup)
     {
-      std::vector<Setting> to_make;
       if (started_by_launcher(lookup))
-        return to_make;
+        return false;
       const char       *choice_value = lookup(switch_variable());
       const std::string choice       = choice_value && *choice_value ? choice_value : "fast";
       if (choice != "fast" && choice != "plain")
@@ -185,24 +207,53 @@ namespace ContactStefan
                                       "MPI without a daemon and with the ob1 layer) or "
                                       "'plain' (Open MPI's own defaults)");
         }
-      if (choice == "plain")
+      return choice == "fast";
+    }
+
+    /**
+     * The settings this process should make before MPI_Init: none under a
+     * launcher or with CONTACT_STEFAN_SERIAL_MPI=plain; else those of
+     * serial_settings() whose variable is not set yet. (The session
+     * directory is not among them: prepare() makes it.) A bad switch value
+     * is refused as by fast_serial_start().
+     */
+    inline std::vector<Setting> settings_to_make(const Lookup &lookup)
+    {
+      std::vector<Setting> to_make;
+      if (!fast_serial_start(lookup))
         return to_make;
       for (const auto &setting : serial_settings())
         if (lookup(setting.first.c_str()) == nullptr)
           to_make.push_back(setting);
-      if (isolated_singleton(lookup) && lookup(session_directory_variable()) == nullptr)
-        to_make.emplace_back(session_directory_variable(), session_directory(lookup, process));
       return to_make;
     }
 
-    /**
-     * Makes the settings in this process's environment (before MPI_Init).
-     * Throws std::invalid_argument for a bad switch value.
-     */
-    inline void prepare()
+    /** Whether prepare() makes a session directory: a fast serial start whose user set none. */
+    inline bool wants_session_directory(const Lookup &lookup)
     {
-      for (const auto &[name, value] : settings_to_make(process_environment()))
+      return fast_serial_start(lookup) && lookup(session_directory_variable()) == nullptr;
+    }
+
+    /**
+     * Makes the settings in this process's environment (before MPI_Init) and,
+     * if MPI is to start (mpi_starts) and wants_session_directory(), the
+     * run's session directory. Throws std::invalid_argument for a bad switch
+     * value.
+     */
+    inline void prepare(const bool mpi_starts)
+    {
+      const Lookup environment = process_environment();
+      for (const auto &[name, value] : settings_to_make(environment))
         setenv(name.c_str(), value.c_str(), /*overwrite=*/0);
+      if (mpi_starts && wants_session_directory(environment))
+        {
+          const std::string directory = make_session_directory(session_base(environment),
+                                                               getuid(),
+                                                               short_host_name(),
+                                                               static_cast<long>(getpid()));
+          if (!directory.empty())
+            setenv(session_directory_variable(), directory.c_str(), /*overwrite=*/0);
+        }
     }
 
     /**
