@@ -59,6 +59,7 @@
 #include <utility>
 #include <vector>
 
+#include <mpi.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -94,6 +95,16 @@ namespace ContactStefan
     {
       return [](const char *variable) -> const char * { return std::getenv(variable); };
     }
+
+    /**
+     * Whether the MPI this program is built with is Open MPI: only Open MPI
+     * uses (and removes) the session directory made below.
+     */
+#ifdef OPEN_MPI
+    constexpr bool built_with_open_mpi = true;
+#else
+    constexpr bool built_with_open_mpi = false;
+#endif
 
     /** The variable of a serial run's own session directory. */
     inline const char *session_directory_variable()
@@ -236,16 +247,16 @@ namespace ContactStefan
 
     /**
      * Makes the settings in this process's environment (before MPI_Init) and,
-     * if MPI is to start (mpi_starts) and wants_session_directory(), the
-     * run's session directory. Throws std::invalid_argument for a bad switch
-     * value.
+     * with Open MPI, if MPI is to start (mpi_starts) and
+     * wants_session_directory(), the run's session directory. Throws std::invalid_argument for a
+     * bad switch value.
      */
     inline void prepare(const bool mpi_starts)
     {
       const Lookup environment = process_environment();
       for (const auto &[name, value] : settings_to_make(environment))
         setenv(name.c_str(), value.c_str(), /*overwrite=*/0);
-      if (mpi_starts && wants_session_directory(environment))
+      if (built_with_open_mpi && mpi_starts && wants_session_directory(environment))
         {
           const std::string directory = make_session_directory(session_base(environment),
                                                                getuid(),
@@ -258,8 +269,9 @@ namespace ContactStefan
 
     /**
      * For the provenance record: the variables of serial_settings(), the
-     * session directory's and the switch that are set, with their values, whoever set them (this
-     * program, the user or mpirun, which passes the user's OMPI_MCA_ variables on).
+     * session directory's and the switch that are set, with their values,
+     * whoever set them (this program, the user or mpirun, which passes the
+     * user's OMPI_MCA_ variables on).
      */
     inline std::vector<Setting> recorded_settings(const Lookup &lookup)
     {
