@@ -62,5 +62,11 @@ if grep -E 'mca_|unable to open|MPI_ERR|Abort' A.txt; then
   echo "FAIL run A printed the lines above"; failed=1
 fi
 echo "run A: $steps_before steps before run B, $steps_after in all, exit code $a_code; run B: exit code $b_code"
+# Both runs ended: each run's session directory is gone (only their parent,
+# made by the program, stays).
+parent="$TMPDIR/contact-stefan-mpi.$(id -u)"
+if [ -n "$(ls -A "$parent" 2> /dev/null)" ]; then
+  echo "FAIL session directories left behind: $(ls -A "$parent")"; failed=1
+fi
 [ "$failed" = 0 ] && passed=1
 [ "$passed" = 1 ]

@@ -77,4 +77,10 @@ for p in problems:
 print("provenance: %d checks failed" % len(problems))
 sys.exit(1 if problems else 0)
 PYTHON
+# Both runs ended: Open MPI removed the first one's session directory (only
+# its parent, made by the program, stays).
+parent="$TMPDIR/contact-stefan-mpi.$(id -u)"
+if [ -n "$(ls -A "$parent" 2> /dev/null)" ]; then
+  echo "FAIL session directories left behind: $(ls -A "$parent")"; passed=0
+fi
 [ "$passed" = 1 ]

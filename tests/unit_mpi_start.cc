@@ -83,8 +83,10 @@ int main()
   // Made for real in a scratch directory: mode 0700, a new name each time, in
   // the parent while it is this user's and closed to others, beside it otherwise.
   {
-    char scratch[] = "/tmp/unit_mpi_start.XXXXXX";
-    check(mkdtemp(scratch) != nullptr, "scratch directory");
+    const char *tmpdir = std::getenv("TMPDIR");
+    std::string scratch =
+      std::string(tmpdir && *tmpdir ? tmpdir : "/tmp") + "/unit_mpi_start.XXXXXX";
+    check(mkdtemp(scratch.data()) != nullptr, "scratch directory");
     const std::string base   = scratch;
     const auto        uid    = static_cast<unsigned long>(getuid());
     const std::string parent = base + "/contact-stefan-mpi." + std::to_string(uid);

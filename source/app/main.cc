@@ -49,18 +49,22 @@ int main(int argc, char *argv[])
   // spares the loading of interconnect drivers, and gets a session directory
   // of its own if MPI is to start (app/mpi_start.h). Under mpirun nothing is
   // changed.
+  // (Stop signals are held from here until MPI_Init is done and the
+  // handlers are in place, so that a stop cannot leave the session directory
+  // made for MPI behind.)
+  const bool mpi_starts = !check_requested || started_by_mpirun;
+  StopSignals::block();
   try
     {
-      MpiStart::prepare(!check_requested || started_by_mpirun);
+      MpiStart::prepare(mpi_starts);
     }
   catch (const std::invalid_argument &e)
     {
       std::cerr << "contact-stefan: error: " << e.what() << std::endl;
       return 1;
     }
-  StopSignals::block();
   std::optional<Utilities::MPI::MPI_InitFinalize> mpi;
-  if (!check_requested || started_by_mpirun)
+  if (mpi_starts)
     mpi.emplace(argc, argv, 1);
   StopSignals::install();
   StopSignals::unblock();

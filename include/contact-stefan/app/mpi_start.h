@@ -28,14 +28,18 @@
 // MPI_Init by mkdtemp as <tmp>/contact-stefan-mpi.<uid>/<host>.<pid>.XXXXXX
 // (mode 0700, a name no other run can take, on a shared file system too) and
 // removed by Open MPI at MPI_Finalize like its own; a run killed by SIGKILL
-// leaves it behind, empty or with one stale file, as Open MPI's own are left.
+// leaves it behind with Open MPI's job directories in it, as Open MPI's own
+// are left (the gap between the parent's check and mkdtemp matters only where
+// <tmp> is writable by others and not sticky, as for Open MPI's own).
 // The parent is used only if it is a directory of this user closed to others
 // (not a symlink, not group- or world-writable); else the directory is made
 // in <tmp> itself, as contact-stefan-mpi.<uid>.<host>.<pid>.XXXXXX. <tmp> is
 // the environment's OMPI_MCA_orte_tmpdir_base, else the first non-empty of
 // TMPDIR, TEMP and TMP, else /tmp (Open MPI's order; unlike Open MPI, an empty
 // variable is passed over and its parameter files are not read). If no
-// directory can be made, Open MPI's default stands. One name stays shared:
+// directory can be made, a warning says so and Open MPI's default stands. Made
+// only with Open MPI before 5 (ORTE's variable) and when MPI starts (not for
+// --check). One name stays shared:
 // the semaphore /dev/shm/sem.OMPIO_<file name> that the same component opens
 // and unlinks within each MPI_File_open (harmless between runs of one user).
 // With CONTACT_STEFAN_SERIAL_MPI=plain no directory is made: a singleton with
@@ -52,7 +56,10 @@
 #ifndef contact_stefan_mpi_start_h
 #define contact_stefan_mpi_start_h
 
+#include <cerrno>
+#include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <functional>
 #include <stdexcept>
 #include <string>
@@ -97,10 +104,11 @@ namespace ContactStefan
     }
 
     /**
-     * Whether the MPI this program is built with is Open MPI: only Open MPI
-     * uses (and removes) the session directory made below.
+     * Whether the MPI this program is built with is Open MPI before 5: only
+     * it uses (and removes) the session directory made below.
      */
-#ifdef OPEN_MPI
+    // (Open MPI 5 has no ORTE: it would ignore the directory and leave it.)
+#if defined(OPEN_MPI) && OMPI_MAJOR_VERSION < 5
     constexpr bool built_with_open_mpi = true;
 #else
     constexpr bool built_with_open_mpi = false;
@@ -143,8 +151,9 @@ namespace ContactStefan
      * <base>/contact-stefan-mpi.<uid>/<host>.<pid>.XXXXXX, the parent made
      * (mode 0700) if it is missing; if the parent is not a directory of
      * user_id closed to others (a symlink, another owner, group- or
-     * world-writable), <base>/contact-stefan-mpi.<uid>.<host>.<pid>.XXXXXX.
-     * Returns its path, or "" if none could be made.
+     * world-writable) or nothing can be made in it,
+     * <base>/contact-stefan-mpi.<uid>.<host>.<pid>.XXXXXX. Returns its path,
+     * or "" if none could be made (errno says why).
      */
     inline std::string make_session_directory(const std::string  &base,
                                               const unsigned long user_id,
@@ -158,8 +167,13 @@ namespace ContactStefan
       struct stat status;
       const bool  usable = lstat(parent.c_str(), &status) == 0 && S_ISDIR(status.st_mode) &&
                           status.st_uid == user_id && (status.st_mode & (S_IRWXG | S_IRWXO)) == 0;
-      std::string path =
-        usable ? in_directory(parent, leaf) : in_directory(base, name + "." + leaf);
+      if (usable)
+        {
+          std::string path = in_directory(parent, leaf);
+          if (mkdtemp(path.data()) != nullptr)
+            return path;
+        }
+      std::string path = in_directory(base, name + "." + leaf);
       return mkdtemp(path.data()) != nullptr ? path : std::string();
     }
 
@@ -247,9 +261,10 @@ namespace ContactStefan
 
     /**
      * Makes the settings in this process's environment (before MPI_Init) and,
-     * with Open MPI, if MPI is to start (mpi_starts) and
-     * wants_session_directory(), the run's session directory. Throws std::invalid_argument for a
-     * bad switch value.
+     * with Open MPI before 5, if MPI is to start (mpi_starts) and
+     * wants_session_directory(), the run's session directory; if none can be
+     * made, says so in one line on standard error and goes on with Open
+     * MPI's default. Throws std::invalid_argument for a bad switch value.
      */
     inline void prepare(const bool mpi_starts)
     {
@@ -262,8 +277,16 @@ namespace ContactStefan
                                                                getuid(),
                                                                short_host_name(),
                                                                static_cast<long>(getpid()));
+          const int         why       = errno;
           if (!directory.empty())
             setenv(session_directory_variable(), directory.c_str(), /*overwrite=*/0);
+          else
+            std::fprintf(stderr,
+                         "contact-stefan: warning: no session directory for Open MPI could be "
+                         "made in '%s' (%s); serial runs at the same time may fail when they "
+                         "write checkpoints (set TMPDIR to a writable directory)\n",
+                         session_base(environment).c_str(),
+                         std::strerror(why));
         }
     }
 
