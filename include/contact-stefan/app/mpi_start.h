@@ -39,9 +39,9 @@
 // variable is passed over and its parameter files are not read). If no
 // directory can be made, a warning says so and Open MPI's default stands. Made
 // only with Open MPI before 5 (ORTE's variable) and when MPI starts (not for
-// --check). One name stays shared:
-// the semaphore /dev/shm/sem.OMPIO_<file name> that the same component opens
-// and unlinks within each MPI_File_open (harmless between runs of one user).
+// --check). One name stays shared: the semaphore /dev/shm/sem.OMPIO_<file
+// name> that the same component opens and unlinks within each MPI_File_open
+// (harmless between runs of one user).
 // With CONTACT_STEFAN_SERIAL_MPI=plain no directory is made: a singleton with
 // its daemon has a job family of its own.
 //
@@ -273,10 +273,9 @@ namespace ContactStefan
         setenv(name.c_str(), value.c_str(), /*overwrite=*/0);
       if (built_with_open_mpi && mpi_starts && wants_session_directory(environment))
         {
-          const std::string directory = make_session_directory(session_base(environment),
-                                                               getuid(),
-                                                               short_host_name(),
-                                                               static_cast<long>(getpid()));
+          const std::string base = session_base(environment);
+          const std::string directory =
+            make_session_directory(base, getuid(), short_host_name(), static_cast<long>(getpid()));
           const int         why       = errno;
           if (!directory.empty())
             setenv(session_directory_variable(), directory.c_str(), /*overwrite=*/0);
@@ -285,7 +284,7 @@ namespace ContactStefan
                          "contact-stefan: warning: no session directory for Open MPI could be "
                          "made in '%s' (%s); serial runs at the same time may fail when they "
                          "write checkpoints (set TMPDIR to a writable directory)\n",
-                         session_base(environment).c_str(),
+                         base.c_str(),
                          std::strerror(why));
         }
     }
