@@ -38,7 +38,55 @@ namespace ContactStefan
 
   DippingInterface::DippingInterface(const Parameters::Geometry &geometry)
     : DippingInterface(coarse_nodes(geometry))
-  {}
+  {
+    if (geometry.interface_dip_at_base == 0)
+      return;
+    // The curve x(d) = top x + int_0^d cot(dip(s)) ds, tabulated at 64 points
+    // per coarse row by Simpson's rule on each interval (the integrand is
+    // smooth: dip(s) grows with s^2 towards at most 90 degrees).
+    const double dip = geometry.interface_dip, base = geometry.interface_dip_at_base;
+    top_y                = geometry.upper_right[1];
+    height               = top_y - geometry.lower_left[1];
+    const unsigned int n = 64 * geometry.subdivisions[1];
+    step                 = height / n;
+    const auto slope     = [&](const double d) {
+      const double degrees = dip + (base - dip) * (d / height) * (d / height);
+      return degrees >= 90 ? 0. : 1 / std::tan(degrees * numbers::PI / 180);
+    };
+    table_x.resize(n + 1);
+    table_slope.resize(n + 1);
+    table_x[0] = geometry.interface_top_x;
+    for (unsigned int k = 0; k <= n; ++k)
+      {
+        const double d = k * step;
+        table_slope[k] = slope(d);
+        if (k < n)
+          table_x[k + 1] =
+            table_x[k] + step / 12 *
+                           (slope(d) + 4 * slope(d + step / 4) + 2 * slope(d + step / 2) +
+                            4 * slope(d + 3 * step / 4) + slope(d + step));
+      }
+  }
+
+
+
+  std::array<double, 3> DippingInterface::curve(const double depth) const
+  {
+    const double       d = std::clamp(depth, 0., height);
+    const unsigned int k =
+      std::min(static_cast<unsigned int>(d / step), static_cast<unsigned int>(table_x.size() - 2));
+    const double t = d / step - k;
+    // Hermite basis on [0, 1] and its derivatives in t.
+    const double x0 = table_x[k], x1 = table_x[k + 1];
+    const double m0 = step * table_slope[k], m1 = step * table_slope[k + 1];
+    const double t2 = t * t, t3 = t2 * t;
+    const double x = (2 * t3 - 3 * t2 + 1) * x0 + (t3 - 2 * t2 + t) * m0 + (-2 * t3 + 3 * t2) * x1 +
+                     (t3 - t2) * m1;
+    const double dx = (6 * t2 - 6 * t) * x0 + (3 * t2 - 4 * t + 1) * m0 + (-6 * t2 + 6 * t) * x1 +
+                      (3 * t2 - 2 * t) * m1;
+    const double ddx = (12 * t - 6) * x0 + (6 * t - 4) * m0 + (-12 * t + 6) * x1 + (6 * t - 2) * m1;
+    return {{x, dx / step, ddx / (step * step)}};
+  }
 
 
 
@@ -56,6 +104,8 @@ namespace ContactStefan
 
   double DippingInterface::x_at(const double y) const
   {
+    if (curved())
+      return curve(top_y - y)[0];
     if (y <= vertices.front()[1])
       return vertices.front()[0];
     if (y >= vertices.back()[1])
@@ -75,13 +125,37 @@ namespace ContactStefan
   double DippingInterface::signed_distance(const Point<2> &p) const
   {
     // The nearest point of each segment (its parameter clamped to [0, 1]).
-    double nearest = std::numeric_limits<double>::infinity();
+    double   nearest = std::numeric_limits<double>::infinity();
+    Point<2> foot;
     for (unsigned int i = 1; i < vertices.size(); ++i)
       {
-        const Tensor<1, 2> d   = vertices[i] - vertices[i - 1];
-        const Tensor<1, 2> r   = p - vertices[i - 1];
-        const double       s   = std::clamp((r * d) / (d * d), 0., 1.);
-        nearest                = std::min(nearest, (r - s * d).norm());
+        const Tensor<1, 2> d = vertices[i] - vertices[i - 1];
+        const Tensor<1, 2> r = p - vertices[i - 1];
+        const double       s = std::clamp((r * d) / (d * d), 0., 1.);
+        if ((r - s * d).norm() < nearest)
+          nearest = (r - s * d).norm(), foot = vertices[i - 1] + s * d;
+      }
+    if (curved())
+      {
+        // The curve lies within a few metres of the chords: from the
+        // polyline's nearest point, Newton's method on the depth d for the
+        // stationary point of F(d) = |q(d) - p|^2 / 2, q(d) = (x(d), top - d)
+        // (Gauss-Newton where F'' is not positive), kept in [0, height].
+        double d = std::clamp(top_y - foot[1], 0., height);
+        for (unsigned int i = 0; i < 50; ++i)
+          {
+            const auto   c  = curve(d);
+            const double dx = c[0] - p[0], dy = top_y - d - p[1];
+            const double F1    = dx * c[1] - dy;
+            const double F2    = c[1] * c[1] + dx * c[2] + 1;
+            const double dd    = -F1 / (F2 > 0 ? F2 : c[1] * c[1] + 1);
+            const double new_d = std::clamp(d + dd, 0., height);
+            const bool   done  = std::abs(new_d - d) <= 1e-12 * height;
+            d                  = new_d;
+            if (done)
+              break;
+          }
+        nearest = (Point<2>(curve(d)[0], top_y - d) - p).norm();
       }
     return p[0] < x_at(p[1]) ? nearest : -nearest;
   }

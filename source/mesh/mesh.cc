@@ -3,6 +3,7 @@
 #include <deal.II/grid/grid_generator.h>
 #include <deal.II/grid/grid_in.h>
 #include <deal.II/grid/grid_tools.h>
+#include <deal.II/grid/manifold.h>
 
 #include <contact-stefan/core/common.h>
 #include <contact-stefan/core/dipping_interface.h>
@@ -15,6 +16,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <memory>
 #include <set>
 #include <sstream>
 #include <vector>
@@ -546,6 +548,44 @@ namespace ContactStefan
             }
     }
 
+    // The manifold of a bent dipping interface: a new point on a face of the
+    // interface (a refined face's midpoint) is the curve's point at the
+    // weighted mean height of the face's points. The cells keep the flat
+    // manifold: deal.II places a refined cell's centre by transfinite
+    // interpolation from its faces' new points, so the cells next to the
+    // interface follow it.
+    constexpr types::manifold_id interface_manifold_id = 1;
+
+    class DippingInterfaceManifold : public Manifold<2>
+    {
+    public:
+      explicit DippingInterfaceManifold(std::shared_ptr<const DippingInterface> interface)
+        : interface(std::move(interface))
+      {}
+      std::unique_ptr<Manifold<2>> clone() const override
+      {
+        return std::make_unique<DippingInterfaceManifold>(interface);
+      }
+      Point<2> get_new_point(const ArrayView<const Point<2>> &points,
+                             const ArrayView<const double>   &weights) const override
+      {
+        double y = 0;
+        for (unsigned int i = 0; i < points.size(); ++i)
+          y += weights[i] * points[i][1];
+        return Point<2>(interface->x_at(y), y);
+      }
+      Point<2> project_to_manifold(const ArrayView<const Point<2>> &,
+                                   const Point<2> &candidate) const override
+      {
+        return Point<2>(interface->x_at(candidate[1]), candidate[1]);
+      }
+
+    private:
+      std::shared_ptr<const DippingInterface> interface;
+    };
+
+
+
     // The rectangle [x0, x1] x [y0, y1] cut by an interface from (xt, y1)
     // down to y0, dipping at `dip` degrees towards +x (straight, or steepening
     // to dip_at_base at y0: dipping_interface_x). Each row of
@@ -623,6 +663,18 @@ namespace ContactStefan
                                     std::abs(c[1] - y0) < tolerance ? 2 :
                                                                       3);
             }
+      // A bent interface: its faces follow the curve when refined.
+      if (interface.curved())
+        {
+          for (const auto &cell : coarse.active_cell_iterators())
+            if (cell->material_id() == 0)
+              for (const unsigned int f : cell->face_indices())
+                if (!cell->at_boundary(f) && cell->neighbor(f)->material_id() == 1)
+                  cell->face(f)->set_manifold_id(interface_manifold_id);
+          coarse.set_manifold(interface_manifold_id,
+                              DippingInterfaceManifold(
+                                std::make_shared<const DippingInterface>(interface)));
+        }
     }
 
 
@@ -681,10 +733,13 @@ namespace ContactStefan
                                std::pow(4., refinement.initial_global_refinements);
           check_cell_count(cells, refinement, "Geometry/Subdivisions");
           Triangulation<dim> coarse;
+          const auto         interface = std::make_shared<const DippingInterface>(g);
           make_dipping_interface(
-            coarse, g.lower_left, g.upper_right, DippingInterface(g), g.subdivisions[0]);
+            coarse, g.lower_left, g.upper_right, *interface, g.subdivisions[0]);
           check_mesh(coarse, "the dipping-interface mesh");
           triangulation.copy_triangulation(coarse);
+          if (interface->curved())
+            triangulation.set_manifold(interface_manifold_id, DippingInterfaceManifold(interface));
         }
       else if (g.mesh_type == Parameters::Geometry::MeshType::disk_in_ring)
         {

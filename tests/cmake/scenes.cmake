@@ -57,6 +57,15 @@ scene(scenes/subduction-bent-slab 1 ${CMAKE_SOURCE_DIR}/benchmarks/scenes/subduc
   "RESULT max energy-balance residual<1e-8"
   "RESULT nodes with h outside H(Theta)<1"
   "RESULT steps with relaxation fallback<1")
+# Its bent interface refined by adaptivity (the contact zone and the melt
+# front, up to level 2) and resumed: the refined interface's nodes come from
+# the curve's manifold (mesh.cc), which the reloaded mesh must have too, or
+# its nodes would sit on the chords and the resumed run would differ. Written
+# on 2 ranks with a checkpoint at step 5, killed after step 7, resumed on 1.
+resume_test(restart/subduction-bent-slab-adaptive 2 1 CONTACT_STEFAN_KILL_AFTER_STEP 7
+  ${CMAKE_SOURCE_DIR}/benchmarks/scenes/subduction_bent_slab.prm
+  "SET:Mesh refinement/Adaptive refinement interval=2" "SET:Mesh refinement/Maximum level=2"
+  "SET:Checkpoint/Interval (steps)=5" "SET:Output/VTU interval=5")
 # Casting, the first 20 s: the contact with the die opens as the shell
 # solidifies (active nodes fall from all 17), the liquid core shrinks.
 set(CASTING_BOUNDS

@@ -9,7 +9,7 @@
 // the functions are shared, so every evaluation site sets it.
 //
 // Where the mesh is a dipping interface, an expression may also name
-// interface_distance, the signed distance to the interface as meshed (positive
+// interface_distance, the signed distance to the interface, line or curve (positive
 // in body 0): data that follow a bent slab, for instance.
 //
 // Every function checks each value it returns: a NaN or an infinity (sqrt(-1-t),
