@@ -72,6 +72,8 @@ namespace ContactStefan
 
   std::array<double, 3> DippingInterface::curve(const double depth) const
   {
+    if (!std::isfinite(depth))
+      return {{depth, depth, depth}}; // (a non-finite point: reported by its function)
     const double       d = std::clamp(depth, 0., height);
     const unsigned int k =
       std::min(static_cast<unsigned int>(d / step), static_cast<unsigned int>(table_x.size() - 2));
@@ -137,10 +139,14 @@ namespace ContactStefan
       }
     if (curved())
       {
-        // The curve lies within a few metres of the chords: from the
-        // polyline's nearest point, Newton's method on the depth d for the
-        // stationary point of F(d) = |q(d) - p|^2 / 2, q(d) = (x(d), top - d)
-        // (Gauss-Newton where F'' is not positive), kept in [0, height].
+        // The curve lies within tens of metres of the chords (64 m in the
+        // subduction scene): from the polyline's nearest point, Newton's
+        // method on the depth d for the stationary point of F(d) = |q(d) -
+        // p|^2 / 2, q(d) = (x(d), top - d) (Gauss-Newton where F'' is not
+        // positive), kept in [0, height]. It converges in a few iterations; the
+        // nearer of its result and the curve's two ends is taken.
+        if (!std::isfinite(p[0]) || !std::isfinite(p[1]))
+          return std::numeric_limits<double>::quiet_NaN();
         double d = std::clamp(top_y - foot[1], 0., height);
         for (unsigned int i = 0; i < 50; ++i)
           {
@@ -155,7 +161,9 @@ namespace ContactStefan
             if (done)
               break;
           }
-        nearest = (Point<2>(curve(d)[0], top_y - d) - p).norm();
+        nearest = std::numeric_limits<double>::infinity();
+        for (const double e : {d, 0., height})
+          nearest = std::min(nearest, (Point<2>(curve(e)[0], top_y - e) - p).norm());
       }
     return p[0] < x_at(p[1]) ? nearest : -nearest;
   }

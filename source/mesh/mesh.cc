@@ -627,6 +627,28 @@ namespace ContactStefan
                          "the dipping-interface mesh would have cells with an aspect ratio of " +
                            number(aspect) + " (more than " + number(max_aspect) +
                            "): change Subdivisions, Interface top x or Interface dip");
+      // A bent interface: refinement moves each new node of the interface from
+      // its chord's midpoint to the curve (the manifold below). Where that
+      // offset is a sizeable part of the cells beside it, the refined cells next
+      // to the interface would be squashed or inverted. Each refinement divides
+      // the offset by 4 and the cells' width by 2, so the coarse rows decide.
+      if (interface.curved())
+        for (unsigned int j = 0; j < ny; ++j)
+          {
+            const double y     = 0.5 * (rows[j][1] + rows[j + 1][1]);
+            const double chord = 0.5 * (rows[j][0] + rows[j + 1][0]);
+            const double off   = std::abs(interface.x_at(y) - chord);
+            const double width = std::min((chord - x0) / n_left, (x1 - chord) / (nx - n_left));
+            if (off > 0.25 * width)
+              throw InputError("Geometry/Subdivisions",
+                               "the bent interface lies " + number(off) +
+                                 " m off its chord in coarse row " + std::to_string(j + 1) +
+                                 " of " + std::to_string(ny) +
+                                 ", more than a quarter of the width of the cells beside it (" +
+                                 number(width) +
+                                 " m): refined cells would be squashed or inverted; use more "
+                                 "rows (the second value)");
+          }
       std::vector<Point<2>> vertices;
       for (unsigned int j = 0; j <= ny; ++j)
         {
@@ -737,9 +759,8 @@ namespace ContactStefan
           make_dipping_interface(
             coarse, g.lower_left, g.upper_right, *interface, g.subdivisions[0]);
           check_mesh(coarse, "the dipping-interface mesh");
+          // (copy_triangulation() clones the manifold with the manifold ids.)
           triangulation.copy_triangulation(coarse);
-          if (interface->curved())
-            triangulation.set_manifold(interface_manifold_id, DippingInterfaceManifold(interface));
         }
       else if (g.mesh_type == Parameters::Geometry::MeshType::disk_in_ring)
         {
