@@ -4,8 +4,8 @@ study of the application scenes, doc/scenes.md section 4).
 
 Level L refines the scene's mesh L more times at the same time step: by
 L more 'Mesh refinement/Initial global refinements' than the scene's (default), or, with
---subdivisions, by 'Geometry/Subdivisions' times 2^L (the casting's disk in
-ring refuses global refinement: refined cells would leave the circles). VTU
+--subdivisions, by 'Geometry/Subdivisions' times 2^L (the casting's study of
+2026-11-27 was made so, when its disk in ring refused global refinement). VTU
 output is switched off. The table gives each quantity per level and its change
 from the level before; the last column says whether the last change is below
 --target (5 % by default).

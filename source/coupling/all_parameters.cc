@@ -99,17 +99,5 @@ namespace ContactStefan
     require(output.section_lines.empty() || physics.mechanics,
             "Output/Section lines",
             "section forces need Physics/Mechanics = true");
-    // The disk-in-ring nodes lie on the circles only as generated: refined cells
-    // would put theirs on the chords (no manifold is attached).
-    if (geometry.mesh_type == Parameters::Geometry::MeshType::disk_in_ring)
-      require(refinement.initial_global_refinements == 0 && refinement.prerefinement_steps == 0,
-              "Mesh refinement/Initial global refinements",
-              "'disk in ring' is refined by Geometry/Subdivisions (refined cells would "
-              "leave the circles); set the refinements to 0");
-    if (geometry.mesh_type == Parameters::Geometry::MeshType::disk_in_ring)
-      require(!refinement.adaptive(),
-              "Mesh refinement/Adaptive refinement interval",
-              "'disk in ring' cannot be refined (refined cells would leave the circles); set "
-              "it and Initial adaptive refinements to 0");
   }
 } // namespace ContactStefan

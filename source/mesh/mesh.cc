@@ -4,6 +4,7 @@
 #include <deal.II/grid/grid_in.h>
 #include <deal.II/grid/grid_tools.h>
 #include <deal.II/grid/manifold.h>
+#include <deal.II/grid/manifold_lib.h>
 
 #include <contact-stefan/core/common.h>
 #include <contact-stefan/core/dipping_interface.h>
@@ -454,6 +455,9 @@ namespace ContactStefan
 
   namespace
   {
+    // The manifold of the disk in ring's circles (make_disk_in_ring).
+    constexpr types::manifold_id circles_manifold_id = 2;
+
     // doc/benchmarks.md T4's geometry: a quarter disk of radius b (body 0) made of a
     // square core [0, b/2]^2 with n x n cells and two blocks of n x n cells
     // between the core's outer edges and the arc, interpolated linearly along
@@ -546,6 +550,20 @@ namespace ContactStefan
                                     cell->material_id() == 0   ? 3 :
                                                                  4);
             }
+      // The circles stay circles when refined: the ring (cells and faces) and
+      // the disk's faces on r = b follow a polar manifold about the origin, so
+      // a refined arc puts its new node on its circle (a radial face's new node
+      // is its midpoint); the disk's cells keep the flat manifold, whose
+      // transfinite interpolation takes a refined cell's centre from its faces.
+      for (const auto &cell : coarse.active_cell_iterators())
+        if (cell->material_id() == 1)
+          cell->set_all_manifold_ids(circles_manifold_id);
+        else
+          for (const auto &face : cell->face_iterators())
+            if (std::abs(face->vertex(0).norm() - b) < 1e-10 * c &&
+                std::abs(face->vertex(1).norm() - b) < 1e-10 * c)
+              face->set_manifold_id(circles_manifold_id);
+      coarse.set_manifold(circles_manifold_id, PolarManifold<2>(Point<2>()));
     }
 
     // The manifold of a bent dipping interface: a new point on a face of the
