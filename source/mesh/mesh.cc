@@ -555,9 +555,16 @@ namespace ContactStefan
       // a refined arc puts its new node on its circle (a radial face's new node
       // is its midpoint); the disk's cells keep the flat manifold, whose
       // transfinite interpolation takes a refined cell's centre from its faces.
+      // (The ring's radial faces stay flat: their midpoints are the straight
+      // ones, and those on the axes stay exactly on them, as the rollers need.)
       for (const auto &cell : coarse.active_cell_iterators())
         if (cell->material_id() == 1)
-          cell->set_all_manifold_ids(circles_manifold_id);
+          {
+            cell->set_all_manifold_ids(circles_manifold_id);
+            for (const auto &face : cell->face_iterators())
+              if (std::abs(face->vertex(0).norm() - face->vertex(1).norm()) > 1e-10 * c)
+                face->set_manifold_id(numbers::flat_manifold_id);
+          }
         else
           for (const auto &face : cell->face_iterators())
             if (std::abs(face->vertex(0).norm() - b) < 1e-10 * c &&
