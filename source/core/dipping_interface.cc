@@ -47,6 +47,9 @@ namespace ContactStefan
     const double dip = geometry.interface_dip, base = geometry.interface_dip_at_base;
     top_y                = geometry.upper_right[1];
     height               = top_y - geometry.lower_left[1];
+    // (64 per row: the cubic Hermite interpolant is then within about 3e-9 m
+    // of dipping_interface_x on the subduction scene; unit/dipping_interface
+    // requires 1e-6 m.)
     const unsigned int n = 64 * geometry.subdivisions[1];
     step                 = height / n;
     const auto slope     = [&](const double d) {

@@ -657,6 +657,10 @@ namespace ContactStefan
       // offset is a sizeable part of the cells beside it, the refined cells next
       // to the interface would be squashed or inverted. Each refinement divides
       // the offset by 4 and the cells' width by 2, so the coarse rows decide.
+      // (A limit on the generator's output, like max_aspect, not a physics
+      // parameter: a quarter of the width keeps a refined cell beside the
+      // interface at least half as wide on its narrow side as on its other.)
+      constexpr double max_offset = 0.25;
       if (interface.curved())
         for (unsigned int j = 0; j < ny; ++j)
           {
@@ -664,7 +668,7 @@ namespace ContactStefan
             const double chord = 0.5 * (rows[j][0] + rows[j + 1][0]);
             const double off   = std::abs(interface.x_at(y) - chord);
             const double width = std::min((chord - x0) / n_left, (x1 - chord) / (nx - n_left));
-            if (off > 0.25 * width)
+            if (off > max_offset * width)
               throw InputError("Geometry/Subdivisions",
                                "the bent interface lies " + number(off) +
                                  " m off its chord in coarse row " + std::to_string(j + 1) +
