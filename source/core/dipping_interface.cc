@@ -53,8 +53,7 @@ namespace ContactStefan
     const unsigned int n = 64 * geometry.subdivisions[1];
     step                 = height / n;
     const auto slope     = [&](const double d) {
-      const double degrees = dip + (base - dip) * (d / height) * (d / height);
-      return degrees >= 90 ? 0. : 1 / std::tan(degrees * numbers::PI / 180);
+      return dipping_interface_slope(dip, base, height, d);
     };
     table_x.resize(n + 1);
     table_slope.resize(n + 1);

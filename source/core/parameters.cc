@@ -22,6 +22,17 @@ namespace ContactStefan
   // dip at base): the dip angle a(d) = a0 + (a1 - a0) (d / D)^2 over the
   // height D, so dx/dd = cot a(d), integrated by Simpson's rule on 4096
   // intervals (the straight interface, a1 = 0, in closed form).
+  double dipping_interface_slope(const double dip,
+                                 const double dip_at_base,
+                                 const double height,
+                                 const double depth)
+  {
+    const double degrees = dip + (dip_at_base - dip) * (depth / height) * (depth / height);
+    return degrees >= 90 ? 0. : 1 / std::tan(degrees * numbers::PI / 180);
+  }
+
+
+
   double dipping_interface_x(const double top_x,
                              const double dip,
                              const double dip_at_base,
@@ -30,13 +41,10 @@ namespace ContactStefan
   {
     // (The angle converted as the straight generator always did, so that its
     // vertices stay the same to the last bit.)
-    const auto cot = [](const double degrees) {
-      return degrees >= 90 ? 0. : 1 / std::tan(degrees * numbers::PI / 180);
-    };
     if (dip_at_base == 0)
       return top_x + depth * (1 / std::tan(dip * numbers::PI / 180));
     const auto run = [&](const double s) {
-      return cot(dip + (dip_at_base - dip) * (s / height) * (s / height));
+      return dipping_interface_slope(dip, dip_at_base, height, s);
     };
     // (On the subduction scene 4096 intervals are at the round-off of the sum,
     // about 2e-10 m; 256 intervals were 2.4e-6 m off at its foot.)

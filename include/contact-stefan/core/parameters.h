@@ -39,6 +39,14 @@ namespace ContactStefan
   double
   dipping_interface_x(double top_x, double dip, double dip_at_base, double height, double depth);
 
+  /**
+   * dx/d(depth) of a bent dipping interface (dip_at_base > 0) at `depth`:
+   * cot of the dip dip + (dip_at_base - dip) (depth / height)^2, 0 at 90
+   * degrees. The one statement of the bend's law (dipping_interface_x,
+   * DippingInterface's table).
+   */
+  double dipping_interface_slope(double dip, double dip_at_base, double height, double depth);
+
   namespace Parameters
   {
     struct Geometry
