@@ -13,6 +13,7 @@ checkpoint every 25) uninterrupted once, then:
          forwards it; SIGTERM it follows by SIGKILL after a second); at least
          one must stop the run between two steps
   rival  two runs started into one directory at offsets 0, 0.05 and 0.3 s
+         (with a 5x smaller step, so that the first outlasts the offset)
 
 A signal before main() (while the libraries load, about 0.3 s; under mpirun on
 a rank still loading) ends the process by its default action: accepted
@@ -60,6 +61,12 @@ TERM_FRACTIONS = [0.02, 0.15, 0.25, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 0.97, 1.2
 USR1_FRACTIONS_MPI = [0.2, 0.5, 0.7, 0.8, 0.9]
 INT_FRACTIONS = [0.1, 0.45, 0.75, 0.99]
 RIVAL_OFFSETS = [0.0, 0.05, 0.3]
+# The rival runs take a five times smaller step (900 steps, about 3 s alone)
+# so that the second one's start-up (0.3-0.5 s under ctest -j2) ends well
+# inside the first run even at the largest offset: with the 0.6 s run, the
+# offset 0.3 s let the first finish before the second took the lock in CI.
+RIVAL_TIME_STEP = "0.001"
+RIVAL_ROWS = 901
 
 
 def command(binary, np, extra=()):
@@ -227,7 +234,9 @@ def rival_case(binary, offset, work, timeout):
 
 def rival_attempt(binary, offset, work, timeout):
     os.makedirs(work, exist_ok=True)
-    shutil.copy(os.path.join(os.path.dirname(work), "scene.prm"), os.path.join(work, "scene.prm"))
+    text = open(os.path.join(os.path.dirname(work), "scene.prm")).read()
+    open(os.path.join(work, "scene.prm"), "w").write(
+        set_path(text, "Time stepping/Time step", RIVAL_TIME_STEP))
     a = start(binary, 1, work, [])
     time.sleep(offset)
     os.makedirs(os.path.join(work, "b"), exist_ok=True)
@@ -248,7 +257,7 @@ def rival_attempt(binary, offset, work, timeout):
     problem = bad_stderr(refused) or (None if "is in use by another run" in refused else
                                       "the refusal does not say why: %r" % refused)
     directory = os.path.join(work, OUTPUT)
-    problem = problem or statistics_problem(directory, ROWS) or pvd_problem(directory)
+    problem = problem or statistics_problem(directory, RIVAL_ROWS) or pvd_problem(directory)
     return ("failed" if problem else "refused", problem)
 
 
