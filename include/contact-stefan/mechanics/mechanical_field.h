@@ -305,9 +305,11 @@ namespace ContactStefan
     void thermoelastic_work(CellVertexValues &work) const;
     /**
      * Stored elastic energy 1/2 int sigma : C^{-1} : sigma (thermal part
-     * included), by the trapezoidal rule, and the largest strain (Frobenius
-     * norm of e(u) at the cell vertices, for the small-strain check); one pass,
-     * collective.
+     * included) as the discrete problem defines it: the quadratic part in u by
+     * the stiffness (1/2 u_K^T K_K u_K, the 2 x 2 Gauss rule), the parts with
+     * the eigenstrains (thermal, reference) by the trapezoidal rule of their
+     * loads; and the largest strain (Frobenius norm of e(u) at the cell
+     * vertices, for the small-strain check). Collective.
      */
     struct ElasticStatistics
     {
@@ -315,6 +317,8 @@ namespace ContactStefan
       double max_strain = 0;
     };
     ElasticStatistics elastic_statistics() const;
+    /** The part of the elastic energy elastic_statistics() adds to the vertex rule. */
+    double quadratic_rule_correction() const;
     /** Work of the contact forces on the bodies over the last step; collective. */
     double contact_work() const;
     /** sigma and sigma_zz at vertex v of an owned cell for the strain e there. */
@@ -713,6 +717,12 @@ namespace ContactStefan
      * cell has no reference load.
      */
     std::vector<std::array<SymmetricTensor<2, dim>, 4>> cell_vertex_reference_strain;
+    /**
+     * Per active cell, that displacement K_K^+ (load of e_ref) itself, in the
+     * cell's DoF order (empty where the cell has no reference load): the
+     * elastic energy's quadratic part is in u - u_ref.
+     */
+    std::vector<dealii::Vector<double>> cell_reference_displacement;
     /**
      * Per active cell: its references or moduli changed since the last
      * apply_references() (set by update_references() and set_phase_weights()).

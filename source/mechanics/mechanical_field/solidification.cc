@@ -175,6 +175,8 @@ namespace ContactStefan
       {
         cell_reference_load.assign(triangulation.n_active_cells(), dealii::Vector<double>());
         cell_vertex_reference_strain.assign(triangulation.n_active_cells(), {});
+        cell_reference_displacement.assign(triangulation.n_active_cells(),
+                                           dealii::Vector<double>());
         if (generalized_plane_strain)
           cell_ezz_reference.assign(triangulation.n_active_cells(), 0.);
       }
@@ -190,6 +192,7 @@ namespace ContactStefan
           const unsigned int c  = cell->active_cell_index();
           references_changed[c] = false;
           cell_reference_load[c].reinit(0);
+          cell_reference_displacement[c].reinit(0);
           if (generalized_plane_strain)
             cell_ezz_reference[c] = 0;
           bool any_strain = false;
@@ -234,6 +237,7 @@ namespace ContactStefan
           K.compute_inverse_svd_with_kernel(3);
           dealii::Vector<double> u_ref(n);
           K.vmult(u_ref, f);
+          cell_reference_displacement[c] = u_ref;
           vertex_values.reinit(cell);
           const FEValues<dim> &fw = vertex_values.get_present_fe_values();
           auto                &e  = cell_vertex_reference_strain[c];
