@@ -136,7 +136,7 @@ int main()
     dof_handler.distribute_dofs(fe);
     Tensor<2, 2> K;
     K[0][0] = 2, K[0][1] = K[1][0] = 0.3, K[1][1] = 0.5;
-    double mass_error = 0, matrix_error = 0, total_mass = 0;
+    double mass_error = 0, matrix_error = 0, total_mass = 0, gauss_error = 0;
     for (const auto &cell : dof_handler.active_cell_iterators())
       {
         Point<2> v[4];
@@ -145,6 +145,17 @@ int main()
         const FullMatrix<double> S = q1_shape_matrix(v, K);
         mass_values.reinit(cell);
         gradients.reinit(cell);
+        // The Gauss weights and points: point q in the quadrant of vertex q.
+        const auto gauss_weight = q1_gauss_weights(v);
+        for (unsigned int q = 0; q < 4; ++q)
+          {
+            gauss_error       = std::max(gauss_error,
+                                   std::abs(gauss_weight[q] - gradients.JxW(q)) / gradients.JxW(q));
+            const Point<2> &p = gradients.get_quadrature().point(q);
+            gauss_error       = std::max({gauss_error,
+                                          std::abs(p[0] - q1_gauss_point[q % 2]),
+                                          std::abs(p[1] - q1_gauss_point[q / 2])});
+          }
         double scale = 0, cell_error = 0;
         for (unsigned int i = 0; i < 4; ++i)
           {
@@ -169,6 +180,7 @@ int main()
     check(UnitTest::close(total_mass, GridTools::volume(tria), 1e-13),
           "lumped mass: sums to the area of the mesh");
     check(matrix_error < 1e-13, "shape matrix: the 2 x 2 Gauss rule of FEValues to round-off");
+    check(gauss_error < 1e-13, "Gauss weights and points: those of FEValues to round-off");
   }
 
   // The closed-form gradient reproduces a bilinear function's gradient on a

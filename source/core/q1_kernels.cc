@@ -48,6 +48,16 @@ namespace ContactStefan
 
 
 
+  std::array<double, 4> q1_gauss_weights(const Point<2> (&v)[4])
+  {
+    std::array<double, 4> w;
+    for (unsigned int q = 0; q < 4; ++q)
+      w[q] = std::abs(jacobian_determinant(v, q1_gauss_point[q % 2], q1_gauss_point[q / 2])) / 4;
+    return w;
+  }
+
+
+
   FullMatrix<double> q1_shape_matrix(const Point<2> (&v)[4], const Tensor<2, 2> &K)
   {
     FullMatrix<double> S(4, 4);

@@ -157,7 +157,7 @@ namespace ContactStefan
                         "1",
                         Patterns::Double(0),
                         "The largest strain (Frobenius norm of the strain tensor at the "
-                        "cell vertices, over all steps) the linear small-strain model is "
+                        "2 x 2 Gauss points, over all steps) the linear small-strain model is "
                         "trusted with. A run that exceeds it finishes and writes its output, "
                         "but ends with a warning on stderr and exit code 3; 0: no check. "
                         "The default flags strains of order one, which no small-strain model "

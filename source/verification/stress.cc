@@ -4,7 +4,12 @@
 // relative to the exact stress plus the thermal stress: by the vertex rule at
 // the vertices (the historical measure), and of the two stress outputs
 // (doc/output.md): the cell-centre values by the midpoint rule, the recovered
-// nodal field by the vertex rule.
+// nodal field by the vertex rule. Without generalized plane strain also the
+// reported elastic energy against 1/2 int sigma : C^-1 : sigma of the exact
+// stress (in-plane components, the cell's moduli; 3 x 3 Gauss points on the
+// bilinear cell), a check of the energy's quadrature rule (coupling.md section 6).
+#include <deal.II/base/quadrature_lib.h>
+
 #include <contact-stefan/core/checked_input.h>
 #include <contact-stefan/output/part.h>
 
@@ -27,11 +32,15 @@ namespace ContactStefan
     struct StressState
     {
       double max_relative_error = 0, max_relative_error_cell = 0, max_relative_error_recovered = 0;
+      double max_relative_energy_error = 0;
+      /** Checks with a positive exact energy (none: no energy error line). */
+      unsigned int energy_checks = 0;
 
       template <class Archive>
       void serialize(Archive &ar, const unsigned int)
       {
         ar &max_relative_error &max_relative_error_cell &max_relative_error_recovered;
+        ar &max_relative_energy_error                   &energy_checks;
       }
     };
 
@@ -62,6 +71,8 @@ namespace ContactStefan
         add("max relative stress L2 error", s.max_relative_error);
         add("max relative stress L2 error (cell centres)", s.max_relative_error_cell);
         add("max relative stress L2 error (recovered)", s.max_relative_error_recovered);
+        if (s.energy_checks > 0)
+          add("max relative elastic energy error", s.max_relative_energy_error);
       }
 
     private:
@@ -78,6 +89,7 @@ namespace ContactStefan
       }
 
       void accumulate(const double time);
+      double exact_energy() const;
 
       const std::unique_ptr<Function<dim>> exact;
       const double                         from_time;
@@ -119,6 +131,10 @@ namespace ContactStefan
             const SymmetricTensor<2, dim> &sigma,
             const double szz) { recovered_error2 += w * squared_error(x, sigma, szz); });
       const MPI_Comm comm = run.mpi_communicator;
+      const bool     plane = !mechanical.out_of_plane_free();
+      // (collective: both sums over all ranks)
+      const double energy       = plane ? mechanical.elastic_statistics().energy : 0.;
+      const double exact_energy = plane ? Utilities::MPI::sum(this->exact_energy(), comm) : 0.;
       run.functions.check_finite_values(comm);
       error2             = Utilities::MPI::sum(error2, comm);
       cell_error2        = Utilities::MPI::sum(cell_error2, comm);
@@ -135,6 +151,52 @@ namespace ContactStefan
           s.max_relative_error_recovered =
             max_with_nan(s.max_relative_error_recovered, std::sqrt(recovered_error2) / scale);
         }
+      if (exact_energy > 0)
+        {
+          this->state.max_relative_energy_error =
+            max_with_nan(this->state.max_relative_energy_error,
+                         std::abs(energy - exact_energy) / exact_energy);
+          ++this->state.energy_checks;
+        }
+    }
+
+
+
+    // 1/2 int sigma : C^-1 : sigma of the exact stress over the owned cells, by
+    // the 3 x 3 Gauss rule on each bilinear cell (exact for the cubic part of a
+    // smooth integrand; its error is O(h^6) against the O(h^2) being measured).
+    template <int dim>
+    double StressCheck<dim>::exact_energy() const
+    {
+      assert_two_dimensional<dim>();
+      const RunContext<dim>      &run        = this->run;
+      const MechanicalField<dim> &mechanical = *run.mechanical;
+      const QGauss<1>             gauss(3);
+      double                      sum = 0;
+      for (const auto &cell : run.triangulation.active_cell_iterators())
+        if (cell->is_locally_owned())
+          {
+            const SymmetricTensor<4, dim> compliance = invert(mechanical.moduli(cell).C);
+            const Point<dim> x0 = cell->vertex(0), x1 = cell->vertex(1), x2 = cell->vertex(2),
+                             x3 = cell->vertex(3);
+            for (unsigned int i = 0; i < gauss.size(); ++i)
+              for (unsigned int j = 0; j < gauss.size(); ++j)
+                {
+                  const double     xi = gauss.point(i)[0], eta = gauss.point(j)[0];
+                  const Point<dim> x =
+                    x0 + xi * (x1 - x0) + eta * (x2 - x0) + xi * eta * (x3 - x2 - x1 + x0);
+                  const Tensor<1, dim>    d_xi  = (1 - eta) * (x1 - x0) + eta * (x3 - x2);
+                  const Tensor<1, dim>    d_eta = (1 - xi) * (x2 - x0) + xi * (x3 - x1);
+                  const double            det   = std::abs(d_xi[0] * d_eta[1] - d_xi[1] * d_eta[0]);
+                  SymmetricTensor<2, dim> sigma;
+                  sigma[0][0] = exact->value(x, 0);
+                  sigma[1][1] = exact->value(x, 1);
+                  sigma[0][1] = exact->value(x, 2);
+                  sum +=
+                    0.5 * sigma * (compliance * sigma) * det * gauss.weight(i) * gauss.weight(j);
+                }
+          }
+      return sum;
     }
   } // namespace
 

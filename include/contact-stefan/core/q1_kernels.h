@@ -10,6 +10,7 @@
 //
 //   q1_gradient()        grad u at a reference point
 //   q1_lumped_mass()     the vertex-rule (trapezoidal) mass of each vertex
+//   q1_gauss_weights()   the weights of the 2 x 2 Gauss rule
 //   q1_shape_matrix()    int_K (K grad phi_j) . grad phi_i by the 2 x 2 Gauss rule
 //   q1_jump_indicator()  Kelly's gradient-jump indicator
 //
@@ -67,6 +68,14 @@ namespace ContactStefan
    * the cell, the weight of the trapezoidal rule.
    */
   std::array<double, 4> q1_lumped_mass(const Point<2> (&v)[4]);
+
+  /**
+   * The reference points of the 2 x 2 Gauss rule, 1/2 -+ 1/(2 sqrt 3), in
+   * deal.II's order (point q at (q1_gauss_point[q % 2], q1_gauss_point[q / 2]),
+   * in the quadrant of vertex q), and their weights |det J(point q)| / 4.
+   */
+  constexpr double      q1_gauss_point[2] = {0.21132486540518711775, 0.78867513459481288225};
+  std::array<double, 4> q1_gauss_weights(const Point<2> (&v)[4]);
 
   /**
    * S_ij = int_K (K grad phi_j) . grad phi_i, by the 2 x 2 Gauss rule (exact for

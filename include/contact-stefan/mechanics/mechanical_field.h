@@ -305,11 +305,10 @@ namespace ContactStefan
     void thermoelastic_work(CellVertexValues &work) const;
     /**
      * Stored elastic energy 1/2 int sigma : C^{-1} : sigma (thermal part
-     * included) as the discrete problem defines it: the quadratic part in u by
-     * the stiffness (1/2 u_K^T K_K u_K, the 2 x 2 Gauss rule), the parts with
-     * the eigenstrains (thermal, reference) by the trapezoidal rule of their
-     * loads; and the largest strain (Frobenius norm of e(u) at the cell
-     * vertices, for the small-strain check). Collective.
+     * included) of the material points (cell corners): each with its
+     * quadrant's 2 x 2 Gauss weight, the elastic strain at the Gauss point and
+     * the thermal strain of its vertex; and the largest strain (Frobenius norm
+     * of e(u) at the Gauss points, for the small-strain check). Collective.
      */
     struct ElasticStatistics
     {
@@ -317,8 +316,6 @@ namespace ContactStefan
       double max_strain = 0;
     };
     ElasticStatistics elastic_statistics() const;
-    /** The part of the elastic energy elastic_statistics() adds to the vertex rule. */
-    double quadratic_rule_correction() const;
     /** Work of the contact forces on the bodies over the last step; collective. */
     double contact_work() const;
     /** sigma and sigma_zz at vertex v of an owned cell for the strain e there. */
@@ -327,10 +324,24 @@ namespace ContactStefan
            const unsigned int                                    vertex,
            const SymmetricTensor<2, dim>                        &strain) const;
     /**
+     * sigma and sigma_zz of the material point at corner q of an owned cell for
+     * the elastic strain e there (the reference strain already taken off):
+     * C e less the thermal stress of vertex q, with the body's e_zz.
+     */
+    std::pair<SymmetricTensor<2, dim>, double>
+    point_stress(const typename DoFHandler<dim>::active_cell_iterator &cell,
+                 const unsigned int                                    corner,
+                 const SymmetricTensor<2, dim>                        &elastic) const;
+    /**
      * Visit every vertex of every owned cell with its trapezoidal weight, the
      * computed stress there, sigma_zz, the thermal part -beta (Theta -
      * Theta_ref), the cell's moduli and the strain e(u) there.
      */
+    /** The moduli (phase mixture included) of an owned cell. */
+    const ElasticModuli &moduli(const typename Triangulation<dim>::active_cell_iterator &cell) const
+    {
+      return cell_moduli[cell->active_cell_index()];
+    }
     void
     for_each_vertex_stress(const std::function<void(const Point<dim> &,
                                                     double,

@@ -185,22 +185,34 @@ namespace ContactStefan
                                const unsigned int                                    vertex,
                                const SymmetricTensor<2, dim>                        &strain) const
   {
-    const unsigned int      c      = cell->active_cell_index();
-    const ElasticModuli    &moduli = cell_moduli[c];
-    const double            excess = thermal_stress ? cell_theta_excess[c][vertex] : 0.;
+    const unsigned int c = cell->active_cell_index();
     // The elastic strain: e less the reference strain at the vertex (the part
     // of the cell's reference strains the element holds, solidification.cc;
     // zero without a history or a reference load).
     SymmetricTensor<2, dim> elastic = strain;
     if (history && cell_reference_load[c].size() > 0)
       elastic -= cell_vertex_reference_strain[c][vertex];
+    return point_stress(cell, vertex, elastic);
+  }
+
+
+
+  template <int dim>
+  std::pair<SymmetricTensor<2, dim>, double>
+  MechanicalField<dim>::point_stress(const typename DoFHandler<dim>::active_cell_iterator &cell,
+                                     const unsigned int                                    corner,
+                                     const SymmetricTensor<2, dim> &elastic) const
+  {
+    const unsigned int      c        = cell->active_cell_index();
+    const ElasticModuli    &moduli   = cell_moduli[c];
+    const double            excess   = thermal_stress ? cell_theta_excess[c][corner] : 0.;
     SymmetricTensor<2, dim> sigma    = moduli.C * elastic - excess * moduli.beta;
     double                  sigma_zz = moduli.lambda_zz * trace(elastic) - moduli.beta_zz * excess;
     if (generalized_plane_strain)
       {
         // The body's e_zz less the point's reference e_zz (out_of_plane.cc).
         const double e_zz =
-          ezz[slot_of_body.at(cell->material_id())] - corner_reference(c, vertex).strain[3];
+          ezz[slot_of_body.at(cell->material_id())] - corner_reference(c, corner).strain[3];
         sigma += moduli.lambda_zz * e_zz * unit_symmetric_tensor<dim>();
         sigma_zz += moduli.modulus_zz * e_zz;
       }
@@ -276,146 +288,94 @@ namespace ContactStefan
   typename MechanicalField<dim>::ElasticStatistics MechanicalField<dim>::elastic_statistics() const
   {
     TimerOutput::Scope t(timer, "statistics: elastic energy");
-    ElasticStatistics  result;
-    // C^-1 of the last moduli seen (the cells of a body share theirs, so one
-    // inversion per body and phase mixture instead of one per vertex). In
-    // generalized plane strain the energy is that of the 3D stress (sigma,
+    assert_two_dimensional<dim>();
+    // The energy of the material points, the cell corners (solidification.md):
+    // the point of corner q has the quadrant's 2 x 2 Gauss weight, the strain
+    // of the element at its Gauss point (where the stiffness takes it) and
+    // vertex q's thermal strain and reference e_zz (where the thermal load
+    // takes them). Its elastic strain is that of w = u - u_ref, u_ref the
+    // displacement of the cell's reference strains (zero without a history;
+    // solidification.cc), so a cell born stress-free holds no energy.
+    //
+    // Until 2026-11-29 the energy was taken by the vertex rule with the strain
+    // at the vertices, where Q1's bending (parasitic shear) modes are largest:
+    // it over-weighted them (the contact block at N = 32 0.53 % above the
+    // energy's limit, now 0.14 %; doc/coupling.md section 6). A mixed form,
+    // the quadratic part by the Gauss rule and the thermal terms by the vertex
+    // rule (the discrete potential's own), can come out negative where the
+    // element cannot follow a thermal strain; this one is a sum of squares.
+    //
+    // In generalized plane strain the energy is that of the 3D stress (sigma,
     // sigma_zz): with lambda = lambda_zz and M = C_zzzz the in-plane strain is
     // (C - lambda^2/M I x I)^-1 (sigma - lambda/M sigma_zz I), e_zz = (sigma_zz -
     // lambda tr e)/M, and the energy 1/2 (sigma : e + sigma_zz e_zz).
-    //
-    // The trapezoidal rule alone over-weights the bilinear element's bending
-    // (parasitic shear) modes, whose strain is largest at the vertices: on a
-    // thermally loaded slab (doc/scenes.md section 4) its energy changed by
-    // -18 % and -7 % per refinement where this one changes by -7 % and -2 %.
-    // So its quadratic part in the element's elastic displacement w = u - u_ref
-    // (u_ref = 0 without a solidification history; solidification.cc),
-    // 1/2 sum_v w_v e(w)_v : C : e(w)_v, is replaced by 1/2 w_K^T K_K w_K with
-    // the cell stiffness the solution satisfies (2 x 2 Gauss). The eigenstrain
-    // terms stay with the trapezoidal rule of the thermal load (coupling.md
-    // section 2). Then the energy is the discrete problem's own: at
-    // equilibrium without eigenstrains it is 1/2 u^T f (Clapeyron) to
-    // round-off, a cell born stress-free holds none, and a uniform strain is
-    // unchanged (both rules are exact for it).
-    const ElasticModuli    *last_moduli = nullptr;
-    SymmetricTensor<4, dim> compliance;
-    const bool              with_zz = generalized_plane_strain;
-    for_each_vertex_stress([&](const Point<dim> &,
-                               const double                   w,
-                               const SymmetricTensor<2, dim> &sigma,
-                               const double                   sigma_zz,
-                               const SymmetricTensor<2, dim> &,
-                               const ElasticModuli           &moduli,
-                               const SymmetricTensor<2, dim> &strain) {
-      if (last_moduli == nullptr || !(moduli == *last_moduli))
-        {
-          const SymmetricTensor<2, dim> I = unit_symmetric_tensor<dim>();
-          compliance  = with_zz ? invert(moduli.C - moduli.lambda_zz * moduli.lambda_zz /
-                                                     moduli.modulus_zz * outer_product(I, I)) :
-                                  invert(moduli.C);
-          last_moduli = &moduli;
-        }
-      if (with_zz)
-        {
-          const double                  ratio = moduli.lambda_zz / moduli.modulus_zz;
-          const SymmetricTensor<2, dim> e =
-            compliance * (sigma - ratio * sigma_zz * unit_symmetric_tensor<dim>());
-          const double e_zz = (sigma_zz - moduli.lambda_zz * trace(e)) / moduli.modulus_zz;
-          result.energy += 0.5 * (sigma * e + sigma_zz * e_zz) * w;
-        }
-      else
-        result.energy += 0.5 * sigma * (compliance * sigma) * w;
-      result.max_strain = std::max(result.max_strain, strain.norm());
-    });
-    result.energy += quadratic_rule_correction();
-    result.energy     = Utilities::MPI::sum(result.energy, mpi_communicator);
-    result.max_strain = Utilities::MPI::max(result.max_strain, mpi_communicator);
-    return result;
-  }
-
-
-
-  // 1/2 sum_K (sum_q w_q e_q : C_K : e_q - sum_v w_v e_v : C_K : e_v), the
-  // strains e of w = u - u_ref at the 2 x 2 Gauss points q (the stiffness's
-  // rule: the first sum is 1/2 w_K^T K_K w_K) and at the vertices v, over the
-  // owned cells: the elastic energy's quadratic part by the stiffness's rule
-  // instead of the vertex rule (elastic_statistics()). Written with the
-  // deviations d = e - e_mean from the mean of the Gauss strains, so that a
-  // uniform strain (a body free to expand, whose energy is zero) contributes
-  // round-off squared, not round-off:
-  //   sum_q w_q e_q C e_q - sum_v w_v e_v C e_v
-  //     = e_mean C e_mean (sum_q w_q - sum_v w_v)               [= 0: both rules
-  //                                                  are exact for det J, linear]
-  //     + 2 e_mean C (sum_q w_q d_q - sum_v w_v d_v)           [= 0 on a
-  //                              parallelogram, where grad w is linear and the
-  //                              weights are equal; kept on other cells]
-  //     + sum_q w_q d_q C d_q - sum_v w_v d_v C d_v.
-  template <int dim>
-  double MechanicalField<dim>::quadratic_rule_correction() const
-  {
-    assert_two_dimensional<dim>();
-    const double *const values   = displacement_ghosted.trilinos_vector()[0];
-    const double        gauss[2] = {0.5 - 0.5 / std::sqrt(3.), 0.5 + 0.5 / std::sqrt(3.)};
-    Point<2>            x[4];
-    double              sum = 0;
+    ElasticStatistics                      result;
+    const ElasticModuli                   *last_moduli = nullptr;
+    SymmetricTensor<4, dim>                compliance;
+    const bool                             with_zz = generalized_plane_strain;
+    const SymmetricTensor<2, dim>          I       = unit_symmetric_tensor<dim>();
+    Point<2>                               x[4];
+    std::array<std::array<double, 4>, dim> u, w;
+    const auto                             strain =
+      [&](const std::array<std::array<double, 4>, dim> &f, const double xi, const double eta) {
+        const Tensor<1, 2>      d_x = q1_gradient(x, f[0].data(), xi, eta);
+        const Tensor<1, 2>      d_y = q1_gradient(x, f[1].data(), xi, eta);
+        SymmetricTensor<2, dim> e;
+        e[0][0] = d_x[0];
+        e[1][1] = d_y[1];
+        e[0][1] = 0.5 * (d_x[1] + d_y[0]);
+        return e;
+      };
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
-          const unsigned int        c       = cell->active_cell_index();
-          const auto               &entry   = cell_entry[c];
-          const FiniteElement<dim> &cell_fe = cell->get_fe();
-          const unsigned int        first   = slot_of_body.at(cell->material_id()) * dim;
-          const bool                shifted = history && c < cell_reference_displacement.size() &&
-                               cell_reference_displacement[c].size() == 4 * dim;
-          AssertDimension(cell_fe.n_dofs_per_cell(), 4 * dim);
-          std::array<std::array<double, 4>, dim> w;
-          for (unsigned int i = 0; i < 4 * dim; ++i)
-            {
-              const auto [component, vertex] = cell_fe.system_to_component_index(i);
-              w[component - first][vertex] =
-                values[entry[i]] - (shifted ? cell_reference_displacement[c][i] : 0.);
-            }
+          const unsigned int c = cell->active_cell_index();
           cell_vertices(cell, x);
-          const auto strain = [&](const double xi, const double eta) {
-            const Tensor<1, 2>      dw_x = q1_gradient(x, w[0].data(), xi, eta);
-            const Tensor<1, 2>      dw_y = q1_gradient(x, w[1].data(), xi, eta);
-            SymmetricTensor<2, dim> e;
-            e[0][0] = dw_x[0];
-            e[1][1] = dw_y[1];
-            e[0][1] = 0.5 * (dw_x[1] + dw_y[0]);
-            return e;
-          };
-          // |det J| / 4 at a reference point: the weight of a 2 x 2 Gauss point.
-          const auto gauss_weight = [&](const double xi, const double eta) {
-            const Tensor<1, 2> d_xi  = (1 - eta) * (x[1] - x[0]) + eta * (x[3] - x[2]);
-            const Tensor<1, 2> d_eta = (1 - xi) * (x[2] - x[0]) + xi * (x[3] - x[1]);
-            return 0.25 * std::abs(d_xi[0] * d_eta[1] - d_xi[1] * d_eta[0]);
-          };
-          std::array<SymmetricTensor<2, dim>, 4> e_q, e_v;
-          std::array<double, 4>                  w_q;
-          SymmetricTensor<2, dim>                mean;
+          cell_vertex_displacement(cell, u);
+          w                  = u;
+          const bool shifted = history && c < cell_reference_displacement.size() &&
+                               cell_reference_displacement[c].size() == 4 * dim;
+          if (shifted)
+            {
+              const FiniteElement<dim> &cell_fe = cell->get_fe();
+              const unsigned int        first   = slot_of_body.at(cell->material_id()) * dim;
+              for (unsigned int i = 0; i < 4 * dim; ++i)
+                {
+                  const auto [component, vertex] = cell_fe.system_to_component_index(i);
+                  w[component - first][vertex] -= cell_reference_displacement[c][i];
+                }
+            }
+          const ElasticModuli &moduli = cell_moduli[c];
+          if (last_moduli == nullptr || !(moduli == *last_moduli))
+            {
+              compliance  = with_zz ? invert(moduli.C - moduli.lambda_zz * moduli.lambda_zz /
+                                                         moduli.modulus_zz * outer_product(I, I)) :
+                                      invert(moduli.C);
+              last_moduli = &moduli;
+            }
+          const std::array<double, 4> weight = q1_gauss_weights(x);
           for (unsigned int q = 0; q < 4; ++q)
             {
-              e_q[q] = strain(gauss[q % 2], gauss[q / 2]);
-              w_q[q] = gauss_weight(gauss[q % 2], gauss[q / 2]);
-              mean += 0.25 * e_q[q];
+              const double                  xi = q1_gauss_point[q % 2], eta = q1_gauss_point[q / 2];
+              const SymmetricTensor<2, dim> e_w = strain(w, xi, eta);
+              const auto [sigma, sigma_zz]      = point_stress(cell, q, e_w);
+              if (with_zz)
+                {
+                  const double                  ratio = moduli.lambda_zz / moduli.modulus_zz;
+                  const SymmetricTensor<2, dim> e     = compliance * (sigma - ratio * sigma_zz * I);
+                  const double e_zz = (sigma_zz - moduli.lambda_zz * trace(e)) / moduli.modulus_zz;
+                  result.energy += 0.5 * (sigma * e + sigma_zz * e_zz) * weight[q];
+                }
+              else
+                result.energy += 0.5 * sigma * (compliance * sigma) * weight[q];
+              // The small-strain check: e(u) at the Gauss points.
+              result.max_strain =
+                std::max(result.max_strain, (shifted ? strain(u, xi, eta) : e_w).norm());
             }
-          const std::array<double, 4>    w_v     = q1_lumped_mass(x);
-          const SymmetricTensor<4, dim> &C       = cell_moduli[c].C;
-          double                         squares = 0;
-          SymmetricTensor<2, dim>        linear;
-          for (unsigned int k = 0; k < 4; ++k)
-            {
-              const SymmetricTensor<2, dim> d_q = e_q[k] - mean;
-              const SymmetricTensor<2, dim> d_v = strain(k % 2, k / 2) - mean;
-              squares += w_q[k] * (d_q * (C * d_q)) - w_v[k] * (d_v * (C * d_v));
-              linear += w_q[k] * d_q - w_v[k] * d_v;
-            }
-          const Tensor<1, 2> skew          = x[0] + x[3] - x[1] - x[2];
-          const bool         parallelogram = skew.norm() <= 1e-12 * (x[3] - x[0]).norm();
-          sum += 0.5 * squares + (parallelogram ? 0. : mean * (C * linear));
         }
-    return sum;
+    result.energy     = Utilities::MPI::sum(result.energy, mpi_communicator);
+    result.max_strain = Utilities::MPI::max(result.max_strain, mpi_communicator);
+    return result;
   }
 
 
