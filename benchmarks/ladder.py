@@ -171,6 +171,10 @@ def width(r):
 
 
 def least_squares_rate(h, e):
+    """The slope of log e against log h; NaN where an error is not positive (no
+    rate: a requirement on it fails)."""
+    if not all(v > 0 for v in e):
+        return float("nan")
     x = [math.log(v) for v in h]
     y = [math.log(v) for v in e]
     n = len(x)
@@ -241,7 +245,8 @@ def main():
         cells = [f"{i:>9d}", f"{width(r):>9.3e}", f"{r['tau']:>9.3e}"]
         cells += [c[2].format(r[c[0]]) for c in have]
         for c in rate_cols:
-            if i == 0:
+            if i == 0 or not (rows[i-1][c[0]] > 0 and r[c[0]] > 0):
+                # (a zero error, as a stress exact at the cell centres, has no rate)
                 cells.append(f"{'-':>9}")
             else:
                 cells.append(f"{math.log(rows[i-1][c[0]] / r[c[0]]) / math.log(2):>9.2f}")

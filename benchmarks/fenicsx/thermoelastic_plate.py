@@ -240,7 +240,8 @@ def main():
     args = parse_args()
     comm = MPI.COMM_WORLD
     if comm.size > 1 and comm.rank == 0:
-        print("note: written for a serial run; --write/--compare use rank 0's nodes only",
+        print("note: written for a serial run; --write/--compare use rank 0's nodes only, "
+              "and the elastic energy is NaN on several ranks",
               file=sys.stderr)
 
     # --- set-up: mesh, spaces, forms (JIT), boundary conditions ------------

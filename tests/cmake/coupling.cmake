@@ -279,6 +279,17 @@ add_test(NAME stress_recovery/convergence
   --require-rate "max relative stress L2 error (cell centres)>=1.9"
   --require-rate "max relative stress L2 error (recovered)>=1.4"
   --require-rate "max relative stress L2 error<=1.1")
+# The elastic energy with a thermal strain that varies inside the cells
+# (tests/scenes/thermal_gradient_layer.prm, exact 2.5e5 J/m): it pairs each
+# corner's Gauss-point strain with its own vertex's temperature (doc/coupling.md
+# section 6). Measured: 0.5, 0.125, 0.0312, 0.0078, 0.00195 on 2 x 2 ... 32 x 32
+# cells (rate 2.000); pairing a Gauss point with another vertex leaves an O(h)
+# error.
+add_test(NAME stress_recovery/energy-thermal-gradient
+  COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/benchmarks/ladder.py
+  ${T}/scenes/thermal_gradient_layer.prm --levels 5 --no-refine-time --binary ${BIN}
+  --require-rate "max relative elastic energy error>=1.9"
+  --require-last "max relative elastic energy error<0.0025")
 # The same for the heat flux (tests/scenes/heat_flux_layers.prm: two layers,
 # k = 1 and 4, whose exact tangential flux jumps by 4 across the interface;
 # h = 1/4 ... 1/64): cell centres at rate 2 (measured 1.99), the recovered

@@ -332,16 +332,16 @@ namespace ContactStefan
     point_stress(const typename DoFHandler<dim>::active_cell_iterator &cell,
                  const unsigned int                                    corner,
                  const SymmetricTensor<2, dim>                        &elastic) const;
-    /**
-     * Visit every vertex of every owned cell with its trapezoidal weight, the
-     * computed stress there, sigma_zz, the thermal part -beta (Theta -
-     * Theta_ref), the cell's moduli and the strain e(u) there.
-     */
     /** The moduli (phase mixture included) of an owned cell. */
     const ElasticModuli &moduli(const typename Triangulation<dim>::active_cell_iterator &cell) const
     {
       return cell_moduli[cell->active_cell_index()];
     }
+    /**
+     * Visit every vertex of every owned cell with its trapezoidal weight, the
+     * computed stress there, sigma_zz, the thermal part -beta (Theta -
+     * Theta_ref), the cell's moduli and the strain e(u) there.
+     */
     void
     for_each_vertex_stress(const std::function<void(const Point<dim> &,
                                                     double,
@@ -731,7 +731,7 @@ namespace ContactStefan
     /**
      * Per active cell, that displacement K_K^+ (load of e_ref) itself, in the
      * cell's DoF order (empty where the cell has no reference load): the
-     * elastic energy's quadratic part is in u - u_ref.
+     * elastic energy takes the strain of u - u_ref (elastic_statistics()).
      */
     std::vector<dealii::Vector<double>> cell_reference_displacement;
     /**

@@ -228,10 +228,10 @@ namespace ContactStefan
           // cannot follow; the rest loads nothing (it is orthogonal to every
           // element strain in the C-weighted Gauss product) and would only
           // add a constant, spurious energy and stress at the points. The
-          // point values (vertex rule: stress(), the elastic energy) use the
-          // projected strain; its mean over the Gauss points is the mean of
-          // e_ref (take a constant test strain), so the cell-centre values
-          // are the same either way.
+          // point values (stress() at the vertices; the elastic energy, with
+          // u_ref itself, at the Gauss points) use the projected strain; its
+          // mean over the Gauss points is the mean of e_ref (take a constant
+          // test strain), so the cell-centre values are the same either way.
           LAPACKFullMatrix<double> K(n, n);
           K = cell_stiffness[c];
           K.compute_inverse_svd_with_kernel(3);
