@@ -199,6 +199,14 @@ int main()
           exact = exact && UnitTest::close(g[0], 3., 1e-14) && UnitTest::close(g[1], -1., 1e-14);
         }
     check(exact, "the gradient of a linear function is exact at 9 reference points");
+    // And the strain of the displacement (2 + 3x - y, 0.5x + 4y).
+    std::array<std::array<double, 4>, 2> d;
+    for (unsigned int i = 0; i < 4; ++i)
+      d[0][i] = u[i], d[1][i] = 0.5 * v[i][0] + 4 * v[i][1];
+    const SymmetricTensor<2, 2> e = q1_strain(v, d, 0.3, 0.6);
+    check(UnitTest::close(e[0][0], 3., 1e-14) && UnitTest::close(e[1][1], 4., 1e-14) &&
+            UnitTest::close(e[0][1], -0.25, 1e-14),
+          "the strain of a linear displacement is exact");
   }
 
   // within_body: u = |y - 1/2| is linear on either side of the line y = 1/2,

@@ -38,6 +38,22 @@ namespace ContactStefan
 
 
 
+  SymmetricTensor<2, 2> q1_strain(const Point<2> (&v)[4],
+                                  const std::array<std::array<double, 4>, 2> &u,
+                                  const double                                xi,
+                                  const double                                eta)
+  {
+    const Tensor<1, 2>    du_x = q1_gradient(v, u[0].data(), xi, eta);
+    const Tensor<1, 2>    du_y = q1_gradient(v, u[1].data(), xi, eta);
+    SymmetricTensor<2, 2> e;
+    e[0][0] = du_x[0];
+    e[1][1] = du_y[1];
+    e[0][1] = 0.5 * (du_x[1] + du_y[0]);
+    return e;
+  }
+
+
+
   std::array<double, 4> q1_lumped_mass(const Point<2> (&v)[4])
   {
     std::array<double, 4> m;

@@ -9,6 +9,7 @@
 // a Q1 gradient on a quadrilateral has a closed form in its four vertices.
 //
 //   q1_gradient()        grad u at a reference point
+//   q1_strain()          the symmetric gradient of a displacement there
 //   q1_lumped_mass()     the vertex-rule (trapezoidal) mass of each vertex
 //   q1_gauss_weights()   the weights of the 2 x 2 Gauss rule
 //   q1_shape_matrix()    int_K (K grad phi_j) . grad phi_i by the 2 x 2 Gauss rule
@@ -28,6 +29,8 @@
 // machinery.
 #ifndef contact_stefan_q1_kernels_h
 #define contact_stefan_q1_kernels_h
+
+#include <deal.II/base/symmetric_tensor.h>
 
 #include <deal.II/grid/tria.h>
 
@@ -62,6 +65,15 @@ namespace ContactStefan
    * quadrilateral with vertices v, at the reference point (xi, eta).
    */
   Tensor<1, 2> q1_gradient(const Point<2> (&v)[4], const double *u, double xi, double eta);
+
+  /**
+   * The strain (symmetric gradient) of the bilinear interpolant of the
+   * displacement u (u[component][vertex]) at the reference point (xi, eta).
+   */
+  SymmetricTensor<2, 2> q1_strain(const Point<2> (&v)[4],
+                                  const std::array<std::array<double, 4>, 2> &u,
+                                  double                                      xi,
+                                  double                                      eta);
 
   /**
    * m_i = |det J(vertex i)| / 4: the lumped (vertex-rule) mass of each vertex of

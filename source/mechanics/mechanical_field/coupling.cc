@@ -266,14 +266,8 @@ namespace ContactStefan
           const std::array<double, 4> weight = q1_lumped_mass(x);
           for (unsigned int v = 0; v < 4; ++v)
             {
-              const double            xi = v % 2, eta = v / 2;
-              const Tensor<1, 2>      du_x = q1_gradient(x, u[0].data(), xi, eta);
-              const Tensor<1, 2>      du_y = q1_gradient(x, u[1].data(), xi, eta);
-              SymmetricTensor<2, dim> strain;
-              strain[0][0]            = du_x[0];
-              strain[1][1]            = du_y[1];
-              strain[0][1]            = 0.5 * (du_x[1] + du_y[0]);
-              const auto [sigma, szz] = stress(cell, v, strain);
+              const SymmetricTensor<2, dim> strain = q1_strain(x, u, v % 2, v / 2);
+              const auto [sigma, szz]              = stress(cell, v, strain);
               const unsigned int c      = cell->active_cell_index();
               const double       excess = thermal_stress ? cell_theta_excess[c][v] : 0.;
               visit(
@@ -316,16 +310,6 @@ namespace ContactStefan
     const SymmetricTensor<2, dim>          I       = unit_symmetric_tensor<dim>();
     Point<2>                               x[4];
     std::array<std::array<double, 4>, dim> u, w;
-    const auto                             strain =
-      [&](const std::array<std::array<double, 4>, dim> &f, const double xi, const double eta) {
-        const Tensor<1, 2>      d_x = q1_gradient(x, f[0].data(), xi, eta);
-        const Tensor<1, 2>      d_y = q1_gradient(x, f[1].data(), xi, eta);
-        SymmetricTensor<2, dim> e;
-        e[0][0] = d_x[0];
-        e[1][1] = d_y[1];
-        e[0][1] = 0.5 * (d_x[1] + d_y[0]);
-        return e;
-      };
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
@@ -357,7 +341,7 @@ namespace ContactStefan
           for (unsigned int q = 0; q < 4; ++q)
             {
               const double                  xi = q1_gauss_point[q % 2], eta = q1_gauss_point[q / 2];
-              const SymmetricTensor<2, dim> e_w = strain(w, xi, eta);
+              const SymmetricTensor<2, dim> e_w = q1_strain(x, w, xi, eta);
               const auto [sigma, sigma_zz]      = point_stress(cell, q, e_w);
               if (with_zz)
                 {
@@ -370,7 +354,7 @@ namespace ContactStefan
                 result.energy += 0.5 * sigma * (compliance * sigma) * weight[q];
               // The small-strain check: e(u) at the Gauss points.
               result.max_strain =
-                std::max(result.max_strain, (shifted ? strain(u, xi, eta) : e_w).norm());
+                std::max(result.max_strain, (shifted ? q1_strain(x, u, xi, eta) : e_w).norm());
             }
         }
     result.energy     = Utilities::MPI::sum(result.energy, mpi_communicator);

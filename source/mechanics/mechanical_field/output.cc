@@ -76,11 +76,7 @@ namespace ContactStefan
         {
           cell_vertices(cell, x);
           cell_vertex_displacement(cell, u);
-          const Tensor<1, 2> du_x     = q1_gradient(x, u[0].data(), 0.5, 0.5);
-          const Tensor<1, 2> du_y     = q1_gradient(x, u[1].data(), 0.5, 0.5);
-          strain[0][0][0]             = du_x[0];
-          strain[0][1][1]             = du_y[1];
-          strain[0][0][1]             = 0.5 * (du_x[1] + du_y[0]);
+          strain[0]                   = q1_strain(x, u, 0.5, 0.5);
           const unsigned int   c      = cell->active_cell_index();
           const ElasticModuli &moduli = cell_moduli[c];
           double               excess = 0;
