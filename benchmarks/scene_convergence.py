@@ -144,7 +144,12 @@ def main():
     header = (["quantity"] + [f"L{l}" for l in levels] +
               [f"L{a}→L{b}" for a, b in zip(levels, levels[1:])] + [f"last change < {args.target:g} %"])
     rows = []
-    for key, label in QUANTITIES:
+    # The mean pressures of the scene's 'Output/Contact pressure windows', in
+    # the order the run printed them.
+    windows = []
+    for r in runs:
+        windows += [k for k in r if k.startswith("mean contact pressure") and k not in windows]
+    for key, label in QUANTITIES + [(k, k + " (Pa)") for k in windows]:
         values = [r.get(key) for r in runs]
         if all(v is None for v in values):
             continue

@@ -562,7 +562,9 @@ namespace ContactStefan
   {
     // The canonical text of the solution-determining parameters (see
     // SceneParameters::solution_parameters): the printed file without the
-    // subsections that a resumed run may change.
+    // subsections that a resumed run may change. Of Output, the pressure
+    // windows stay: they name columns of the statistics table, which a resumed
+    // run appends to.
     std::string solution_text(const ParameterHandler &prm)
     {
       std::string        text;
@@ -571,6 +573,7 @@ namespace ContactStefan
       std::istringstream lines(all.str());
       std::string        line;
       int                depth = 0, skip_depth = -1;
+      bool               in_output = false;
       while (std::getline(lines, line))
         {
           const auto        first = line.find_first_not_of(' ');
@@ -578,12 +581,25 @@ namespace ContactStefan
           const bool        opens = word.rfind("subsection ", 0) == 0, closes = word == "end";
           if (opens && skip_depth < 0 && depth == 0 &&
               (word == "subsection Checkpoint" || word == "subsection Output"))
-            skip_depth = depth;
-          const bool skipped = skip_depth >= 0 || word.rfind("set End time", 0) == 0;
+            {
+              skip_depth = depth;
+              in_output  = word == "subsection Output";
+              if (in_output)
+                text += word + '\n';
+            }
+          const bool kept_output =
+            in_output && depth == 1 && word.rfind("set Contact pressure windows", 0) == 0;
+          const bool skipped =
+            (skip_depth >= 0 && !kept_output) || word.rfind("set End time", 0) == 0;
           if (opens)
             ++depth;
           if (closes && --depth == skip_depth)
-            skip_depth = -1;
+            {
+              skip_depth = -1;
+              if (in_output)
+                text += "end\n";
+              in_output = false;
+            }
           else if (!skipped)
             text += word + '\n';
         }

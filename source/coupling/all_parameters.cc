@@ -99,5 +99,8 @@ namespace ContactStefan
     require(output.section_lines.empty() || physics.mechanics,
             "Output/Section lines",
             "section forces need Physics/Mechanics = true");
+    require(output.pressure_windows.empty() || physics.mechanics,
+            "Output/Contact pressure windows",
+            "contact pressures need Physics/Mechanics = true");
   }
 } // namespace ContactStefan

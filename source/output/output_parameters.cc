@@ -11,6 +11,9 @@
 #include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
 
 namespace ContactStefan
 {
@@ -100,6 +103,42 @@ namespace ContactStefan
         c = bad;
       return {{coefficient[0], coefficient[1], sign * c}};
     }
+
+    // 'x from a to b' or 'y from a to b' with finite a < b; the window's
+    // name is the entry with its spaces collapsed.
+    Parameters::PressureWindow parse_pressure_window(const std::string &text)
+    {
+      const std::string        entry = "Output/Contact pressure windows";
+      std::istringstream       in(text);
+      std::vector<std::string> words;
+      for (std::string word; in >> word;)
+        words.push_back(word);
+      const auto finite = [&](const std::string &word, double &value) {
+        std::size_t used = 0;
+        try
+          {
+            value = std::stod(word, &used);
+          }
+        catch (const std::exception &)
+          {
+            return false;
+          }
+        return used == word.size() && std::isfinite(value);
+      };
+      Parameters::PressureWindow window;
+      Input::require(words.size() == 5 && (words[0] == "x" || words[0] == "y") &&
+                       words[1] == "from" && words[3] == "to" && finite(words[2], window.from) &&
+                       finite(words[4], window.to),
+                     entry,
+                     "'" + text +
+                       "' is not of the form 'x from a to b' or 'y from a to b' (finite a, b)");
+      Input::require(window.from < window.to,
+                     entry,
+                     "'" + text + "': the lower bound must be below the upper one");
+      window.axis = words[0] == "x" ? 0 : 1;
+      window.name = words[0] + " from " + words[2] + " to " + words[4];
+      return window;
+    }
   } // namespace
 
   namespace Parameters
@@ -145,6 +184,22 @@ namespace ContactStefan
                         "line towards increasing x, or increasing y on x = c); with "
                         "'Exact solution/Section normal "
                         "force' their largest error over the steps is too.");
+      prm.declare_entry("Contact pressure windows",
+                        "",
+                        Patterns::Anything(),
+                        "Bands of the plane, a comma-separated list such as 'y from "
+                        "-40e3 to -20e3, x from 0 to 0.5' (m; both bounds included), over "
+                        "whose contact nodes the run averages the contact pressure after "
+                        "every step: per window and contact group (obstacle boundary or "
+                        "interface) with a node in it, the sum of the nodes' multipliers "
+                        "over the sum of their lengths (Pa; a statistics column, and at "
+                        "the end the RESULT lines 'mean contact pressure <group> <window>' "
+                        "and 'contact window length <group> <window>'). Unlike the largest "
+                        "nodal pressure, which sits at a corner of the contact zone and can "
+                        "grow without bound under refinement, the mean over a fixed window "
+                        "converges (doc/output.md). Each window must hold a contact node of "
+                        "the mesh when the run starts; a resumed run must keep its "
+                        "checkpoint's windows.");
       prm.declare_entry("VTU compression",
                         "best speed",
                         Patterns::Selection("none|best speed|default|best compression"),
@@ -180,8 +235,19 @@ namespace ContactStefan
                                 compression == "best compression" ?
                                                               DataOutBase::VtkFlags::best_compression :
                                                               DataOutBase::VtkFlags::default_compression;
-      const std::string lines = prm.get("Section lines");
+      const std::string lines       = prm.get("Section lines");
+      const std::string windows     = prm.get("Contact pressure windows");
       prm.leave_subsection();
+      pressure_windows.clear();
+      for (const std::string &entry : Utilities::split_string_list(windows, ','))
+        {
+          const PressureWindow window = parse_pressure_window(entry);
+          for (const auto &other : pressure_windows)
+            require(other.axis != window.axis || other.from != window.from || other.to != window.to,
+                    "Output/Contact pressure windows",
+                    "'" + window.name + "' is the window '" + other.name + "' again");
+          pressure_windows.push_back(window);
+        }
       section_lines.clear();
       for (const std::string &entry : Utilities::split_string_list(lines, ','))
         {

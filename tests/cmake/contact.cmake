@@ -151,6 +151,60 @@ add_test(NAME unit/body_interface
 scene(contact/inclined-interface-17-mpi2 2 ${T}/scenes/inclined_interface.prm
   inclined_interface_17 "SET:Geometry/Mesh file=${CMAKE_CURRENT_BINARY_DIR}/inclined_17.msh"
   "RESULT min contact pressure at active nodes>0.009999999999")
+# Contact pressure windows (Output/Contact pressure windows, doc/output.md) on
+# the 17-degree interface, whose exact pressure is p = 0.01 everywhere: the mean
+# over any band that holds interface nodes is p, both bounds included (y from 0
+# to 0.5 holds the roller corner node, x from 0.9 to 1.2 a part of the inclined
+# interface, y from 0.25 to 1 the top corner), serial and on 2 ranks (the sums
+# of both ranks' nodes).
+set(PRESSURE_WINDOWS
+  "SET:Geometry/Mesh file=${CMAKE_CURRENT_BINARY_DIR}/inclined_17.msh"
+  "SET:Output/Contact pressure windows=y from 0 to 0.5, x from 0.9 to 1.2, y from 0.25 to 1")
+foreach(window "y from 0 to 0.5" "x from 0.9 to 1.2" "y from 0.25 to 1")
+  list(APPEND PRESSURE_WINDOWS
+    "RESULT mean contact pressure interface 1-2 ${window}>0.009999999999"
+    "RESULT mean contact pressure interface 1-2 ${window}<0.010000000001")
+endforeach()
+# Where the obstacle meets the interface (tests/scenes/obstacle_meets_interface.prm):
+# exact pressures 0.01 (obstacle) and 0.02 (interface) in every window, and the
+# windows' lengths: the interface once per node pair, the obstacle on both bodies.
+set(JUNCTION_WINDOWS)
+# group:band:lower bound:upper bound of the length (awk compares the numbers as
+# written: no arithmetic in a bound)
+foreach(window "interface 0-1:x from 0 to 1:0.999999999999:1.000000000001"
+               "interface 0-1:x from 0 to 0.1:0.249999999999:0.250000000001"
+               "interface 0-1:y from 0.9 to 1.1:0.999999999999:1.000000000001"
+               "interface 0-1:y from 0 to 2:0.999999999999:1.000000000001"
+               "boundary 0:x from 0 to 1:1.999999999999:2.000000000001"
+               "boundary 0:x from 0 to 0.1:1.999999999999:2.000000000001"
+               "boundary 0:y from 0.9 to 1.1:0.499999999999:0.500000000001"
+               "boundary 0:y from 0 to 2:1.999999999999:2.000000000001")
+  string(REPLACE ":" ";" parts "${window}")
+  list(GET parts 0 group)
+  list(GET parts 1 band)
+  list(GET parts 2 low)
+  list(GET parts 3 high)
+  if(group STREQUAL "boundary 0")
+    set(p_low 0.009999999999)
+    set(p_high 0.010000000001)
+  else()
+    set(p_low 0.019999999999)
+    set(p_high 0.020000000001)
+  endif()
+  list(APPEND JUNCTION_WINDOWS
+    "RESULT mean contact pressure ${group} ${band}>${p_low}"
+    "RESULT mean contact pressure ${group} ${band}<${p_high}"
+    "RESULT contact window length ${group} ${band}>${low}"
+    "RESULT contact window length ${group} ${band}<${high}")
+endforeach()
+scene(contact/pressure-windows-junction 1 ${T}/scenes/obstacle_meets_interface.prm
+  obstacle_meets_interface ${JUNCTION_WINDOWS})
+scene(contact/pressure-windows-junction-mpi2 2 ${T}/scenes/obstacle_meets_interface.prm
+  obstacle_meets_interface ${JUNCTION_WINDOWS})
+scene(contact/pressure-windows 1 ${T}/scenes/inclined_interface.prm
+  inclined_interface_17_windows ${PRESSURE_WINDOWS})
+scene(contact/pressure-windows-mpi2 2 ${T}/scenes/inclined_interface.prm
+  inclined_interface_17_windows ${PRESSURE_WINDOWS})
 # Inclined section lines (Output/Section lines 'a x + b y = c') on the 45-degree
 # mesh (N = 4), where sigma = -p I: the interface x - y = 0.5 (length sqrt 2, a
 # body on each side), the middle grid line of each trapezoid, x - 0.5 y = 0.25 and

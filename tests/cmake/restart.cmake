@@ -103,13 +103,16 @@ resume_test(restart/T2-plateau 1 1 CONTACT_STEFAN_KILL_AFTER_STEP 7
 # The verification parts' own states through a checkpoint: the stress errors
 # of T3 (part 'stress'), the initial enthalpy of the equilibrium scene (part
 # 'equilibrium') and the section-force errors of the stacked blocks (part
-# 'section normal force'), each resumed from a checkpoint before its kill.
+# 'section normal force', with contact pressure windows, whose sums the
+# checkpoint carries in the contact report), each resumed from a checkpoint
+# before its kill.
 resume_test(restart/T3-stress 1 1 CONTACT_STEFAN_KILL_AFTER_STEP 4
   ${P}/free_expansion_T3.prm "SET:Checkpoint/Interval (steps)=2")
 resume_test(restart/equilibrium 1 1 CONTACT_STEFAN_KILL_AFTER_STEP 25
   ${T}/scenes/two_body_equilibrium.prm "SET:Checkpoint/Interval (steps)=10")
 resume_test(restart/section-force 1 1 CONTACT_STEFAN_KILL_AFTER_STEP 7
-  ${T}/scenes/stacked_blocks_section.prm "SET:Checkpoint/Interval (steps)=5")
+  ${T}/scenes/stacked_blocks_section.prm "SET:Checkpoint/Interval (steps)=5"
+  "SET:Output/Contact pressure windows=x from 0 to 1, x from 0.5 to 1")
 resume_test(restart/coupled-2-to-1 2 1 CONTACT_STEFAN_KILL_AFTER_STEP 10
   ${CMAKE_SOURCE_DIR}/prm/coupled_melting_contact.prm ${ADAPTIVE_COUPLED}
   "SET:Checkpoint/Interval (steps)=4")

@@ -21,6 +21,7 @@
 #include <contact-stefan/core/step_control.h>
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <map>
 #include <stdexcept>
@@ -309,6 +310,30 @@ namespace ContactStefan
       }
     };
 
+
+    /**
+     * A band of the plane, 'x from a to b' or 'y from a to b' (a < b), over
+     * whose contact nodes the run averages the contact pressure
+     * (Output/Contact pressure windows, doc/output.md): a pressure that
+     * converges under refinement where the largest nodal pressure, at a
+     * corner of the contact zone, does not.
+     */
+    struct PressureWindow
+    {
+      unsigned int axis = 1; // 0: x, 1: y
+      double       from = 0, to = 0;
+      std::string  name; // "y from -4e4 to -2e4" (the entry, spaces collapsed)
+      /**
+       * Whether p lies in the band, both bounds included to 1e-10 of the
+       * band's scale (a node on a bound must not fall in or out by the
+       * round-off of its coordinates).
+       */
+      bool contains(const Point<2> &p) const
+      {
+        const double tolerance = 1e-10 * std::max({std::abs(from), std::abs(to), to - from});
+        return p[axis] >= from - tolerance && p[axis] <= to + tolerance;
+      }
+    };
   } // namespace Parameters
 
 

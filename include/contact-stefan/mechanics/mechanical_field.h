@@ -48,6 +48,8 @@
 
 #include <boost/serialization/map.hpp>
 #include <boost/serialization/string.hpp>
+#include <boost/serialization/utility.hpp>
+#include <boost/serialization/vector.hpp>
 
 #include <contact-stefan/core/common.h>
 #include <contact-stefan/core/materials.h>
@@ -84,6 +86,15 @@ namespace ContactStefan
     bool         reused              = false; // stationary data: the last solution stands
     double       max_pressure        = 0;
     double       min_active_pressure = 0; // over the nodes in contact (0 if none)
+    /**
+     * Per window of 'Output/Contact pressure windows' (its name, in their
+     * order), per contact group with a contact node in it: the sum of the
+     * nodes' multipliers (N/m, > 0 compressive; a sum below its round-off is
+     * 0) and of their weights (m, their shares of the boundary's length; an
+     * interface node pair once). The quotient is the window's mean pressure.
+     */
+    std::vector<std::pair<std::string, std::map<std::string, std::pair<double, double>>>>
+      window_sums;
     /** Total compressive normal force per obstacle boundary / interface. */
     std::map<std::string, double> forces;
     /** What the elasticity system's CG + AMG did (nothing on the direct path). */
@@ -94,7 +105,7 @@ namespace ContactStefan
     void serialize(Archive &ar, const unsigned int)
     {
       ar &iterations &active_nodes &changes &c_reductions &factorisations &reused &max_pressure
-        &min_active_pressure &forces &linear;
+        &min_active_pressure &forces &linear &window_sums;
     }
   };
 
@@ -152,12 +163,14 @@ namespace ContactStefan
      * prm: the scene; contact_prm: the contact step's own entries;
      * linear_prm: the shared linear-solver entries; verbosity:
      * Output/Verbosity; section_lines: the lines (Output/Section lines) that
-     * must be mesh lines.
+     * must be mesh lines; pressure_windows: the bands (Output/Contact pressure
+     * windows) that must hold a contact node.
      */
-    MechanicalField(const SceneContext<dim>                    &context,
-                    const Parameters::ContactStep              &contact_prm,
-                    const Parameters::LinearSolvers            &linear_prm,
-                    const std::vector<Parameters::SectionLine> &section_lines);
+    MechanicalField(const SceneContext<dim>                       &context,
+                    const Parameters::ContactStep                 &contact_prm,
+                    const Parameters::LinearSolvers               &linear_prm,
+                    const std::vector<Parameters::SectionLine>    &section_lines,
+                    const std::vector<Parameters::PressureWindow> &pressure_windows = {});
 
     // --- the step contract ----------------------------------------------------
     void                  setup_dofs();
@@ -285,6 +298,11 @@ namespace ContactStefan
      * the coarse mesh, so these are mesh lines at every step.
      */
     void check_section_lines(const std::vector<Parameters::SectionLine> &lines) const;
+    /**
+     * Refuses (InputError naming 'Output/Contact pressure windows') a window
+     * that holds no contact node of the mesh. Collective.
+     */
+    void check_pressure_windows() const;
 
     // --- coupling (doc/coupling.md) -------------------------------------------------
     // The exchange with the thermal field goes through per-cell vertex arrays
@@ -596,6 +614,8 @@ namespace ContactStefan
     std::vector<Decision>
     contact_decisions(const Vector &residual, double &local_scale, double &max_penetration) const;
     void store_contact_output(const std::vector<Decision> &decisions, ContactStepReport &report);
+    /** The report's window sums, from the decisions' multipliers (collective). */
+    void store_window_sums(const std::vector<Decision> &decisions, ContactStepReport &report) const;
     /**
      * The steps of solve() (doc/contact.md, "The active-set iteration"), all
      * collective: the last converged solve's report if its data are unchanged;
@@ -621,6 +641,7 @@ namespace ContactStefan
     const Parameters::LinearSolvers                 &linear_prm;
     const unsigned int                               verbosity;
     const std::vector<Parameters::SectionLine>       section_lines;
+    const std::vector<Parameters::PressureWindow>    pressure_windows;
     const Materials                                 &materials;
     SceneFunctions<dim>                             &functions;
     const parallel::distributed::Triangulation<dim> &triangulation;

@@ -20,7 +20,8 @@ namespace ContactStefan
   {
     struct Output
     {
-      std::vector<SectionLine> section_lines;
+      std::vector<SectionLine>    section_lines;
+      std::vector<PressureWindow> pressure_windows;
       std::string              directory;
       unsigned int             vtu_interval;
       std::string              statistics_file;

@@ -68,9 +68,9 @@ namespace ContactStefan
   // solidification history are attached to the mesh after the fields' state; 12: the mortar
   // statistics count the large-sliding couplings; 13: and the largest slide of a step; 14: the
   // linear solvers' statistics count CHOLMOD's work; 15: the coupling's count heat guesses and
-  // LDL^T blocks; 16: the stress check's energy error, and the energy and the largest strain
-  // taken at the material points), so that an older checkpoint is refused by name, not misread.
-  const std::string checkpoint_format = "contact-stefan checkpoint 16";
+  // LDL^T blocks; 16: the stress check's energy error, the energy and largest strain at the
+  // material points; 17: the contact pressure windows): an older one is refused by name.
+  const std::string checkpoint_format = "contact-stefan checkpoint 17";
 
   namespace
   {

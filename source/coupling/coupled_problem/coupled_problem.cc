@@ -47,7 +47,8 @@ namespace ContactStefan
       mechanical = std::make_unique<MechanicalField<dim>>(context,
                                                           prm.contact_step,
                                                           prm.linear_solvers,
-                                                          prm.output.section_lines);
+                                                          prm.output.section_lines,
+                                                          prm.output.pressure_windows);
     postprocessor->attach(thermal.get(), mechanical.get(), prm.parts);
     if (mechanical && mechanical->large_sliding())
       {
@@ -73,6 +74,9 @@ namespace ContactStefan
       {
         mechanical->setup_dofs();
         mechanical->initialize(time);
+        // (Here, not in initialize(): a resumed run or a step redone keeps
+        // the windows the run started with, whatever the mesh holds then.)
+        mechanical->check_pressure_windows();
       }
     // The initial phases set the initial stiffness, the initial temperature the
     // thermal part of the initial stress.

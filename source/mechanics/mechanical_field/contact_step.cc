@@ -662,6 +662,7 @@ namespace ContactStefan
     report.min_active_pressure = Utilities::MPI::min(min_active_pressure, mpi_communicator);
     if (report.min_active_pressure == HUGE_VAL)
       report.min_active_pressure = 0;
+    store_window_sums(decisions, report);
   }
 
 

@@ -24,6 +24,8 @@
 #include <contact-stefan/core/q1_kernels.h>
 #include <contact-stefan/mechanics/mechanical_field.h>
 
+#include <limits>
+
 namespace ContactStefan
 {
   namespace
@@ -392,6 +394,85 @@ namespace ContactStefan
 
 
 
+  // Whether a contact condition counts in the windows: obstacle and contact
+  // interface nodes (not rollers, not tied interfaces, which have no pressure).
+  namespace
+  {
+    bool has_pressure(const NormalCondition &c)
+    {
+      return c.kind != NormalCondition::Kind::roller &&
+             !(c.kind == NormalCondition::Kind::interface && c.tied);
+    }
+  } // namespace
+
+
+
+  template <int dim>
+  void MechanicalField<dim>::check_pressure_windows() const
+  {
+    std::vector<unsigned int> nodes(pressure_windows.size(), 0);
+    for (const auto &c : normal_conditions)
+      if (has_pressure(c) && owned.is_element(c.dofs_k[0]))
+        for (std::size_t w = 0; w < pressure_windows.size(); ++w)
+          nodes[w] += pressure_windows[w].contains(c.position);
+    Utilities::MPI::sum(nodes, mpi_communicator, nodes);
+    for (std::size_t w = 0; w < pressure_windows.size(); ++w)
+      if (nodes[w] == 0)
+        throw InputError("Output/Contact pressure windows",
+                         "'" + pressure_windows[w].name +
+                           "' holds no node of an obstacle boundary or contact interface of "
+                           "the mesh (widen it or refine the mesh)");
+  }
+
+
+
+  // The window sums from the multipliers themselves: the nodal pressure
+  // vector holds one value per DoF, and where an interface meets an obstacle
+  // both conditions share a DoF. A sum below the round-off of the nodes'
+  // residuals (64 eps times their stiffness times the largest displacement)
+  // is 0: an open stretch reports 0, not the sign of round-off.
+  template <int dim>
+  void MechanicalField<dim>::store_window_sums(const std::vector<Decision> &decisions,
+                                               ContactStepReport           &report) const
+  {
+    report.window_sums.clear();
+    if (pressure_windows.empty())
+      return;
+    const std::size_t   n_groups = contact_groups.size();
+    const double        u_max    = displacement.linfty_norm();
+    std::vector<double> sums(3 * n_groups * pressure_windows.size(), 0.);
+    for (const auto &dec : decisions)
+      if (has_pressure(*dec.c))
+        {
+          const std::size_t group =
+            std::lower_bound(contact_groups.begin(), contact_groups.end(), dec.c->group) -
+            contact_groups.begin();
+          AssertThrow(group < n_groups && contact_groups[group] == dec.c->group,
+                      ExcInternalError());
+          for (std::size_t w = 0; w < pressure_windows.size(); ++w)
+            if (pressure_windows[w].contains(dec.c->position))
+              {
+                double *const at = &sums[3 * (w * n_groups + group)];
+                at[0] += dec.lambda;
+                at[1] += dec.c->weight;
+                at[2] += 64 * std::numeric_limits<double>::epsilon() * dec.c->stiffness * u_max;
+              }
+        }
+    Utilities::MPI::sum(sums, mpi_communicator, sums);
+    for (std::size_t w = 0; w < pressure_windows.size(); ++w)
+      {
+        report.window_sums.emplace_back(pressure_windows[w].name,
+                                        std::map<std::string, std::pair<double, double>>());
+        for (std::size_t g = 0; g < n_groups; ++g)
+          if (const double *const at = &sums[3 * (w * n_groups + g)]; at[1] > 0)
+            report.window_sums.back().second[contact_groups[g]] = {std::abs(at[0]) > at[2] ? at[0] :
+                                                                                             0.,
+                                                                   at[1]};
+      }
+  }
+
+
+
   // Ghosted copies of the last contact step's nodal pressure, gap and active
   // flags, read at the interface vertices of the owned cells (whose DoFs
   // another rank may own). A mortar slave node's state is keyed by its node
@@ -465,5 +546,8 @@ namespace ContactStefan
   template typename MechanicalField<2>::ElasticStatistics
                   MechanicalField<2>::elastic_statistics() const;
   template double MechanicalField<2>::contact_work() const;
+  template void   MechanicalField<2>::check_pressure_windows() const;
+  template void   MechanicalField<2>::store_window_sums(const std::vector<Decision> &,
+                                                      ContactStepReport &) const;
   template void   MechanicalField<2>::interface_contact_states(InterfaceContactStates &) const;
 } // namespace ContactStefan

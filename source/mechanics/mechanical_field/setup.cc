@@ -44,15 +44,18 @@ namespace ContactStefan
 
 
   template <int dim>
-  MechanicalField<dim>::MechanicalField(const SceneContext<dim>                    &context,
-                                        const Parameters::ContactStep              &contact_prm,
-                                        const Parameters::LinearSolvers            &linear_prm,
-                                        const std::vector<Parameters::SectionLine> &section_lines)
+  MechanicalField<dim>::MechanicalField(
+    const SceneContext<dim>                       &context,
+    const Parameters::ContactStep                 &contact_prm,
+    const Parameters::LinearSolvers               &linear_prm,
+    const std::vector<Parameters::SectionLine>    &section_lines,
+    const std::vector<Parameters::PressureWindow> &pressure_windows)
     : prm(context.scene)
     , contact_prm(contact_prm)
     , linear_prm(linear_prm)
     , verbosity(context.verbosity)
     , section_lines(section_lines)
+    , pressure_windows(pressure_windows)
     , materials(context.materials)
     , functions(context.functions)
     , triangulation(context.triangulation)

@@ -70,6 +70,7 @@ namespace ContactStefan
           }
         s.elasticity_linear += r.linear;
         accumulate(data.time, r);
+
         if (data.step == 0)
           {
             s.total_contact_work = 0; // work is counted from the initial equilibrium on
@@ -196,6 +197,25 @@ namespace ContactStefan
                    "%.10e",
                    contact_report.forces.count(group) ? contact_report.forces.at(group) : 0.);
         }
+      // The mean pressure per window and contact group (0 where the window
+      // holds no node of the group): a column for every group, so that the
+      // table keeps its columns when an adaptation moves nodes.
+      const auto &windows = this->run.output.pressure_windows;
+      for (unsigned int w = 0; w < windows.size(); ++w)
+        for (const auto &group : mechanical.get_contact_groups())
+          {
+            std::string name = "mean_pressure_w" + std::to_string(w + 1) + "_" + group;
+            std::replace(name.begin(), name.end(), ' ', '_');
+            const auto  &sums = contact_report.window_sums.at(w).second;
+            const auto   at   = sums.find(group);
+            const double mean = at != sums.end() ? at->second.first / at->second.second : 0.;
+            row.real(name,
+                     "Pa",
+                     "mean contact pressure on '" + group + "' where " + windows[w].name +
+                       " (Output/Contact pressure windows; 0 if no node of it lies there)",
+                     "%.10e",
+                     mean);
+          }
       row.real("max_pressure",
                "Pa",
                "largest nodal contact pressure (singular at corners)",
@@ -251,6 +271,12 @@ namespace ContactStefan
         add("contact force " + group, force);
       add("max contact pressure", s.last_contact_report.max_pressure);
       add("min contact pressure at active nodes", s.last_contact_report.min_active_pressure);
+      for (const auto &[window, groups] : s.last_contact_report.window_sums)
+        for (const auto &[group, sums] : groups)
+          {
+            add("mean contact pressure " + group + " " + window, sums.first / sums.second);
+            add("contact window length " + group + " " + window, sums.second);
+          }
       add("contact matrix factorisations", s.contact_factorisations);
       add("contact solves skipped (unchanged data)", s.reused_contact_steps);
       // From the cell-centre stresses, where Q1 is accurate (doc/output.md).
