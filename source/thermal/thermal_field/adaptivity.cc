@@ -15,7 +15,15 @@ namespace ContactStefan
 {
   // A cell carries a front when its nodes are not all in one phase: their
   // phase indices (p on the branch of phase p, j + fraction on plateau j)
-  // differ, or one of them is on a plateau.
+  // differ, or one of them is on a plateau. A node with a prescribed
+  // temperature also counts in the phase of that temperature: at t0 the
+  // initial field, not the boundary value, is the node's state, and a boundary
+  // held above the melting temperature (the hot base of the subduction scene)
+  // melts the cells along it in the first step. Marking them now refines them
+  // before that step; else the first step's melt, a layer thinner than the
+  // coarse cells, is taken on them and carried over by every later
+  // adaptation (the adaptive subduction scene melted 10 % more than the
+  // global mesh of its finest level, doc/adaptivity.md section 5).
   template <int dim>
   void ThermalField<dim>::front_points(std::vector<Point<dim>> &points) const
   {
@@ -33,6 +41,14 @@ namespace ContactStefan
               lowest             = std::min(lowest, index);
               highest            = std::max(highest, index);
               plateau            = plateau || index != std::floor(index);
+              if (dirichlet_constraints.is_constrained(dof) &&
+                  !hanging_node_constraints.is_constrained(dof))
+                {
+                  const double prescribed = law(dof).phase_index(
+                    law(dof).enthalpy(dirichlet_constraints.get_inhomogeneity(dof)));
+                  lowest  = std::min(lowest, prescribed);
+                  highest = std::max(highest, prescribed);
+                }
             }
           if (plateau || highest > lowest)
             points.push_back(cell->center());
