@@ -8,6 +8,7 @@
 #include <contact-stefan/thermal/thermal_field.h>
 
 #include <cmath>
+#include <map>
 
 #include <Epetra_CrsMatrix.h>
 
@@ -16,18 +17,45 @@ namespace ContactStefan
   // A cell carries a front when its nodes are not all in one phase: their
   // phase indices (p on the branch of phase p, j + fraction on plateau j)
   // differ, or one of them is on a plateau. A node with a prescribed
-  // temperature also counts in the phase of that temperature: at t0 the
-  // initial field, not the boundary value, is the node's state, and a boundary
-  // held above the melting temperature (the hot base of the subduction scene)
-  // melts the cells along it in the first step. Marking them now refines them
-  // before that step; else the first step's melt, a layer thinner than the
-  // coarse cells, is taken on them and carried over by every later
-  // adaptation (the adaptive subduction scene melted 10 % more than the
-  // global mesh of its finest level, doc/adaptivity.md section 5).
+  // temperature also counts in the phase of that temperature now and at the
+  // end of a next step as long as the last (the first step's end is not
+  // known at t0: there, now): at t0 the initial field, not the boundary
+  // value, is the node's state, and a boundary held above the melting
+  // temperature (the hot base of the subduction scene) melts the cells along
+  // it in the first step; a boundary value may cross a transition later. Marking
+  // those cells now refines them before that step; else its melt, a layer
+  // thinner than the coarse cells, is taken on them and carried over by every
+  // later adaptation (the adaptive subduction scene melted 10 % more than the
+  // global mesh of its finest level; doc/adaptivity.md section 1, "The
+  // boundary's phase").
   template <int dim>
   void ThermalField<dim>::front_points(std::vector<Point<dim>> &points) const
   {
     points.clear();
+    // The lowest and highest phase index of each prescribed node's values
+    // (a node on two boundaries: both).
+    std::map<types::global_dof_index, std::pair<double, double>> prescribed;
+    std::vector<double>                                          times{time};
+    if (time_step > 0)
+      times.push_back(time + time_step);
+    for (const auto &[id, nodes] : dirichlet_nodes)
+      {
+        Function<dim> &value = functions.thermal_boundary(id);
+        for (const double t : times)
+          {
+            value.set_time(t);
+            for (const auto &[dof, point] : nodes)
+              if (!hanging_node_constraints.is_constrained(dof))
+                {
+                  const double index = law(dof).phase_index(law(dof).enthalpy(value.value(point)));
+                  const auto [at, fresh] = prescribed.emplace(dof, std::make_pair(index, index));
+                  if (!fresh)
+                    at->second = {std::min(at->second.first, index),
+                                  std::max(at->second.second, index)};
+                }
+          }
+        value.set_time(time);
+      }
     std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
@@ -41,13 +69,10 @@ namespace ContactStefan
               lowest             = std::min(lowest, index);
               highest            = std::max(highest, index);
               plateau            = plateau || index != std::floor(index);
-              if (dirichlet_constraints.is_constrained(dof) &&
-                  !hanging_node_constraints.is_constrained(dof))
+              if (const auto at = prescribed.find(dof); at != prescribed.end())
                 {
-                  const double prescribed = law(dof).phase_index(
-                    law(dof).enthalpy(dirichlet_constraints.get_inhomogeneity(dof)));
-                  lowest  = std::min(lowest, prescribed);
-                  highest = std::max(highest, prescribed);
+                  lowest  = std::min(lowest, at->second.first);
+                  highest = std::max(highest, at->second.second);
                 }
             }
           if (plateau || highest > lowest)
@@ -57,7 +82,8 @@ namespace ContactStefan
 
 
 
-  // The nodes of the front as front_points() finds its cells, by the matrix's
+  // The nodes of the front as front_points() finds its cells (by the nodes'
+  // own phases; not the prescribed values'), by the matrix's
   // neighbours of the same enthalpy law, then `layers` rings of neighbours
   // around them (mark_neighbours).
   template <int dim>
