@@ -153,6 +153,17 @@ namespace ContactStefan
     // The shortest master edge on the mesh at a master node the node is
     // paired with (its M_jm): the unit of a step's slide.
     double facing_edge = 0;
+
+    /**
+     * Whether the node carries a contact pressure (an obstacle or contact
+     * interface node; not a roller, not a tied pair, whose reaction is no
+     * pressure): the nodes of the contact step's decisions and of the
+     * pressure windows.
+     */
+    bool carries_pressure() const
+    {
+      return kind != Kind::roller && !(kind == Kind::interface && tied);
+    }
   };
 
   template <int dim>

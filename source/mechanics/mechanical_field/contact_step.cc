@@ -520,16 +520,12 @@ namespace ContactStefan
                                           double       &local_scale,
                                           double       &max_penetration) const
   {
-    using Kind            = NormalCondition::Kind;
-    const auto is_contact = [&](const NormalCondition &c) {
-      return c.kind != Kind::roller && !(c.kind == Kind::interface && c.tied);
-    };
     Vector r(owned, relevant, mpi_communicator);
     r = residual;
     // The active contact conditions at each DoF they involve.
     std::unordered_map<types::global_dof_index, std::vector<const NormalCondition *>> active_at;
     for (const auto &c : normal_conditions)
-      if (is_contact(c) && active_flags_ghosted(c)[c.dofs_k[0]] > 0.5)
+      if (c.carries_pressure() && active_flags_ghosted(c)[c.dofs_k[0]] > 0.5)
         for (unsigned int d = 0; d < dim; ++d)
           {
             active_at[c.dofs_k[d]].push_back(&c);
@@ -540,7 +536,7 @@ namespace ContactStefan
     std::vector<Decision> decisions;
     local_scale = 0, max_penetration = 0;
     for (const auto &c : normal_conditions)
-      if (is_contact(c) && owned.is_element(c.dofs_k[0]))
+      if (c.carries_pressure() && owned.is_element(c.dofs_k[0]))
         {
           // The DoFs that the constraints at this vertex tie together: those of
           // the node (pair), closed under the fixed lines (a tie joins the two

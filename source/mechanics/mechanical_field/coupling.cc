@@ -394,25 +394,12 @@ namespace ContactStefan
 
 
 
-  // Whether a contact condition counts in the windows: obstacle and contact
-  // interface nodes (not rollers, not tied interfaces, which have no pressure).
-  namespace
-  {
-    bool has_pressure(const NormalCondition &c)
-    {
-      return c.kind != NormalCondition::Kind::roller &&
-             !(c.kind == NormalCondition::Kind::interface && c.tied);
-    }
-  } // namespace
-
-
-
   template <int dim>
   void MechanicalField<dim>::check_pressure_windows() const
   {
     std::vector<unsigned int> nodes(pressure_windows.size(), 0);
     for (const auto &c : normal_conditions)
-      if (has_pressure(c) && owned.is_element(c.dofs_k[0]))
+      if (c.carries_pressure() && owned.is_element(c.dofs_k[0]))
         for (std::size_t w = 0; w < pressure_windows.size(); ++w)
           nodes[w] += pressure_windows[w].contains(c.position);
     Utilities::MPI::sum(nodes, mpi_communicator, nodes);
@@ -441,23 +428,22 @@ namespace ContactStefan
     const std::size_t   n_groups = contact_groups.size();
     const double        u_max    = displacement.linfty_norm();
     std::vector<double> sums(3 * n_groups * pressure_windows.size(), 0.);
+    // (The decisions are those of the nodes that carry a pressure.)
     for (const auto &dec : decisions)
-      if (has_pressure(*dec.c))
-        {
-          const std::size_t group =
-            std::lower_bound(contact_groups.begin(), contact_groups.end(), dec.c->group) -
-            contact_groups.begin();
-          AssertThrow(group < n_groups && contact_groups[group] == dec.c->group,
-                      ExcInternalError());
-          for (std::size_t w = 0; w < pressure_windows.size(); ++w)
-            if (pressure_windows[w].contains(dec.c->position))
-              {
-                double *const at = &sums[3 * (w * n_groups + group)];
-                at[0] += dec.lambda;
-                at[1] += dec.c->weight;
-                at[2] += 64 * std::numeric_limits<double>::epsilon() * dec.c->stiffness * u_max;
-              }
-        }
+      {
+        const std::size_t group =
+          std::lower_bound(contact_groups.begin(), contact_groups.end(), dec.c->group) -
+          contact_groups.begin();
+        AssertThrow(group < n_groups && contact_groups[group] == dec.c->group, ExcInternalError());
+        for (std::size_t w = 0; w < pressure_windows.size(); ++w)
+          if (pressure_windows[w].contains(dec.c->position))
+            {
+              double *const at = &sums[3 * (w * n_groups + group)];
+              at[0] += dec.lambda;
+              at[1] += dec.c->weight;
+              at[2] += 64 * std::numeric_limits<double>::epsilon() * dec.c->stiffness * u_max;
+            }
+      }
     Utilities::MPI::sum(sums, mpi_communicator, sums);
     for (std::size_t w = 0; w < pressure_windows.size(); ++w)
       {
