@@ -37,7 +37,8 @@ QUANTITIES = [
     ("displacement dofs", "displacement DoFs"),
     ("melt area", "melt area (m²)"),
     ("contact force", "contact force (N/m)"),
-    ("active fraction", "largest fraction of interface nodes active over the run"),
+    ("contact length", "length in contact at the end (m)"),
+    ("max contact length", "largest length in contact over the run (m)"),
     ("max contact pressure", "max contact pressure (Pa)"),
     ("max von Mises stress (cell centres)", "max von Mises, cell centres (Pa)"),
     ("elastic energy", "elastic energy (J/m)"),
@@ -103,11 +104,14 @@ def run_level(binary, scene_text, scene_dir, level, subdivisions, settings, work
     forces = [v for k, v in results.items() if k.startswith("contact force")]
     if forces:
         results["contact force"] = sum(forces)
-    interface = re.search(r"(\d+) interface \(contact\)", p.stdout)
-    if interface and int(interface.group(1)) > 0 and \
-            "max active contact nodes over the steps" in results:
-        results["active fraction"] = (results["max active contact nodes over the steps"] /
-                                      int(interface.group(1)))
+    # Summed over the contact groups, like the force. (The number of active
+    # nodes is no measure on an adapted mesh, whose interface nodes are not
+    # evenly spaced: the lengths are.)
+    for key, prefix in (("contact length", "contact length "),
+                        ("max contact length", "max contact length over the steps ")):
+        lengths = [v for k, v in results.items() if k.startswith(prefix)]
+        if lengths:
+            results[key] = sum(lengths)
     return results
 
 

@@ -197,6 +197,14 @@ foreach(window "interface 0-1:x from 0 to 1:0.999999999999:1.000000000001"
     "RESULT contact window length ${group} ${band}>${low}"
     "RESULT contact window length ${group} ${band}<${high}")
 endforeach()
+# Every node is in contact: the length in contact is the whole interface (1)
+# and the whole obstacle boundary, on both bodies (2), at the end and over the
+# steps.
+foreach(what "contact length" "max contact length over the steps")
+  list(APPEND JUNCTION_WINDOWS
+    "RESULT ${what} interface 0-1>0.999999999999" "RESULT ${what} interface 0-1<1.000000000001"
+    "RESULT ${what} boundary 0>1.999999999999" "RESULT ${what} boundary 0<2.000000000001")
+endforeach()
 scene(contact/pressure-windows-junction 1 ${T}/scenes/obstacle_meets_interface.prm
   obstacle_meets_interface ${JUNCTION_WINDOWS})
 scene(contact/pressure-windows-junction-mpi2 2 ${T}/scenes/obstacle_meets_interface.prm
@@ -275,8 +283,12 @@ scene(contact/patch-C2-open-gap 1 ${P}/patch_C2.prm patch_C2_open_gap
   "RESULT max contact pressure<1e-14"
   "RESULT patch stress relative error<1e-10"
   "RESULT patch min interface gap>0.00999999")
-# C1 Hertz on the coarsest ladder level, cold start.
+# C1 Hertz on the coarsest ladder level, cold start. The length in contact
+# (the weights of the active nodes: each edge node adds half a cell beyond
+# itself) is the exact width 2a = 0.0651884 within one contact mesh width
+# h = 0.00390625.
 scene(contact/hertz-C1 1 ${P}/hertz_C1.prm hertz_C1
+  "RESULT contact length boundary 3>0.0612821" "RESULT contact length boundary 3<0.0690947"
   "RESULT Hertz half-width relative error<0.028"
   "RESULT Hertz peak pressure relative error<0.0005"
   "RESULT Hertz pressure profile relative L2 error<0.022"

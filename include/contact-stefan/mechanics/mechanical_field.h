@@ -97,6 +97,13 @@ namespace ContactStefan
       window_sums;
     /** Total compressive normal force per obstacle boundary / interface. */
     std::map<std::string, double> forces;
+    /**
+     * Per obstacle boundary / interface: the length in contact, the sum of the
+     * weights (shares of the boundary's length) of its nodes in the active set
+     * (m per unit thickness). Unlike the number of active nodes it converges
+     * under refinement, adaptive or not.
+     */
+    std::map<std::string, double> contact_lengths;
     /** What the elasticity system's CG + AMG did (nothing on the direct path). */
     LinearSolverStatistics linear;
 
@@ -105,7 +112,7 @@ namespace ContactStefan
     void serialize(Archive &ar, const unsigned int)
     {
       ar &iterations &active_nodes &changes &c_reductions &factorisations &reused &max_pressure
-        &min_active_pressure &forces &linear &window_sums;
+        &min_active_pressure &forces &linear &window_sums &contact_lengths;
     }
   };
 

@@ -70,7 +70,7 @@ namespace ContactStefan
   // linear solvers' statistics count CHOLMOD's work; 15: the coupling's count heat guesses and
   // LDL^T blocks; 16: the stress check's energy error, the energy and largest strain at the
   // material points; 17: the contact pressure windows): an older one is refused by name.
-  const std::string checkpoint_format = "contact-stefan checkpoint 17";
+  const std::string checkpoint_format = "contact-stefan checkpoint 18";
 
   namespace
   {

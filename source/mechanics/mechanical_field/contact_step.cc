@@ -639,7 +639,7 @@ namespace ContactStefan
   {
     pressure = 0;
     gap      = 0;
-    std::map<std::string, double> forces;
+    std::map<std::string, double> forces, lengths;
     double                        max_pressure = 0, min_active_pressure = HUGE_VAL;
     for (const auto &dec : decisions)
       {
@@ -648,12 +648,18 @@ namespace ContactStefan
         forces[dec.c->group] += dec.lambda;
         max_pressure = std::max(max_pressure, dec.lambda / dec.c->weight);
         if (is_active(*dec.c))
-          min_active_pressure = std::min(min_active_pressure, dec.lambda / dec.c->weight);
+          {
+            min_active_pressure = std::min(min_active_pressure, dec.lambda / dec.c->weight);
+            lengths[dec.c->group] += dec.c->weight;
+          }
       }
     pressure.compress(VectorOperation::insert);
     gap.compress(VectorOperation::insert);
     for (const auto &group : contact_groups)
-      report.forces[group] = Utilities::MPI::sum(forces[group], mpi_communicator);
+      {
+        report.forces[group]          = Utilities::MPI::sum(forces[group], mpi_communicator);
+        report.contact_lengths[group] = Utilities::MPI::sum(lengths[group], mpi_communicator);
+      }
     report.max_pressure        = Utilities::MPI::max(max_pressure, mpi_communicator);
     report.min_active_pressure = Utilities::MPI::min(min_active_pressure, mpi_communicator);
     if (report.min_active_pressure == HUGE_VAL)

@@ -38,6 +38,8 @@ namespace ContactStefan
       // force has dropped to zero after them, the interpolated opening time.
       std::map<std::string, std::vector<std::pair<double, double>>> loaded_force_history;
       std::map<std::string, double>                                 opening_time, largest_force;
+      // Per contact group: the largest length in contact over the steps.
+      std::map<std::string, double> max_contact_length;
 
       template <class Archive>
       void serialize(Archive &ar, const unsigned int)
@@ -47,7 +49,7 @@ namespace ContactStefan
             &max_active_nodes &last_contact_report &elasticity_linear &total_contact_work
               &elastic_energy &max_strain &max_von_mises &max_von_mises_over_steps
                 &max_von_mises_time &max_von_mises_point &loaded_force_history &opening_time
-                  &largest_force;
+                  &largest_force &max_contact_length;
       }
     };
 
@@ -66,6 +68,8 @@ namespace ContactStefan
           {
             s.contact_factorisations += r.factorisations;
             s.max_active_nodes = std::max(s.max_active_nodes, r.active_nodes);
+            for (const auto &[group, length] : r.contact_lengths)
+              s.max_contact_length[group] = std::max(s.max_contact_length[group], length);
             s.reused_contact_steps += r.reused;
           }
         s.elasticity_linear += r.linear;
@@ -196,6 +200,16 @@ namespace ContactStefan
                      "' per unit thickness (> 0 compressive)",
                    "%.10e",
                    contact_report.forces.count(group) ? contact_report.forces.at(group) : 0.);
+          name = "contact_length_" + group;
+          std::replace(name.begin(), name.end(), ' ', '_');
+          row.real(name,
+                   "m",
+                   "length of '" + group +
+                     "' in contact per unit thickness (the weights of its active nodes)",
+                   "%.10e",
+                   contact_report.contact_lengths.count(group) ?
+                     contact_report.contact_lengths.at(group) :
+                     0.);
         }
       // The mean pressure per window and contact group (0 where the window
       // holds no node of the group): a column for every group, so that the
@@ -269,6 +283,10 @@ namespace ContactStefan
       add("max active contact nodes over the steps", s.max_active_nodes);
       for (const auto &[group, force] : s.last_contact_report.forces)
         add("contact force " + group, force);
+      for (const auto &[group, length] : s.last_contact_report.contact_lengths)
+        add("contact length " + group, length);
+      for (const auto &[group, length] : s.max_contact_length)
+        add("max contact length over the steps " + group, length);
       add("max contact pressure", s.last_contact_report.max_pressure);
       add("min contact pressure at active nodes", s.last_contact_report.min_active_pressure);
       for (const auto &[window, groups] : s.last_contact_report.window_sums)
