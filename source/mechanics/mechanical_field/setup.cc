@@ -41,6 +41,47 @@ namespace ContactStefan
 {
   using namespace MechanicalFieldPieces;
 
+  namespace
+  {
+    // Theta_0 at the four corners of a cell, as the temperature field holds
+    // it: at a hanging vertex (the midpoint of a coarser neighbour's face) the
+    // temperature is constrained to the mean of that face's end values, so the
+    // reference there is the mean of the reference at the face's ends, not its
+    // value at the midpoint. Otherwise an initial temperature equal to the
+    // reference would load every hanging vertex with beta (Theta_0 at the
+    // midpoint - the mean): a curved reference is not stress-free at t0 on an
+    // adapted mesh (the subduction scene, adapted: a contact force of 2e11
+    // N/m and 5 km in contact at t0 without any load). A point on a
+    // conductance interface (two_sided) is evaluated inside the cell, on its
+    // own side.
+    template <int dim>
+    std::array<double, 4>
+    corner_references(const typename DoFHandler<dim>::active_cell_iterator &cell,
+                      const Function<dim>                                  &reference,
+                      const std::set<unsigned int>                         &two_sided)
+    {
+      const auto at = [&](const unsigned int vertex_index, const Point<dim> &x) {
+        return reference.value(
+          two_sided.count(vertex_index) ? x + interface_side_offset * (cell->center() - x) : x);
+      };
+      std::array<double, 4> values;
+      for (unsigned int v = 0; v < 4; ++v)
+        values[v] = at(cell->vertex_index(v), cell->vertex(v));
+      for (const unsigned int f : cell->face_indices())
+        if (!cell->at_boundary(f) && cell->neighbor_is_coarser(f))
+          {
+            const auto coarse =
+              cell->neighbor(f)->face(cell->neighbor_of_coarser_neighbor(f).first);
+            const unsigned int a = coarse->vertex_index(0), b = coarse->vertex_index(1);
+            for (const unsigned int i : cell->face(f)->vertex_indices())
+              if (const unsigned int m = cell->face(f)->vertex_index(i); m != a && m != b)
+                values[GeometryInfo<dim>::face_to_cell_vertices(f, i)] =
+                  0.5 * (at(a, coarse->vertex(0)) + at(b, coarse->vertex(1)));
+          }
+      return values;
+    }
+  } // namespace
+
 
 
   template <int dim>
@@ -612,12 +653,8 @@ namespace ContactStefan
         {
           assemble_cell_operators(cell, gauss_values, vertex_values);
           if (coupled)
-            for (unsigned int v = 0; v < 4; ++v)
-              cell_reference[cell->active_cell_index()][v] =
-                functions.reference_temperature().value(
-                  two_sided.count(cell->vertex_index(v)) ?
-                    cell->vertex(v) + interface_side_offset * (cell->center() - cell->vertex(v)) :
-                    cell->vertex(v));
+            cell_reference[cell->active_cell_index()] =
+              corner_references<dim>(cell, functions.reference_temperature(), two_sided);
         }
     functions.check_finite_values(mpi_communicator);
     update_stiffness_diagonal();
