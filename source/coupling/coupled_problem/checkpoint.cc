@@ -69,7 +69,7 @@ namespace ContactStefan
   // statistics count the large-sliding couplings; 13: and the largest slide of a step; 14: the
   // linear solvers' statistics count CHOLMOD's work; 15: the coupling's count heat guesses and
   // LDL^T blocks; 16: the stress check's energy error, the energy and largest strain at the
-  // material points; 17: the contact pressure windows): an older one is refused by name.
+  // material points; 17: pressure windows; 18: contact lengths): older ones are refused.
   const std::string checkpoint_format = "contact-stefan checkpoint 18";
 
   namespace

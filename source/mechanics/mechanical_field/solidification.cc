@@ -200,7 +200,8 @@ namespace ContactStefan
             {
               const CornerReference &corner = (*history)[c][v];
               // Theta_ref: the birth temperature of a born point; Theta_0 of
-              // the scene at the vertex otherwise (set with the cell operators).
+              // the scene at the vertex otherwise (set with the cell operators;
+              // at a hanging vertex the mean of the coarse face's ends).
               if (corner.born != 0)
                 cell_reference[c][v] = corner.theta;
               any_strain =
