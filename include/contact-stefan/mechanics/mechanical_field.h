@@ -100,8 +100,8 @@ namespace ContactStefan
     /**
      * Per obstacle boundary / interface: the length in contact, the sum of the
      * weights (shares of the boundary's length) of its nodes in the active set
-     * (m per unit thickness). Unlike the number of active nodes it converges
-     * under refinement, adaptive or not.
+     * (m per unit thickness). Unlike the number of active nodes it does not
+     * depend on how the boundary's nodes are spaced (adapted meshes).
      */
     std::map<std::string, double> contact_lengths;
     /** What the elasticity system's CG + AMG did (nothing on the direct path). */
