@@ -98,7 +98,10 @@ add_test(NAME adaptive/neumann-A-vs-global
 # C1 as a ramp of 10 steps on the 16 x 8 mesh without pre-refinement, adapted
 # after every step to the contact zone (buffer 3) and the displacement jumps:
 # a and p0 within 0.1 % (the geometric pre-refinement of contact/hertz-C1 gives
-# 1.9 % for a with half the DoFs of the final mesh, 6102 against 12416).
+# 1.9 % for a with half the DoFs of the final mesh, 6102 against 12416). The
+# length in contact, summed over the adapted boundary's unequal weights, is the
+# exact 2a = 0.0648833 within the finest contact cell h = 0.00048828 (measured
+# 0.0649414).
 set(ADAPTIVE_C1 "SET:Time stepping/Time step=0.1" "SET:Mesh refinement/Pre-refinement radius=0"
   "SET:Mesh refinement/Adaptive refinement interval=1" "SET:Mesh refinement/Maximum level=9"
   "SET:Mesh refinement/Coarsen fraction=0.02" "SET:Mesh refinement/Contact buffer=3")
@@ -106,6 +109,7 @@ set(ADAPTIVE_C1_BOUNDS
   "RESULT Hertz half-width relative error<0.002"
   "RESULT Hertz peak pressure relative error<0.001"
   "RESULT Hertz pressure profile relative L2 error<0.005"
+  "RESULT contact length boundary 3>0.0643950" "RESULT contact length boundary 3<0.0653716"
   "RESULT displacement dofs<16000")
 scene(adaptive/hertz-C1 1 ${P}/hertz_C1.prm hertz_C1_adaptive ${ADAPTIVE_C1}
   ${ADAPTIVE_C1_BOUNDS})
