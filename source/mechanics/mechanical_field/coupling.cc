@@ -441,7 +441,8 @@ namespace ContactStefan
               double *const at = &sums[3 * (w * n_groups + group)];
               at[0] += dec.lambda;
               at[1] += dec.c->weight;
-              at[2] += 64 * std::numeric_limits<double>::epsilon() * dec.c->stiffness * u_max;
+              at[2] += round_off_factor * std::numeric_limits<double>::epsilon() *
+                       dec.c->stiffness * u_max;
             }
       }
     Utilities::MPI::sum(sums, mpi_communicator, sums);
