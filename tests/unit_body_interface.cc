@@ -5,7 +5,10 @@
 // the lumped weights (half the adjacent face lengths, summing to the length
 // 1/cos 17deg) and no corner; on an L-shaped interface of a 2 x 2 mesh the
 // kink vertex is a corner with the bisecting normal and the weight of both
-// faces.
+// faces. Where functions are evaluated per body (two_sided_vertices(),
+// jumps_at(), point_of_side(); doc/coupling.md §2): on a straight interface
+// of a 4 x 4 mesh, the vertices marked for each law, and which data jump.
+#include <deal.II/base/function.h>
 #include <deal.II/base/mpi.h>
 
 #include <deal.II/grid/grid_generator.h>
@@ -14,10 +17,10 @@
 
 #include <contact-stefan/interfaces/body_interface.h>
 
-#include "unit_test_tools.h"
-
 #include <cmath>
 #include <fstream>
+
+#include "unit_test_tools.h"
 
 using namespace ContactStefan;
 using UnitTest::check;
@@ -115,6 +118,66 @@ namespace
     check(found, "the kink is a vertex of the interface");
     check(ends, "the two ends: no corner, half a face each, paired");
   }
+
+  void two_sided()
+  {
+    std::printf("two-sided vertices of a straight interface x = 1 (4 x 4 cells on [0, 2]^2)\n");
+    Triangulation<2> triangulation;
+    GridGenerator::subdivided_hyper_rectangle(triangulation,
+                                              {4, 4},
+                                              Point<2>(0, 0),
+                                              Point<2>(2, 2));
+    for (const auto &cell : triangulation.active_cell_iterators())
+      cell->set_material_id(cell->center()[0] > 1 ? 1 : 0);
+    Parameters::InterfacePair law;
+    law.thermal_contact = Parameters::InterfacePair::ThermalContact::perfect;
+    law.discretisation  = Parameters::InterfacePair::Discretisation::nodal;
+    std::map<std::pair<unsigned int, unsigned int>, Parameters::InterfacePair> pairs{{{0, 1}, law}};
+    const auto marked = [&](const std::vector<bool> &two_sided) {
+      unsigned int count   = 0;
+      bool         on_line = true;
+      for (unsigned int v = 0; v < triangulation.n_vertices(); ++v)
+        if (two_sided[v])
+          {
+            ++count;
+            on_line = on_line && triangulation.get_vertices()[v][0] == 1;
+          }
+      return on_line ? count : 0;
+    };
+    const auto all = two_sided_vertices(triangulation, pairs);
+    check(marked(all) == 5, "perfect contact: the 5 vertices on x = 1, no other");
+    check(marked(two_sided_vertices(triangulation, pairs, true)) == 0,
+          "perfect contact, conductances only: none");
+    pairs.at({0, 1}).thermal_contact = Parameters::InterfacePair::ThermalContact::conductance;
+    check(marked(two_sided_vertices(triangulation, pairs, true)) == 5,
+          "a conductance interface, conductances only: the 5");
+
+    const auto function = [](const std::function<double(const Point<2> &)> &f) {
+      return ScalarFunctionFromFunctionObject<2>(f);
+    };
+    const auto below       = function([](const Point<2> &x) { return x[0] < 1 ? 300. : 400.; });
+    const auto at_or_below = function([](const Point<2> &x) { return x[0] <= 1 ? 300. : 400.; });
+    check(jumps_at(below, triangulation, all) && jumps_at(at_or_below, triangulation, all),
+          "300 K | 400 K jumps, whichever side the comparison gives x = 1");
+    check(!jumps_at(function([](const Point<2> &x) { return 300 + 1e3 * x[0]; }),
+                    triangulation,
+                    all),
+          "300 + 1000 x does not (the offset inside moves it by about 1e-7 K)");
+    check(!jumps_at(function([](const Point<2> &x) { return 1e3 * (x[0] - 1); }),
+                    triangulation,
+                    all),
+          "1000 (x - 1), zero on the interface, does not");
+    bool own_side = true;
+    for (const auto &cell : triangulation.active_cell_iterators())
+      for (const unsigned int v : cell->vertex_indices())
+        if (all[cell->vertex_index(v)])
+          {
+            const double expected = cell->material_id() == 0 ? 300 : 400;
+            own_side = own_side && below.value(point_of_side<2>(cell, v)) == expected &&
+                       at_or_below.value(point_of_side<2>(cell, v)) == expected;
+          }
+    check(own_side, "point_of_side: each cell evaluates its own body's value at x = 1");
+  }
 } // namespace
 
 int main(int argc, char **argv)
@@ -127,5 +190,6 @@ int main(int argc, char **argv)
     }
   inclined(argv[1]);
   kinked();
+  two_sided();
   return UnitTest::finish();
 }

@@ -371,3 +371,35 @@ scene(coupling/curved-reference-hanging 1 ${T}/scenes/curved_reference_hanging.p
   curved_reference_hanging ${CURVED_REFERENCE_BOUNDS})
 scene(coupling/curved-reference-hanging-mpi2 2 ${T}/scenes/curved_reference_hanging.prm
   curved_reference_hanging ${CURVED_REFERENCE_BOUNDS})
+# A reference and an initial temperature that jump at a perfect-contact
+# interface (tests/scenes/jump_at_interface.prm, doc/coupling.md §2): two
+# blocks at 300 K and 400 K, each stress-free at its own temperature,
+# insulated, under 1 MPa. The interface nodes start from the lumped-mass mean
+# of both sides' enthalpies, so the blocks end at exactly 350 K; each body
+# measures its thermal strain from its own reference up to the interface, so
+# the end state is the exact uniform stress of each body (sigma_zz = -1.5025e8
+# Pa below, 1.4975e8 above). With y <= 1 instead of y < 1 in the data (the
+# interface vertices on the other branch) the output is the same, to the
+# digit. Before 2026-12-07 the interface row took the value of the branch
+# its coordinates selected (400 K): the blocks would end 3.125 K above 350 K
+# (the row's lumped mass, 0.125 of the area 2, held 50 K too much), and one
+# layer of cells carried the other body's reference.
+set(JUMP_AT_INTERFACE_BOUNDS
+  "RESULT relative L2 error temperature<1e-10"
+  "RESULT max relative stress L2 error<1e-9"
+  "RESULT max relative stress L2 error (cell centres)<1e-9"
+  "RESULT max relative stress L2 error (recovered)<1e-9"
+  "RESULT max relative elastic energy error<1e-9")
+scene(coupling/jump-at-interface 1 ${T}/scenes/jump_at_interface.prm
+  jump_at_interface ${JUMP_AT_INTERFACE_BOUNDS})
+scene(coupling/jump-at-interface-mpi2 2 ${T}/scenes/jump_at_interface.prm
+  jump_at_interface ${JUMP_AT_INTERFACE_BOUNDS})
+# On 3 ranks (the mixing is collective: a rank may own no interface node).
+scene(coupling/jump-at-interface-mpi3 3 ${T}/scenes/jump_at_interface.prm
+  jump_at_interface ${JUMP_AT_INTERFACE_BOUNDS})
+scene(coupling/jump-at-interface-other-branch 1 ${T}/scenes/jump_at_interface.prm
+  jump_at_interface
+  "SET:Coupling/Reference temperature=if(y <= 1, 300, 400)"
+  "SET:Initial conditions/Function=if(y <= 1, 300, 400)"
+  "SET:Exact solution/Stress=0<semicolon> -1e6<semicolon> 0<semicolon> if(y <= 1, -1.5025e8, 1.4975e8)"
+  ${JUMP_AT_INTERFACE_BOUNDS})

@@ -9,7 +9,7 @@
 set(SUBDUCTION_BOUNDS
   "RESULT active contact nodes>0.5"
   "RESULT active contact nodes<21"
-  "RESULT max active contact nodes over the steps>12.5"
+  "RESULT max active contact nodes over the steps>11.5"
   "RESULT melt area>3e8"
   "RESULT cells re-stiffened for a phase change>0.5"
   "RESULT max energy-balance residual<1e-8"
@@ -26,8 +26,8 @@ scene(scenes/subduction-mpi2 2 ${CMAKE_SOURCE_DIR}/prm/subduction.prm subduction
 # profile from the wedge's geotherm at its surface; the base heated from 1100
 # degC at the foot to 1400 degC in the wedge), written once with the formula
 # (the reference) and once with the variable, on 1 and 2 ranks: the same
-# numbers. (The scene's own data jump at the interface, where rounding decides
-# which side a node on it takes.)
+# numbers. (The scene's own data jump at the interface, where each body takes
+# its own value and the nodes start mixed: doc/coupling.md §2.)
 set(SLAB_BY_LINE
   "SET:Coupling/Reference temperature=1100 * (-y) / 100000 + (1350 - 1100 * (-y) / 100000) * sqrt(1 - exp(-(max(0, min(-y, if(((x - 100000) * 0.8660254037844386 - y * 0.5) > 200000, sign((-(x - 100000) * 0.5 - y * 0.8660254037844386)) * sqrt((x - 273205.0807568877)^2 + (y + 100000)^2), if(((x - 100000) * 0.8660254037844386 - y * 0.5) < 0, sign((-(x - 100000) * 0.5 - y * 0.8660254037844386)) * sqrt((x - 100000)^2 + y^2), (-(x - 100000) * 0.5 - y * 0.8660254037844386))))) / 68800)^2 * (4 / pi + 0.147 * (max(0, min(-y, if(((x - 100000) * 0.8660254037844386 - y * 0.5) > 200000, sign((-(x - 100000) * 0.5 - y * 0.8660254037844386)) * sqrt((x - 273205.0807568877)^2 + (y + 100000)^2), if(((x - 100000) * 0.8660254037844386 - y * 0.5) < 0, sign((-(x - 100000) * 0.5 - y * 0.8660254037844386)) * sqrt((x - 100000)^2 + y^2), (-(x - 100000) * 0.5 - y * 0.8660254037844386))))) / 68800)^2) / (1 + 0.147 * (max(0, min(-y, if(((x - 100000) * 0.8660254037844386 - y * 0.5) > 200000, sign((-(x - 100000) * 0.5 - y * 0.8660254037844386)) * sqrt((x - 273205.0807568877)^2 + (y + 100000)^2), if(((x - 100000) * 0.8660254037844386 - y * 0.5) < 0, sign((-(x - 100000) * 0.5 - y * 0.8660254037844386)) * sqrt((x - 100000)^2 + y^2), (-(x - 100000) * 0.5 - y * 0.8660254037844386))))) / 68800)^2)))"
   "SET:Initial conditions/Function=1100 * (-y) / 100000 + (1350 - 1100 * (-y) / 100000) * sqrt(1 - exp(-(max(0, min(-y, if(((x - 100000) * 0.8660254037844386 - y * 0.5) > 200000, sign((-(x - 100000) * 0.5 - y * 0.8660254037844386)) * sqrt((x - 273205.0807568877)^2 + (y + 100000)^2), if(((x - 100000) * 0.8660254037844386 - y * 0.5) < 0, sign((-(x - 100000) * 0.5 - y * 0.8660254037844386)) * sqrt((x - 100000)^2 + y^2), (-(x - 100000) * 0.5 - y * 0.8660254037844386))))) / 68800)^2 * (4 / pi + 0.147 * (max(0, min(-y, if(((x - 100000) * 0.8660254037844386 - y * 0.5) > 200000, sign((-(x - 100000) * 0.5 - y * 0.8660254037844386)) * sqrt((x - 273205.0807568877)^2 + (y + 100000)^2), if(((x - 100000) * 0.8660254037844386 - y * 0.5) < 0, sign((-(x - 100000) * 0.5 - y * 0.8660254037844386)) * sqrt((x - 100000)^2 + y^2), (-(x - 100000) * 0.5 - y * 0.8660254037844386))))) / 68800)^2) / (1 + 0.147 * (max(0, min(-y, if(((x - 100000) * 0.8660254037844386 - y * 0.5) > 200000, sign((-(x - 100000) * 0.5 - y * 0.8660254037844386)) * sqrt((x - 273205.0807568877)^2 + (y + 100000)^2), if(((x - 100000) * 0.8660254037844386 - y * 0.5) < 0, sign((-(x - 100000) * 0.5 - y * 0.8660254037844386)) * sqrt((x - 100000)^2 + y^2), (-(x - 100000) * 0.5 - y * 0.8660254037844386))))) / 68800)^2)))"
@@ -67,11 +67,14 @@ resume_test(restart/subduction-bent-slab-adaptive 2 1 CONTACT_STEFAN_KILL_AFTER_
   "SET:Mesh refinement/Adaptive refinement interval=2" "SET:Mesh refinement/Maximum level=2"
   "SET:Checkpoint/Interval (steps)=5" "SET:Output/VTU interval=5")
 # Casting, the first 20 s: the contact with the die opens as the shell
-# solidifies (active nodes fall from all 17), the liquid core shrinks.
+# solidifies (active nodes fall from 12 of 17 to 4), the liquid core shrinks.
+# (Before 2026-12-07 all 17 were closed at first: the die's wall nodes took
+# the casting's 700 degC as their reference and initial temperature; they
+# start now from the lumped-mass mean of both sides, doc/coupling.md §2.)
 set(CASTING_BOUNDS
   "SET:Time stepping/End time=20"
-  "RESULT max active contact nodes over the steps>16.5"
-  "RESULT active contact nodes<12.5"
+  "RESULT max active contact nodes over the steps>11.5"
+  "RESULT active contact nodes<8.5"
   "RESULT melt area>0.001"
   "RESULT melt area<0.0019"
   "RESULT max energy-balance residual<1e-8")
@@ -80,28 +83,33 @@ scene(scenes/casting-mpi2 2 ${CMAKE_SOURCE_DIR}/prm/casting.prm casting ${CASTIN
 # The casting with its die meshed on its own (prm/casting_mortar.prm, 32
 # casting cells and 24 die cells along the wall, a dual mortar interface in
 # contact and perfect thermal contact): energy conserved, the coupling
-# balanced; its melt area lies between the matching mesh's of the same
-# casting resolution and 5 % above it, its contact force within about 1 % of
-# the matching one (doc/scenes.md: 6.34e-4 m^2, 3.96e5 N/m; measured 6.64e-4
-# and 4.00e5).
+# balanced; its melt area within 0.5 % of the matching mesh's of the same
+# casting resolution (S1 of doc/scenes.md §4: 5.437e-4 m^2; measured
+# 5.422e-4). Its contact force, 4.90e5 N/m, is 6.3 % above the matching
+# S1's 4.61e5: the two sides' chords of the circle differ, and the mortar gap
+# holds the difference as extra interference (24, 6.3, 1.4 % at 16, 32, 64
+# casting cells along the wall: about h^2, doc/scenes.md). Pinned here to 1 %.
 set(CASTING_MORTAR_BOUNDS "SET:Output/VTU interval=0"
   "RESULT max energy-balance residual<1e-12"
   "RESULT steps with relaxation fallback<0.5"
   "RESULT mortar weight defect interface 0-1<1e-14"
   "RESULT mortar uncovered slave length interface 0-1<1e-15"
-  "RESULT melt area>0.000634" "RESULT melt area<0.000666"
-  "RESULT contact force interface 0-1>392000" "RESULT contact force interface 0-1<401000")
+  "RESULT melt area>0.000541" "RESULT melt area<0.000546"
+  "RESULT contact force interface 0-1>485000" "RESULT contact force interface 0-1<495000")
 scene(scenes/casting-mortar 1 ${CMAKE_SOURCE_DIR}/prm/casting_mortar.prm casting_mortar
   ${CASTING_MORTAR_BOUNDS})
 scene(scenes/casting-mortar-mpi2 2 ${CMAKE_SOURCE_DIR}/prm/casting_mortar.prm casting_mortar
   ${CASTING_MORTAR_BOUNDS})
 # The casting born stress-free at solidification (doc/solidification.md), run
-# until it has frozen through (200 s): every corner of its 192 cells born once.
+# until it has frozen through (200 s): every corner of its 192 cells born once,
+# but the 32 corners on the die wall, whose nodes start solid (at the
+# lumped-mass mean of the casting's and the die's enthalpies, below the
+# melting point: doc/coupling.md §2) and keep the pouring reference.
 scene(scenes/casting-birth 1 ${CMAKE_SOURCE_DIR}/prm/casting.prm casting-birth
   "SET:Materials/Body 0/Phase change/Stress free at solidification=true"
   "SET:Time stepping/End time=200" "SET:Output/VTU interval=0"
-  "RESULT melt area<1e-12" "RESULT material points born>767.5"
-  "RESULT material points born<768.5" "RESULT max energy-balance residual<1e-8")
+  "RESULT melt area<1e-12" "RESULT material points born>735.5"
+  "RESULT material points born<736.5" "RESULT max energy-balance residual<1e-8")
 # The crust melted by an intrusion that then refreezes, born stress-free at
 # solidification (doc/scenes.md section 3): the lens above the intrusion melts
 # and refreezes (740 births), the melt is gone at 400 kyr.

@@ -14,9 +14,12 @@
 #ifndef contact_stefan_body_interface_h
 #define contact_stefan_body_interface_h
 
+#include <deal.II/base/function.h>
 #include <deal.II/base/point.h>
 
 #include <deal.II/grid/tria.h>
+
+#include <contact-stefan/core/interface_laws.h>
 
 #include <array>
 #include <map>
@@ -76,6 +79,49 @@ namespace ContactStefan
    * 1e-10 h |grad f|.
    */
   inline constexpr double interface_side_offset = 1e-10;
+
+  /**
+   * Whether a function given for the whole domain is evaluated per body at
+   * each vertex of the mesh (indexed by the triangulation's vertex index): at
+   * a vertex shared by cells of two or more bodies, and on the boundaries of
+   * a mortar interface (each a boundary of its own body, where the two
+   * bodies' data meet). Cells that are not artificial are visited, which on a
+   * distributed mesh are all cells around a vertex of a locally owned cell.
+   * At such a vertex the reference and the initial temperature (and an exact
+   * solution) are evaluated for each body inside a cell of that body
+   * (point_of_side()), so that a function that jumps along the interface
+   * gives each body its own value whatever branch the rounding of the
+   * vertex's coordinates would select (doc/coupling.md §2); when the
+   * function jumps there (jumps_at()). conductance_only: the vertices of
+   * conductance interfaces alone (one temperature per side: always
+   * evaluated inside).
+   */
+  template <int dim>
+  std::vector<bool> two_sided_vertices(
+    const Triangulation<dim>                                                         &triangulation,
+    const std::map<std::pair<unsigned int, unsigned int>, Parameters::InterfacePair> &pairs,
+    const bool conductance_only = false);
+
+  /**
+   * Whether f jumps at a two-sided vertex: its values just inside some cell
+   * (point_of_side()) and just outside it, the same distance beyond the
+   * vertex, differ by more than 1e-8 of the
+   * largest |f| at the vertices of the mesh (the offset inside moves a smooth
+   * function by about 1e-10 h |grad f|). Continuous data are evaluated at the vertices, as they
+   * always were: moving them inside by round-off would load a body that
+   * starts stress-free. Collective.
+   */
+  template <int dim>
+  bool jumps_at(const Function<dim>      &f,
+                const Triangulation<dim> &triangulation,
+                const std::vector<bool>  &two_sided);
+
+  /** The point at which a cell evaluates a function for vertex v (above). */
+  template <int dim, typename CellIterator>
+  Point<dim> point_of_side(const CellIterator &cell, const unsigned int v)
+  {
+    return cell->vertex(v) + interface_side_offset * (cell->center() - cell->vertex(v));
+  }
 
   /**
    * What the contact step tells the thermal field about an interface vertex

@@ -305,7 +305,10 @@ namespace ContactStefan
     /**
      * Visit every vertex of every owned cell with its vertex-rule weight and
      * the recovered stress there (sigma, sigma_zz): the L2 error of the
-     * recovered field by the vertex rule. Collective (the recovery).
+     * recovered field by the vertex rule. Collective (the recovery). At a
+     * vertex shared by bodies the point is just inside the cell
+     * (point_of_side()), so that an exact solution that jumps there is
+     * evaluated for the cell's body.
      */
     void for_each_recovered_vertex_stress(
       const std::function<void(const Point<dim> &, double, const SymmetricTensor<2, dim> &, double)>
@@ -376,7 +379,8 @@ namespace ContactStefan
     /**
      * Visit every vertex of every owned cell with its trapezoidal weight, the
      * computed stress there, sigma_zz, the thermal part -beta (Theta -
-     * Theta_ref), the cell's moduli and the strain e(u) there.
+     * Theta_ref), the cell's moduli and the strain e(u) there. The point as in
+     * for_each_recovered_vertex_stress().
      */
     void
     for_each_vertex_stress(const std::function<void(const Point<dim> &,

@@ -367,6 +367,11 @@ namespace ContactStefan
 
     /** thermal_field/setup.cc */
     void setup_nodal_enthalpy_laws();
+    /** initialize(): the lumped-mass mean of the bodies' initial enthalpies
+     *  at a node they share, where their values differ (setup.cc). */
+    void mix_initial_enthalpy_at_shared_nodes(const Function<dim>     &f,
+                                              const bool               from_temperature,
+                                              const std::vector<bool> &two_sided);
     void assemble_cell_conductivities();
     void assemble_heat_load();
     void make_dirichlet_constraints();

@@ -22,6 +22,7 @@
 #include <deal.II/hp/q_collection.h>
 
 #include <contact-stefan/core/q1_kernels.h>
+#include <contact-stefan/interfaces/body_interface.h>
 #include <contact-stefan/mechanics/mechanical_field.h>
 
 #include <limits>
@@ -260,6 +261,7 @@ namespace ContactStefan
     assert_two_dimensional<dim>();
     Point<2>                               x[4];
     std::array<std::array<double, 4>, dim> u;
+    const std::vector<bool> shared = two_sided_vertices(triangulation, prm.interface_pairs);
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
@@ -272,8 +274,13 @@ namespace ContactStefan
               const auto [sigma, szz]              = stress(cell, v, strain);
               const unsigned int c      = cell->active_cell_index();
               const double       excess = thermal_stress ? cell_theta_excess[c][v] : 0.;
-              visit(
-                x[v], weight[v], sigma, szz, -excess * cell_moduli[c].beta, cell_moduli[c], strain);
+              visit(shared[cell->vertex_index(v)] ? point_of_side<dim>(cell, v) : x[v],
+                    weight[v],
+                    sigma,
+                    szz,
+                    -excess * cell_moduli[c].beta,
+                    cell_moduli[c],
+                    strain);
             }
         }
   }

@@ -8,6 +8,7 @@
 #include <contact-stefan/core/body_recovery.h>
 #include <contact-stefan/core/q1_kernels.h>
 #include <contact-stefan/core/slot_sum.h>
+#include <contact-stefan/interfaces/body_interface.h>
 #include <contact-stefan/mechanics/mechanical_field.h>
 
 #include <cmath>
@@ -375,6 +376,7 @@ namespace ContactStefan
     const hp::QCollection<dim> vertex_rule(QTrapezoid<dim>{});
     hp::FEValues<dim> hp_values(fe, vertex_rule, update_JxW_values | update_quadrature_points);
     std::vector<types::global_dof_index> dofs;
+    const std::vector<bool> shared = two_sided_vertices(triangulation, prm.interface_pairs);
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
@@ -393,7 +395,11 @@ namespace ContactStefan
               sigma[0][0] = ghosted[0][dof(0)];
               sigma[1][1] = ghosted[0][dof(1)];
               sigma[0][1] = ghosted[1][dof(0)];
-              visit(fv.quadrature_point(v), fv.JxW(v), sigma, ghosted[1][dof(1)]);
+              visit(shared[cell->vertex_index(v)] ? point_of_side<dim>(cell, v) :
+                                                    fv.quadrature_point(v),
+                    fv.JxW(v),
+                    sigma,
+                    ghosted[1][dof(1)]);
             }
         }
   }

@@ -51,18 +51,17 @@ namespace ContactStefan
     // reference would load every hanging vertex with beta (Theta_0 at the
     // midpoint - the mean): a curved reference is not stress-free at t0 on an
     // adapted mesh (the subduction scene, adapted: a contact force of 2e11
-    // N/m and 5 km in contact at t0 without any load). A point on a
-    // conductance interface (two_sided) is evaluated inside the cell, on its
-    // own side.
+    // N/m and 5 km in contact at t0 without any load). A vertex where bodies
+    // meet (two_sided) is evaluated inside the cell, on its own body's side.
     template <int dim>
     std::array<double, 4>
     corner_references(const typename DoFHandler<dim>::active_cell_iterator &cell,
                       const Function<dim>                                  &reference,
-                      const std::set<unsigned int>                         &two_sided)
+                      const std::vector<bool>                              &two_sided)
     {
       const auto at = [&](const unsigned int vertex_index, const Point<dim> &x) {
         return reference.value(
-          two_sided.count(vertex_index) ? x + interface_side_offset * (cell->center() - x) : x);
+          two_sided[vertex_index] ? x + interface_side_offset * (cell->center() - x) : x);
       };
       std::array<double, 4> values;
       for (unsigned int v = 0; v < 4; ++v)
@@ -618,35 +617,19 @@ namespace ContactStefan
     cell_ezz_stiffness.assign(n_ezz_cells, 0.);
     cell_ezz_thermal.assign(n_ezz_cells, {{0., 0., 0., 0.}});
     ezz_response.clear();
-    // Theta_0 on each side of a conductance interface is the side's own (a
-    // reference that jumps there, as a casting's does): evaluated inside the
-    // cell at the vertices of such interfaces, as the thermal field does.
-    std::set<unsigned int> two_sided;
+    // Theta_0 on each side of a place where bodies meet is the side's own (a
+    // reference that jumps there, as the subduction zone's and a casting's
+    // do): evaluated inside the cell (two_sided_vertices(), if it jumps there,
+    // jumps_at(); always at a conductance interface). The temperature there is
+    // one value for both sides (perfect contact), or one per side
+    // (conductance); either way each body's thermal strain is measured from
+    // its own reference (doc/coupling.md §2).
+    std::vector<bool> two_sided;
     if (coupled)
       {
-        std::string problem; // (normals are not used here)
-        for (const auto &interface : find_body_interfaces(triangulation, 90., problem))
-          if (prm.interface_pair(interface.body_k, interface.body_l).thermal_contact ==
-              Parameters::InterfacePair::ThermalContact::conductance)
-            for (const auto &vertex : interface.vertices)
-              two_sided.insert(vertex.index);
-        // The sides of a mortar interface with a conductance likewise (each
-        // is a boundary of its own body, where the two bodies' references
-        // meet).
-        for (const auto &cell : triangulation.active_cell_iterators())
-          if (!cell->is_artificial())
-            for (const unsigned int f : cell->face_indices())
-              if (cell->face(f)->at_boundary())
-                for (const auto &[pair, law] : prm.interface_pairs)
-                  if (law.discretisation == Parameters::InterfacePair::Discretisation::mortar &&
-                      law.thermal_contact ==
-                        Parameters::InterfacePair::ThermalContact::conductance &&
-                      ((cell->material_id() == pair.first &&
-                        cell->face(f)->boundary_id() == law.mortar_boundaries[0]) ||
-                       (cell->material_id() == pair.second &&
-                        cell->face(f)->boundary_id() == law.mortar_boundaries[1])))
-                    for (const unsigned int v : cell->face(f)->vertex_indices())
-                      two_sided.insert(cell->face(f)->vertex_index(v));
+        two_sided = two_sided_vertices(triangulation, prm.interface_pairs);
+        if (!jumps_at(functions.reference_temperature(), triangulation, two_sided))
+          two_sided = two_sided_vertices(triangulation, prm.interface_pairs, true);
       }
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())

@@ -25,6 +25,10 @@ namespace ContactStefan
     std::vector<types::global_dof_index> cell_dofs(fe.n_dofs_per_cell());
     std::string                          bad_reference, bad_strength;
     double                               strength = 0;
+    // Each body's own Theta_0 where bodies meet (two_sided_vertices()).
+    std::vector<bool> shared = two_sided_vertices(triangulation, prm.interface_pairs);
+    if (!jumps_at(functions.reference_temperature(), triangulation, shared))
+      shared.assign(shared.size(), false); // (a conductance node: node_point())
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
@@ -34,8 +38,9 @@ namespace ContactStefan
           double theta_max = 0;
           for (unsigned int v = 0; v < 4; ++v)
             {
-              const double theta0 =
-                functions.reference_temperature().value(node_point(cell_dofs[v], cell->vertex(v)));
+              const double theta0 = functions.reference_temperature().value(
+                shared[cell->vertex_index(v)] ? point_of_side<dim>(cell, v) :
+                                                node_point(cell_dofs[v], cell->vertex(v)));
               cell_absolute_reference[c][v] = theta0 + offset;
               theta_max                     = std::max(theta_max, theta0 + offset);
               if (!(theta0 + offset > 0) && bad_reference.empty())

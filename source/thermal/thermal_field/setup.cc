@@ -361,7 +361,12 @@ namespace ContactStefan
     Function<dim> &f = functions.initial_condition();
     f.set_time(t0);
     // The Q1 interpolant: the function at each node (vertex v of a cell is
-    // its v-th DoF, in every slot).
+    // its v-th DoF, in every slot), where bodies meet inside a cell of the
+    // node's body (two_sided_vertices()).
+    std::vector<bool> two_sided  = two_sided_vertices(triangulation, prm.interface_pairs);
+    const bool        data_jumps = jumps_at(f, triangulation, two_sided); // (collective)
+    if (!data_jumps)
+      two_sided.assign(two_sided.size(), false); // (a conductance node: node_point())
     Vector                               values(owned, mpi_communicator);
     std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
     for (const auto &cell : dof_handler.active_cell_iterators())
@@ -370,13 +375,17 @@ namespace ContactStefan
           cell->get_dof_indices(dofs);
           for (unsigned int v = 0; v < dofs.size(); ++v)
             if (owned.is_element(dofs[v]))
-              values[dofs[v]] = f.value(node_point(dofs[v], cell->vertex(v)));
+              values[dofs[v]] =
+                f.value(two_sided[cell->vertex_index(v)] ? point_of_side<dim>(cell, v) :
+                                                           node_point(dofs[v], cell->vertex(v)));
         }
     values.compress(VectorOperation::insert);
     const bool from_temperature =
       prm.initial_condition.variable == Parameters::InitialCondition::Variable::temperature;
     for (const auto dof : owned)
       enthalpy[dof] = from_temperature ? law(dof).enthalpy(values[dof]) : values[dof];
+    if (data_jumps) // (collective: every rank, with or without interface nodes)
+      mix_initial_enthalpy_at_shared_nodes(f, from_temperature, two_sided);
     enthalpy.compress(VectorOperation::insert);
     old_enthalpy = enthalpy;
     // The data at t0 too, so that a function that is not finite from the start
@@ -407,6 +416,63 @@ namespace ContactStefan
     // until a contact step has run): the report at t0 shows them, and a law
     // that cannot be evaluated there stops the run before any step.
     update_conductances();
+  }
+
+
+
+  // A node shared by two bodies in perfect thermal contact has one
+  // temperature, but the initial condition may give each body its own there
+  // (a hot body laid on a cold one: the subduction zone's wedge on its slab,
+  // a casting poured into its die). Each body's value is taken inside a cell
+  // of that body (point_of_side), and the node starts with the lumped-mass
+  // mean of the cells' enthalpies,
+  //   H = sum_K m_K H_K(Theta_K) / sum_K m_K,
+  // the heat the cells around it bring: the discrete form of two half-spaces
+  // brought together, which meet at a temperature between theirs, and the
+  // discrete heat content is then the integral of data that are constant per
+  // body. The sums go through the hanging-node constraints, which hold the
+  // lines of a mortar interface in perfect contact: a master node there
+  // receives its slave nodes' shares (the lumped mass is condensed the same
+  // way), so a mortar interface starts mixed like a matching one. Only data
+  // that jump at some two-sided vertex are mixed (initialize() calls this only
+  // when jumps_at(), on every rank: the vectors' compress() is collective), so
+  // that continuous data start exactly as the interpolant. A conductance node belongs to one body
+  // and keeps its own value (interface_point).
+  template <int dim>
+  void ThermalField<dim>::mix_initial_enthalpy_at_shared_nodes(const Function<dim> &f,
+                                                               const bool from_temperature,
+                                                               const std::vector<bool> &two_sided)
+  {
+    std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+    Vector heat(owned, mpi_communicator), mass(owned, mpi_communicator),
+      touched(owned, mpi_communicator);
+    dealii::Vector<double> local_heat(fe.n_dofs_per_cell()), local_touched(fe.n_dofs_per_cell());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          cell->get_dof_indices(dofs);
+          const auto &m = cell_mass[cell->active_cell_index()];
+          for (unsigned int v = 0; v < 4; ++v)
+            {
+              const bool   side = two_sided[cell->vertex_index(v)];
+              const double value =
+                f.value(side ? point_of_side<dim>(cell, v) : node_point(dofs[v], cell->vertex(v)));
+              local_heat[v] =
+                m[v] * (from_temperature ?
+                          materials[cell->material_id()].enthalpy_law.enthalpy(value) :
+                          value);
+              local_touched[v] = side ? 1. : 0.;
+            }
+          hanging_node_constraints.distribute_local_to_global(local_heat, dofs, heat);
+          hanging_node_constraints.distribute_local_to_global(m, dofs, mass);
+          hanging_node_constraints.distribute_local_to_global(local_touched, dofs, touched);
+        }
+    heat.compress(VectorOperation::add);
+    mass.compress(VectorOperation::add);
+    touched.compress(VectorOperation::add);
+    for (const auto dof : owned)
+      if (touched[dof] > 0 && mass[dof] > 0 && interface_point.find(dof) == interface_point.end())
+        enthalpy[dof] = heat[dof] / mass[dof];
   }
 
 
