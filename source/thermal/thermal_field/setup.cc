@@ -436,8 +436,11 @@ namespace ContactStefan
   // way), so a mortar interface starts mixed like a matching one. Only data
   // that jump at some two-sided vertex are mixed (initialize() calls this only
   // when jumps_at(), on every rank: the vectors' compress() is collective), so
-  // that continuous data start exactly as the interpolant. A conductance node belongs to one body
-  // and keeps its own value (interface_point).
+  // that continuous data start exactly as the interpolant. A conductance node
+  // belongs to one body and keeps its own value (interface_point). (The sum of
+  // the masses is lumped_mass, assembled the same way in setup_dofs(); it is
+  // summed again here next to the heat. Left for the next change of this
+  // function: using lumped_mass would save one vector and one pass.)
   template <int dim>
   void ThermalField<dim>::mix_initial_enthalpy_at_shared_nodes(const Function<dim> &f,
                                                                const bool from_temperature,
