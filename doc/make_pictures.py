@@ -25,7 +25,6 @@ Needs Debian's python3-matplotlib and python3-meshio (`./setup.sh pictures`
 installs them); run with /usr/bin/python3, which sees Debian's packages.
 """
 import argparse
-import math
 import os
 import subprocess
 import sys
@@ -44,16 +43,19 @@ from ladder import set_path  # noqa: E402
 YEAR = 3.15576e7
 
 
-def subduction_interface(points):
-    # Distance to the plane interface from (100 km, 0) dipping 30 degrees; the
-    # coordinate along it is the depth in km.
-    x, y = points[:, 0], points[:, 1]
-    fault_x = 100e3 + (-y) / math.tan(math.radians(30))
-    on = np.abs(x - fault_x) < 1.0
-    return on, -y / 1e3, "depth along the interface (km)"
+def subduction_interface(points, data):
+    # The interface bends (Geometry/Interface dip at base): its vertices are
+    # those that cells of both bodies share (every cell writes its own copies
+    # of its vertices). The coordinate along it is the depth in km.
+    keys = [tuple(k) for k in np.round(points, 3)]
+    bodies = {}
+    for k, b in zip(keys, data["body_id"]):
+        bodies.setdefault(k, set()).add(int(round(b)))
+    on = np.array([len(bodies[k]) > 1 for k in keys])
+    return on, -points[:, 1] / 1e3, "depth along the interface (km)"
 
 
-def casting_interface(points):
+def casting_interface(points, data):
     r = np.hypot(points[:, 0], points[:, 1])
     on = np.abs(r - 0.05) < 1e-9
     return on, np.degrees(np.arctan2(points[:, 1], points[:, 0])), \
@@ -81,7 +83,7 @@ SCENES = {
 def interface_figure(name, scene, frames, path):
     fig, ax = plt.subplots(figsize=(7, 4))
     for t, points, quads, d in frames:
-        on, s, label = scene["interface"](points)
+        on, s, label = scene["interface"](points, d)
         if "pressure_body" in scene:
             # (A mortar interface: the other side's vertices carry no pressure.)
             of_body = np.zeros(len(points), dtype=bool)

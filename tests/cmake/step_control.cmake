@@ -118,6 +118,9 @@ resume_test(restart/neumann-A-adaptive-steps-mpi2 2 2 CONTACT_STEFAN_KILL_AFTER_
 # solve at t0, which no shorter step can redo, needs 6 iterations.
 scene(step_control/subduction-contact-failure-redone 1 ${CMAKE_SOURCE_DIR}/prm/subduction.prm
   subduction_contact_failure_redone
+  ${SUBDUCTION_STRAIGHT} # (tests/cmake/scenes.cmake)
+  # (the base as it was: 1400 degC under the wedge from the foot on)
+  "SET:Boundary conditions/Thermal boundary 2/Value=if(x < 273205.0807568877, 1350 * sqrt(1 - exp(-((min(-y, -(x - 100000) * 0.5 - y * 0.8660254037844386)) / 68800)^2 * (4 / pi + 0.147 * ((min(-y, -(x - 100000) * 0.5 - y * 0.8660254037844386)) / 68800)^2) / (1 + 0.147 * ((min(-y, -(x - 100000) * 0.5 - y * 0.8660254037844386)) / 68800)^2))), 1400)"
   "SET:Output/VTU interval=0"
   "SET:Coupling/Reference temperature=1100 * (-y) / 100000"
   "SET:Initial conditions/Function=1100 * (-y) / 100000"

@@ -32,6 +32,13 @@ add_test(NAME harness/ignore-unknown-line
 set_tests_properties(harness/ignore-unknown-line PROPERTIES PASS_REGULAR_EXPRESSION
   "IGNORE:RESULT enthalpy matrix factorisationz: no such line in .*neumann_A.output")
 
+# (Likewise an IGNORE:column of a column the statistics table does not have.)
+add_test(NAME harness/ignore-unknown-column
+  COMMAND ${T}/run_scene.sh ${BIN} ${P}/neumann_A.prm ${T}/references/neumann_A.output 1
+          "IGNORE:column front_positionz")
+set_tests_properties(harness/ignore-unknown-column PROPERTIES PASS_REGULAR_EXPRESSION
+  "IGNORE:column front_positionz: not a column of the statistics table")
+
 # Bounds about 1.5 times the measured values: a reference regenerated from a
 # wrong code cannot pass them.
 set(NEUMANN_A_BOUNDS
