@@ -437,18 +437,16 @@ namespace ContactStefan
   // that jump at some two-sided vertex are mixed (initialize() calls this only
   // when jumps_at(), on every rank: the vectors' compress() is collective), so
   // that continuous data start exactly as the interpolant. A conductance node
-  // belongs to one body and keeps its own value (interface_point). (The sum of
-  // the masses is lumped_mass, assembled the same way in setup_dofs(); it is
-  // summed again here next to the heat. Left for the next change of this
-  // function: using lumped_mass would save one vector and one pass.)
+  // belongs to one body and keeps its own value (interface_point). The sum of
+  // the masses is lumped_mass, assembled cell by cell through the same
+  // constraints in setup_dofs().
   template <int dim>
   void ThermalField<dim>::mix_initial_enthalpy_at_shared_nodes(const Function<dim> &f,
                                                                const bool from_temperature,
                                                                const std::vector<bool> &two_sided)
   {
     std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
-    Vector heat(owned, mpi_communicator), mass(owned, mpi_communicator),
-      touched(owned, mpi_communicator);
+    Vector                 heat(owned, mpi_communicator), touched(owned, mpi_communicator);
     dealii::Vector<double> local_heat(fe.n_dofs_per_cell()), local_touched(fe.n_dofs_per_cell());
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
@@ -467,15 +465,14 @@ namespace ContactStefan
               local_touched[v] = side ? 1. : 0.;
             }
           hanging_node_constraints.distribute_local_to_global(local_heat, dofs, heat);
-          hanging_node_constraints.distribute_local_to_global(m, dofs, mass);
           hanging_node_constraints.distribute_local_to_global(local_touched, dofs, touched);
         }
     heat.compress(VectorOperation::add);
-    mass.compress(VectorOperation::add);
     touched.compress(VectorOperation::add);
     for (const auto dof : owned)
-      if (touched[dof] > 0 && mass[dof] > 0 && interface_point.find(dof) == interface_point.end())
-        enthalpy[dof] = heat[dof] / mass[dof];
+      if (touched[dof] > 0 && lumped_mass[dof] > 0 &&
+          interface_point.find(dof) == interface_point.end())
+        enthalpy[dof] = heat[dof] / lumped_mass[dof];
   }
 
 
