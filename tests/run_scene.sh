@@ -22,8 +22,9 @@
 # recall, CHOLMOD modifies some in place); its value is then checked by
 # requirements, and such a test never rewrites the reference (with
 # UPDATE_REFERENCE=1 it passes without writing). 'IGNORE:column name' does the
-# same for a column of the statistics table (a quantity that is zero to
-# round-off in this scene, whose digits depend on the rank count).
+# same for a column of the statistics table (a quantity that is negligible in
+# the scene and whose digits depend on the rank count, e.g. the subduction
+# zone's contact work on 2 ranks).
 # With UPDATE_REFERENCE=1 the reference is rewritten instead (after the
 # requirements pass): references are produced by the code, never by hand.
 set -u
@@ -122,7 +123,7 @@ done
 
 if [ "${UPDATE_REFERENCE:-0}" = 1 ]; then
   if [ $((${#ignored[@]} + ${#ignored_columns[@]})) -gt 0 ]; then
-    echo "reference $reference not written: this test leaves lines of it out"
+    echo "reference $reference not written: this test leaves lines or columns of it out"
     passed=1; exit 0
   fi
   cp "$out" "$reference"; echo "reference $reference written"; passed=1; exit 0
