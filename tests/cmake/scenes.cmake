@@ -91,20 +91,43 @@ resume_test(restart/subduction-bent-slab-adaptive 2 1 CONTACT_STEFAN_KILL_AFTER_
   ${CMAKE_SOURCE_DIR}/benchmarks/scenes/subduction_bent_slab.prm
   "SET:Mesh refinement/Adaptive refinement interval=2" "SET:Mesh refinement/Maximum level=2"
   "SET:Checkpoint/Interval (steps)=5" "SET:Output/VTU interval=5")
-# Casting, the first 20 s: the contact with the die opens as the shell
-# solidifies (active nodes fall from 12 of 17 to 4), the liquid core shrinks.
-# (Before 2026-12-07 all 17 were closed at first: the die's wall nodes took
-# the casting's 700 degC as their reference and initial temperature; they
-# start now from the lumped-mass mean of both sides, doc/coupling.md §2.)
+# Casting, the first 20 s, on the scene's mesh adapted after every step to 3
+# levels (about 6 s): the contact stays closed on the whole wall (129 active
+# nodes) while the shell grows and the liquid core shrinks; melt area and
+# contact force within 1 % of the adapted level 4's at 20 s (1.2310e-3 m^2,
+# 6.238e5 N/m; level 3 1.2325e-3 m^2, 6.220e5 N/m; doc/scenes.md section 4).
 set(CASTING_BOUNDS
   "SET:Time stepping/End time=20"
-  "RESULT max active contact nodes over the steps>11.5"
-  "RESULT active contact nodes<8.5"
+  "RESULT active contact nodes>128.5"
+  "RESULT melt area>0.0012187" "RESULT melt area<0.0012433"
+  "RESULT contact force interface 0-1>617600" "RESULT contact force interface 0-1<630100"
+  "RESULT mesh adaptations>18.5"
+  "RESULT max energy-balance residual<1e-8"
+  "RESULT nodes with h outside H(Theta)<1")
+scene(scenes/casting 1 ${CMAKE_SOURCE_DIR}/prm/casting.prm casting ${CASTING_BOUNDS})
+# Its 8 x 8 mesh alone (no adaptation), on 1 and 2 ranks against one reference
+# (an adapted mesh may differ between rank counts where two cells' indicators
+# tie to round-off, and the active-set iterations with it).
+set(CASTING_COARSE
+  "SET:Mesh refinement/Adaptive refinement interval=0"
+  "SET:Mesh refinement/Initial adaptive refinements=0")
+set(CASTING_COARSE_BOUNDS
+  "SET:Time stepping/End time=20"
+  "RESULT active contact nodes>16.5"
   "RESULT melt area>0.001"
   "RESULT melt area<0.0019"
   "RESULT max energy-balance residual<1e-8")
-scene(scenes/casting 1 ${CMAKE_SOURCE_DIR}/prm/casting.prm casting ${CASTING_BOUNDS})
-scene(scenes/casting-mpi2 2 ${CMAKE_SOURCE_DIR}/prm/casting.prm casting ${CASTING_BOUNDS})
+scene(scenes/casting-coarse 1 ${CMAKE_SOURCE_DIR}/prm/casting.prm casting_coarse
+  ${CASTING_COARSE} ${CASTING_COARSE_BOUNDS})
+scene(scenes/casting-coarse-mpi2 2 ${CMAKE_SOURCE_DIR}/prm/casting.prm casting_coarse
+  ${CASTING_COARSE} ${CASTING_COARSE_BOUNDS})
+# The variants below (the birth here, the gap conductance in interface_heat.cmake)
+# keep the scene as it was before 2026-12-07, on which doc/scenes.md,
+# doc/interface_heat.md and doc/solidification.md measured them: the 8 x 8 mesh
+# and the interference growing linearly towards y = 0.
+set(CASTING_LINEAR
+  ${CASTING_COARSE}
+  "SET:Contact/Interface gap=-3e-4 * (1 - y / 0.05)")
 # The casting with its die meshed on its own (prm/casting_mortar.prm, 32
 # casting cells and 24 die cells along the wall, a dual mortar interface in
 # contact and perfect thermal contact): energy conserved, the coupling
@@ -131,7 +154,7 @@ scene(scenes/casting-mortar-mpi2 2 ${CMAKE_SOURCE_DIR}/prm/casting_mortar.prm ca
 # lumped-mass mean of the casting's and the die's enthalpies, below the
 # melting point: doc/coupling.md §2) and keep the pouring reference.
 scene(scenes/casting-birth 1 ${CMAKE_SOURCE_DIR}/prm/casting.prm casting-birth
-  "SET:Materials/Body 0/Phase change/Stress free at solidification=true"
+  ${CASTING_LINEAR} "SET:Materials/Body 0/Phase change/Stress free at solidification=true"
   "SET:Time stepping/End time=200" "SET:Output/VTU interval=0"
   "RESULT melt area<1e-12" "RESULT material points born>735.5"
   "RESULT material points born<736.5" "RESULT max energy-balance residual<1e-8")
