@@ -164,8 +164,8 @@ def birth_figure(binary, work, name, path):
     text = text.replace("include include/", "include %s/prm/include/" % ROOT)
     if c["end"] is not None:
         text = set_path(text, "Time stepping/End time", repr(c["end"]))
-    for path, value in c.get("settings", {}).items():
-        text = set_path(text, path, value)
+    for entry, value in c.get("settings", {}).items():
+        text = set_path(text, entry, value)
     text = set_path(text, "Output/VTU interval", "100000")
     text = set_path(text, "Output/Directory", "output")
     rows, summary = [], []
