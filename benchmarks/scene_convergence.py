@@ -18,11 +18,13 @@ from the level before; the last column says whether the last change is below
         --set "Mesh refinement/Initial adaptive refinements=4"
     benchmarks/scene_convergence.py benchmarks/scenes/subduction_bent_slab.prm --levels 0,1,2,3 --markdown
     benchmarks/scene_convergence.py prm/casting.prm --levels 0,1,2 --subdivisions
+        --set "Mesh refinement/Adaptive refinement interval=0"
+        --set "Mesh refinement/Initial adaptive refinements=0"
 
-(each command on one line). The default scene adapts its mesh to level 3 itself:
-the first command refines its coarse mesh globally with the adaptation switched
-off, the second adapts it one level deeper than the scene (doc/scenes.md
-section 4).
+(each command on one line). The default scene and the casting adapt their meshes
+to level 3 themselves: the first and the last command refine their coarse meshes
+globally with the adaptation switched off, the second adapts the default scene
+one level deeper than the scene (doc/scenes.md section 4).
 
 Wall times are those of single runs: indicative only (time benchmarks on a
 quiet machine).

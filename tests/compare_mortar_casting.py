@@ -57,6 +57,7 @@ def main():
         gap = get_path(f.read(), "Contact/Interface gap", None)
     nodal = [("Mesh refinement/Adaptive refinement interval", "0"),
              ("Mesh refinement/Initial adaptive refinements", "0"),
+             ("Mesh refinement/Maximum level", "10"),
              ("Contact/Interface gap", gap)]
     with tempfile.TemporaryDirectory(dir=os.getcwd()) as work:
         runs = []

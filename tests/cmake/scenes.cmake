@@ -122,9 +122,9 @@ scene(scenes/casting-coarse 1 ${CMAKE_SOURCE_DIR}/prm/casting.prm casting_coarse
 scene(scenes/casting-coarse-mpi2 2 ${CMAKE_SOURCE_DIR}/prm/casting.prm casting_coarse
   ${CASTING_COARSE} ${CASTING_COARSE_BOUNDS})
 # The variants below (the birth here, the gap conductance in interface_heat.cmake)
-# keep the scene as it was before 2026-12-07, on which doc/scenes.md,
-# doc/interface_heat.md and doc/solidification.md measured them: the 8 x 8 mesh
-# and the interference growing linearly towards y = 0.
+# keep the scene as it was before 2026-12-07, on which doc/scenes.md and
+# doc/interface_heat.md measured them: the 8 x 8 mesh and the interference
+# growing linearly towards y = 0.
 set(CASTING_LINEAR
   ${CASTING_COARSE}
   "SET:Contact/Interface gap=-3e-4 * (1 - y / 0.05)")

@@ -54,7 +54,8 @@ foreach(np 1 2)
     COMMAND /usr/bin/python3 ${T}/compare_undo.py ${BIN} ${CMAKE_SOURCE_DIR}/prm/casting.prm
     --step 5 --np ${np} --set "Time stepping/End time=12" --set "Output/VTU interval=0"
     --set "Mesh refinement/Adaptive refinement interval=0"
-    --set "Mesh refinement/Initial adaptive refinements=0")
+    --set "Mesh refinement/Initial adaptive refinements=0"
+    --set "Contact/Interface gap=-3e-4 * (1 - y / 0.05)")
   set_tests_properties(step_control/undo-casting${suffix} PROPERTIES PROCESSORS ${np})
 endforeach()
 add_test(NAME step_control/undo-mortar-conductance-adaptive-mpi3
@@ -99,7 +100,8 @@ foreach(np 1 2)
     --step 5 --factor 0.5 --previous 0.25 --work --np ${np}
     --set "Time stepping/End time=12" --set "Output/VTU interval=0"
     --set "Mesh refinement/Adaptive refinement interval=0"
-    --set "Mesh refinement/Initial adaptive refinements=0")
+    --set "Mesh refinement/Initial adaptive refinements=0"
+    --set "Contact/Interface gap=-3e-4 * (1 - y / 0.05)")
   set_tests_properties(step_control/undo-casting-shorter-work${suffix} PROPERTIES PROCESSORS ${np})
 endforeach()
 add_test(NAME step_control/undo-neumann-A-shorter
