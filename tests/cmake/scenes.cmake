@@ -7,16 +7,16 @@
 # every step to 3 levels, about 25 s): contact active on most of the interface and
 # changing, melt appearing in the wedge (none at t0: row 0 of the reference), the
 # energy balance, and the quantities that converge under refinement (doc/scenes.md
-# section 4: 1.146e13 N/m and 7.42-7.48e8 m^2 on the adapted levels 3 and 4,
-# 1.158e13 N/m and 7.42e8 m^2 on the global level 3) within a few per cent.
+# section 4: 9.02-9.04e12 N/m and 7.41-7.49e8 m^2 on the adapted levels 3 to 5)
+# within a few per cent.
 set(SUBDUCTION_BOUNDS
   "RESULT active contact nodes>100"
   "RESULT active contact nodes<160.5"
   "RESULT max active contact nodes over the steps>150"
   "RESULT melt area>7.2e8"
   "RESULT melt area<7.7e8"
-  "RESULT contact force interface 0-1>1.12e13"
-  "RESULT contact force interface 0-1<1.18e13"
+  "RESULT contact force interface 0-1>8.8e12"
+  "RESULT contact force interface 0-1<9.3e12"
   "RESULT mesh adaptations>18.5"
   "RESULT cells re-stiffened for a phase change>0.5"
   "RESULT max energy-balance residual<1e-8"
@@ -41,13 +41,15 @@ set(SUBDUCTION_COARSE_BOUNDS
   "RESULT calls coupling: thermoelastic heating>19.5")
 scene(scenes/subduction-coarse 1 ${CMAKE_SOURCE_DIR}/prm/subduction.prm subduction_coarse
   ${SUBDUCTION_COARSE} ${SUBDUCTION_COARSE_BOUNDS})
-# The contact work is negligible here (0.36 J/m against an elastic energy of
-# 1.5e16 J/m: a closed node keeps its gap, an open one carries no pressure), and
-# its digits depend on the rank count: left out of the 2-rank comparison.
+# The contact work is negligible here (-4.1e10 J/m against an elastic energy of
+# 1.0e16 J/m, 4e-6 of it: a closed node keeps its gap, an open one carries no
+# pressure, only the nodes that close in a step work), and its digits may depend
+# on the rank count (they did for the scene before 2026-12-07): left out of the
+# 2-rank comparison and bounded by 1e-5 of the energy.
 scene(scenes/subduction-coarse-mpi2 2 ${CMAKE_SOURCE_DIR}/prm/subduction.prm subduction_coarse
   ${SUBDUCTION_COARSE} ${SUBDUCTION_COARSE_BOUNDS}
   "IGNORE:RESULT total contact work" "IGNORE:column contact_work"
-  "RESULT total contact work<1e3" "RESULT total contact work>-1e3")
+  "RESULT total contact work<1e11" "RESULT total contact work>-1e11")
 # The variants below keep the scene as it was before 2026-12-07: the straight
 # interface (30 degrees down to the base) on the coarse mesh.
 set(SUBDUCTION_STRAIGHT
