@@ -64,7 +64,7 @@ def loop_seconds(statistics):
 
 def coarse(text):
     """The scene on its coarse mesh: the default scene adapts its mesh (about
-    25 s), which would hide the start-up this script measures."""
+    20 s), which would hide the start-up this script measures."""
     if "Adaptive refinement interval" in text:
         text = set_path(text, "Mesh refinement/Adaptive refinement interval", "0")
         text = set_path(text, "Mesh refinement/Initial adaptive refinements", "0")

@@ -4,7 +4,7 @@
 
 # --- application scenes (doc/scenes.md) -------------------------------------------------
 # The subduction zone (the README's default scene, all 20 steps, adapted after
-# every step to 3 levels, about 25 s): contact active on most of the interface and
+# every step to 3 levels, about 20 s): contact active on most of the interface and
 # changing, melt appearing in the wedge (none at t0: row 0 of the reference), the
 # energy balance, and the quantities that converge under refinement (doc/scenes.md
 # section 4: 9.02-9.04e12 N/m and 7.41-7.49e8 m^2 on the adapted levels 3 to 5)
