@@ -27,9 +27,12 @@ scene(scenes/subduction 1 ${CMAKE_SOURCE_DIR}/prm/subduction.prm subduction
 # Its coarse mesh alone (no adaptation, about a second), on 1 and 2 ranks against
 # one reference (an adapted mesh may differ between rank counts where two cells'
 # indicators tie to round-off).
-set(SUBDUCTION_COARSE
+# (Both scenes adapt their own meshes: these two settings give a scene's coarse
+# mesh alone.)
+set(SCENE_COARSE_MESH
   "SET:Mesh refinement/Adaptive refinement interval=0"
   "SET:Mesh refinement/Initial adaptive refinements=0")
+set(SUBDUCTION_COARSE ${SCENE_COARSE_MESH})
 set(SUBDUCTION_COARSE_BOUNDS
   "RESULT active contact nodes>10.5"
   "RESULT active contact nodes<21"
@@ -110,9 +113,7 @@ scene(scenes/casting 1 ${CMAKE_SOURCE_DIR}/prm/casting.prm casting ${CASTING_BOU
 # Its 8 x 8 mesh alone (no adaptation), on 1 and 2 ranks against one reference
 # (an adapted mesh may differ between rank counts where two cells' indicators
 # tie to round-off, and the active-set iterations with it).
-set(CASTING_COARSE
-  "SET:Mesh refinement/Adaptive refinement interval=0"
-  "SET:Mesh refinement/Initial adaptive refinements=0")
+set(CASTING_COARSE ${SCENE_COARSE_MESH})
 set(CASTING_COARSE_BOUNDS
   "SET:Time stepping/End time=20"
   "RESULT active contact nodes>16.5"
