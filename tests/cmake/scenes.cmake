@@ -32,7 +32,6 @@ scene(scenes/subduction 1 ${CMAKE_SOURCE_DIR}/prm/subduction.prm subduction
 set(SCENE_COARSE_MESH
   "SET:Mesh refinement/Adaptive refinement interval=0"
   "SET:Mesh refinement/Initial adaptive refinements=0")
-set(SUBDUCTION_COARSE ${SCENE_COARSE_MESH})
 set(SUBDUCTION_COARSE_BOUNDS
   "RESULT active contact nodes>10.5"
   "RESULT active contact nodes<21"
@@ -43,21 +42,21 @@ set(SUBDUCTION_COARSE_BOUNDS
   "RESULT nodes with h outside H(Theta)<1"
   "RESULT calls coupling: thermoelastic heating>19.5")
 scene(scenes/subduction-coarse 1 ${CMAKE_SOURCE_DIR}/prm/subduction.prm subduction_coarse
-  ${SUBDUCTION_COARSE} ${SUBDUCTION_COARSE_BOUNDS})
+  ${SCENE_COARSE_MESH} ${SUBDUCTION_COARSE_BOUNDS})
 # The contact work is negligible here (-4.1e10 J/m against an elastic energy of
 # 1.0e16 J/m, 4e-6 of it: a closed node keeps its gap, an open one carries no
 # pressure, only the nodes that close in a step work), and its digits may depend
 # on the rank count (they did for the scene before 2026-12-07): left out of the
 # 2-rank comparison and bounded by 1e-5 of the energy.
 scene(scenes/subduction-coarse-mpi2 2 ${CMAKE_SOURCE_DIR}/prm/subduction.prm subduction_coarse
-  ${SUBDUCTION_COARSE} ${SUBDUCTION_COARSE_BOUNDS}
+  ${SCENE_COARSE_MESH} ${SUBDUCTION_COARSE_BOUNDS}
   "IGNORE:RESULT total contact work" "IGNORE:column contact_work"
   "RESULT total contact work<1e11" "RESULT total contact work>-1e11")
 # The variants below keep the scene as it was before 2026-12-07: the straight
 # interface (30 degrees down to the base) on the coarse mesh.
 set(SUBDUCTION_STRAIGHT
   "SET:Geometry/Interface dip at base=0"
-  ${SUBDUCTION_COARSE})
+  ${SCENE_COARSE_MESH})
 set(SLAB_BY_LINE
   "SET:Coupling/Reference temperature=1100 * (-y) / 100000 + (1350 - 1100 * (-y) / 100000) * sqrt(1 - exp(-(max(0, min(-y, if(((x - 100000) * 0.8660254037844386 - y * 0.5) > 200000, sign((-(x - 100000) * 0.5 - y * 0.8660254037844386)) * sqrt((x - 273205.0807568877)^2 + (y + 100000)^2), if(((x - 100000) * 0.8660254037844386 - y * 0.5) < 0, sign((-(x - 100000) * 0.5 - y * 0.8660254037844386)) * sqrt((x - 100000)^2 + y^2), (-(x - 100000) * 0.5 - y * 0.8660254037844386))))) / 68800)^2 * (4 / pi + 0.147 * (max(0, min(-y, if(((x - 100000) * 0.8660254037844386 - y * 0.5) > 200000, sign((-(x - 100000) * 0.5 - y * 0.8660254037844386)) * sqrt((x - 273205.0807568877)^2 + (y + 100000)^2), if(((x - 100000) * 0.8660254037844386 - y * 0.5) < 0, sign((-(x - 100000) * 0.5 - y * 0.8660254037844386)) * sqrt((x - 100000)^2 + y^2), (-(x - 100000) * 0.5 - y * 0.8660254037844386))))) / 68800)^2) / (1 + 0.147 * (max(0, min(-y, if(((x - 100000) * 0.8660254037844386 - y * 0.5) > 200000, sign((-(x - 100000) * 0.5 - y * 0.8660254037844386)) * sqrt((x - 273205.0807568877)^2 + (y + 100000)^2), if(((x - 100000) * 0.8660254037844386 - y * 0.5) < 0, sign((-(x - 100000) * 0.5 - y * 0.8660254037844386)) * sqrt((x - 100000)^2 + y^2), (-(x - 100000) * 0.5 - y * 0.8660254037844386))))) / 68800)^2)))"
   "SET:Initial conditions/Function=1100 * (-y) / 100000 + (1350 - 1100 * (-y) / 100000) * sqrt(1 - exp(-(max(0, min(-y, if(((x - 100000) * 0.8660254037844386 - y * 0.5) > 200000, sign((-(x - 100000) * 0.5 - y * 0.8660254037844386)) * sqrt((x - 273205.0807568877)^2 + (y + 100000)^2), if(((x - 100000) * 0.8660254037844386 - y * 0.5) < 0, sign((-(x - 100000) * 0.5 - y * 0.8660254037844386)) * sqrt((x - 100000)^2 + y^2), (-(x - 100000) * 0.5 - y * 0.8660254037844386))))) / 68800)^2 * (4 / pi + 0.147 * (max(0, min(-y, if(((x - 100000) * 0.8660254037844386 - y * 0.5) > 200000, sign((-(x - 100000) * 0.5 - y * 0.8660254037844386)) * sqrt((x - 273205.0807568877)^2 + (y + 100000)^2), if(((x - 100000) * 0.8660254037844386 - y * 0.5) < 0, sign((-(x - 100000) * 0.5 - y * 0.8660254037844386)) * sqrt((x - 100000)^2 + y^2), (-(x - 100000) * 0.5 - y * 0.8660254037844386))))) / 68800)^2) / (1 + 0.147 * (max(0, min(-y, if(((x - 100000) * 0.8660254037844386 - y * 0.5) > 200000, sign((-(x - 100000) * 0.5 - y * 0.8660254037844386)) * sqrt((x - 273205.0807568877)^2 + (y + 100000)^2), if(((x - 100000) * 0.8660254037844386 - y * 0.5) < 0, sign((-(x - 100000) * 0.5 - y * 0.8660254037844386)) * sqrt((x - 100000)^2 + y^2), (-(x - 100000) * 0.5 - y * 0.8660254037844386))))) / 68800)^2)))"
@@ -113,7 +112,6 @@ scene(scenes/casting 1 ${CMAKE_SOURCE_DIR}/prm/casting.prm casting ${CASTING_BOU
 # Its 8 x 8 mesh alone (no adaptation), on 1 and 2 ranks against one reference
 # (an adapted mesh may differ between rank counts where two cells' indicators
 # tie to round-off, and the active-set iterations with it).
-set(CASTING_COARSE ${SCENE_COARSE_MESH})
 set(CASTING_COARSE_BOUNDS
   "SET:Time stepping/End time=20"
   "RESULT active contact nodes>16.5"
@@ -121,15 +119,15 @@ set(CASTING_COARSE_BOUNDS
   "RESULT melt area<0.0019"
   "RESULT max energy-balance residual<1e-8")
 scene(scenes/casting-coarse 1 ${CMAKE_SOURCE_DIR}/prm/casting.prm casting_coarse
-  ${CASTING_COARSE} ${CASTING_COARSE_BOUNDS})
+  ${SCENE_COARSE_MESH} ${CASTING_COARSE_BOUNDS})
 scene(scenes/casting-coarse-mpi2 2 ${CMAKE_SOURCE_DIR}/prm/casting.prm casting_coarse
-  ${CASTING_COARSE} ${CASTING_COARSE_BOUNDS})
+  ${SCENE_COARSE_MESH} ${CASTING_COARSE_BOUNDS})
 # The variants below (the birth here, the gap conductance in interface_heat.cmake)
 # keep the scene as it was before 2026-12-07, on which doc/scenes.md and
 # doc/interface_heat.md measured them: the 8 x 8 mesh and the interference
 # growing linearly towards y = 0.
 set(CASTING_LINEAR
-  ${CASTING_COARSE}
+  ${SCENE_COARSE_MESH}
   "SET:Contact/Interface gap=-3e-4 * (1 - y / 0.05)")
 # The casting with its die meshed on its own (prm/casting_mortar.prm, 32
 # casting cells and 24 die cells along the wall, a dual mortar interface in
