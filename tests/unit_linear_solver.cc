@@ -4,7 +4,8 @@
 // kept factor closest to the new values, fall back to a factorisation when
 // too many rows change, reorder by nested dissection ('Solver/Reordering
 // cost'), order the rows the caller names last ('Solver/Front layers ordered
-// last'), and report a matrix that is not positive definite.
+// last'), and report a matrix that is not positive definite; and that CG on a
+// kept AMG hierarchy stops at its budget and builds the hierarchy afresh.
 //
 // The matrix is the 5-point Laplacian on a 300 x 20 strip plus a small shift;
 // "fixing" a node (as the enthalpy step fixes a node on a plateau) clears its
@@ -409,5 +410,64 @@ int main(int argc, char *argv[])
             naming + " named: no reordering for it");
       check(worst < 1e-11, "... every solve as a fresh factorisation's to 1e-11");
     }
+
+  // The iterative path's budget for a kept AMG hierarchy ('AMG update' =
+  // reuse, no reuse limit): after a change of a few rows CG runs on the kept
+  // hierarchy as before; after a change that the kept hierarchy preconditions
+  // badly (a third of the strip a thousand times stiffer, as a melt that
+  // re-stiffens would be) CG stops at its budget (three times what the rebuild
+  // check tolerates per decade), builds the hierarchy afresh and goes on from
+  // its iterate. Either way the solution is the direct solver's.
+  {
+    ConditionalOStream        silent(std::cout, false);
+    Parameters::LinearSolvers cg_prm = prm;
+    cg_prm.linear_solver             = Parameters::LinearSolvers::LinearSolverType::cg_amg;
+    LinearSolver solver(
+      cg_prm, 0, silent, "test", Parameters::LinearSolvers::AMGUpdate::reuse, 0.02, 2);
+    const std::set<unsigned int> none;
+    fill(A, none, 1.);
+    solver.initialize(A, 1);
+    x = 0;
+    solver.solve(x, b);
+    const LinearSolverStatistics first = solver.take_statistics();
+    check(first.amg_builds == 1 && first.cg_solves == 1, "CG: one build, one solve");
+
+    fill(A, none, 1., {node(5, 10), node(6, 10)}, 1.);
+    solver.update(A, 2);
+    solver.solve(x, b);
+    const LinearSolverStatistics small = solver.take_statistics();
+    check(small.amg_builds == 0 && small.cg_solves == 1 && small.max_cg_iterations > 0,
+          "CG: two rows changed: the kept hierarchy serves, no build");
+    check(difference_to_fresh(prm, A, b, x) < 1e-9, "... solves as a direct solve to 1e-9");
+
+    std::set<unsigned int> stiff;
+    for (unsigned int i = 0; i < my; ++i)
+      for (unsigned int j = 100; j < 200; ++j)
+        stiff.insert(node(i, j));
+    fill(A, none, 1., stiff, 4000.);
+    solver.update(A, 3);
+    solver.solve(x, b);
+    const LinearSolverStatistics stiffer = solver.take_statistics();
+    check(stiffer.amg_builds == 1 && stiffer.cg_solves == 1,
+          "CG: a third of the strip stiffer: over the budget, one build within the solve");
+    check(difference_to_fresh(prm, A, b, x) < 1e-9, "... solves as a direct solve to 1e-9");
+
+    // The same change with 'AMG update' = recompute (the hierarchy keeps its
+    // aggregates, recomputed for the new values; the budget watches it too):
+    // the same solution.
+    LinearSolver recomputing(
+      cg_prm, 0, silent, "test", Parameters::LinearSolvers::AMGUpdate::recompute, 0.02, 2);
+    fill(A, none, 1.);
+    recomputing.initialize(A, 1);
+    ContactStefan::Vector y(b);
+    y = 0;
+    recomputing.solve(y, b);
+    fill(A, none, 1., stiff, 4000.);
+    recomputing.update(A, 3);
+    recomputing.solve(y, b);
+    recomputing.take_statistics();
+    check(difference_to_fresh(prm, A, b, y) < 1e-9,
+          "CG: the recomputed hierarchy's solution is the direct solve's to 1e-9");
+  }
   return UnitTest::finish();
 }

@@ -532,8 +532,23 @@ namespace ContactStefan
       }
     else
       {
-        const double     tolerance = relative_tolerance > 0 ? relative_tolerance : prm.cg_tolerance;
-        SolverControl    control(prm.cg_max_iterations, tolerance * b.l2_norm());
+        const double tolerance = relative_tolerance > 0 ? relative_tolerance : prm.cg_tolerance;
+        // A hierarchy made for other values (kept, or recomputed on the
+        // aggregates of another matrix) gets a budget: three times what the rebuild
+        // check of update_amg() tolerates per decade, for every decade of the
+        // requested reduction. CG past it is slower than a fresh hierarchy
+        // would be (on the default scene, the recomputation after the first
+        // contact set of an initial adaptation took 372 iterations where a
+        // fresh build then took 10-50), so it stops there and goes on from its
+        // iterate with a fresh one, instead of learning it after the solve.
+        const unsigned int budget =
+          amg_stale && iterations_per_decade_after_build > 0 ?
+            static_cast<unsigned int>(std::ceil(3 * prm.amg_rebuild_ratio *
+                                                iterations_per_decade_after_build *
+                                                std::max(1., -std::log10(tolerance)))) +
+              10 :
+            prm.cg_max_iterations;
+        SolverControl    control(std::min(budget, prm.cg_max_iterations), tolerance * b.l2_norm());
         SolverCG<Vector> cg(control);
         const Vector     x_start(x);
         // This call's iterations, a failed attempt's included.
@@ -545,15 +560,25 @@ namespace ContactStefan
         catch (const SolverControl::NoConvergence &)
           {
             // A hierarchy of an earlier matrix may precondition the new one
-            // badly (or indefinitely): once more with a fresh hierarchy.
+            // badly (or indefinitely): once more with a fresh hierarchy, from
+            // the better of the start and the last iterate.
             if (!amg_stale)
               throw;
+            const bool over_budget = control.last_step() < prm.cg_max_iterations;
             if (verbosity >= 1)
-              pcout << "      " << name << ": CG failed with the kept AMG hierarchy, "
-                    << "building it afresh" << std::endl;
+              pcout << "      " << name << ": CG "
+                    << (over_budget ? "over its budget of " + std::to_string(control.last_step()) +
+                                        " iterations" :
+                                      std::string("failed"))
+                    << " with the kept AMG hierarchy, building it afresh" << std::endl;
             iterations += control.last_step();
+            Vector r_last(b), r_start(b);
+            const double last_residual  = matrix->residual(r_last, x, b);
+            const double start_residual = matrix->residual(r_start, x_start, b);
+            if (!(last_residual < start_residual)) // (a NaN too)
+              x = x_start;
             initialize(*matrix, values_key);
-            x = x_start;
+            control.set_max_steps(prm.cg_max_iterations);
             cg.solve(*matrix, x, b, *amg);
           }
         iterations += control.last_step();
