@@ -116,10 +116,13 @@ namespace ContactStefan
     // interface_distance (the default scene), each evaluation measures the
     // distance to a curved interface: these evaluations took about 3 s of its
     // 21 s. A remembered value is the value the function returned for the
-    // same point and time (bit for bit), so nothing the run computes changes.
+    // same point and time (bit for bit), so nothing the run computes changes
+    // (but for an expression with rand(), which now draws once per point).
     template <int dim>
     class Remembered : public Function<dim>
     {
+      static_assert(dim == 2, "the key holds x and y only");
+
     public:
       explicit Remembered(std::unique_ptr<Function<dim>> function)
         : Function<dim>(1)
@@ -143,8 +146,9 @@ namespace ContactStefan
         }
         const double v = function->value(p, component);
         std::lock_guard<std::mutex> lock(mutex);
-        // A bound on the memory (a vertex costs about 60 bytes): forget all
-        // and start again, rather than grow without limit on a long adaptive run.
+        // A bound on the memory (about 80 bytes per point with the table):
+        // forget all and start again, rather than grow without limit on a
+        // long adaptive run.
         if (values.size() >= max_entries)
           values.clear();
         values.emplace(key, v);
@@ -177,7 +181,7 @@ namespace ContactStefan
         std::memcpy(&b, &x, sizeof b);
         return b;
       }
-      static constexpr std::size_t                  max_entries = std::size_t(1) << 22;
+      static constexpr std::size_t                  max_entries = std::size_t(1) << 20;
       const std::unique_ptr<Function<dim>>          function;
       mutable std::mutex                            mutex;
       mutable std::unordered_map<Key, double, Hash> values;

@@ -347,6 +347,50 @@ namespace ContactStefan
 
 
 
+  // A fresh hierarchy for the values the matrix holds, within a solve (the CG
+  // budget or a CG failure): where hierarchies are kept for recall() ('AMG
+  // update = recompute'), the current one joins them if it was made for
+  // other values; the kept ones stay (initialize() would drop them).
+  void LinearSolver::rebuild_amg()
+  {
+    using AMGUpdate = Parameters::LinearSolvers::AMGUpdate;
+    if (amg_update == AMGUpdate::recompute && prm.kept_factorisations > 0 && amg_key != 0 &&
+        amg_key != values_key)
+      {
+        kept_amg.insert(kept_amg.begin(),
+                        KeptAMG{amg_key, std::move(amg), iterations_per_decade_after_build});
+        if (kept_amg.size() > prm.kept_factorisations)
+          kept_amg.pop_back();
+        amg = std::make_unique<TrilinosWrappers::PreconditionAMG>();
+      }
+    // (A kept hierarchy of these values would have been recalled.)
+    kept_amg.erase(std::remove_if(kept_amg.begin(),
+                                  kept_amg.end(),
+                                  [&](const KeptAMG &k) { return k.key == values_key; }),
+                   kept_amg.end());
+    amg_built = false;
+    try
+      {
+        build_amg(*amg, *matrix);
+      }
+    catch (const std::exception &e)
+      {
+        throw std::runtime_error("the " + name +
+                                 " system could not be preconditioned by AMG (a singular or "
+                                 "badly scaled matrix?): " +
+                                 one_line(e.what()));
+      }
+    amg_built                         = true;
+    amg_stale                         = false;
+    amg_for_this_matrix               = true;
+    borrowed                          = false;
+    iterations_per_decade_after_build = 0;
+    rows_changed_since_made           = 0;
+    amg_key                           = values_key;
+  }
+
+
+
   // The iterative path of update() for the matrix of the last initialize()
   // with a hierarchy at hand: keep it ('AMG update = reuse'), recompute it on
   // its aggregates, or keep it for recall() and recompute another one ('AMG
@@ -533,28 +577,60 @@ namespace ContactStefan
     else
       {
         const double tolerance = relative_tolerance > 0 ? relative_tolerance : prm.cg_tolerance;
-        // A hierarchy made for other values (kept, or recomputed on the
-        // aggregates of another matrix) gets a budget: three times what the rebuild
-        // check of update_amg() tolerates per decade, for every decade of the
-        // requested reduction. CG past it is slower than a fresh hierarchy
-        // would be (on the default scene, the recomputation after the first
-        // contact set of an initial adaptation took 372 iterations where a
-        // fresh build then took 10-50), so it stops there and goes on from its
-        // iterate with a fresh one, instead of learning it after the solve.
-        const unsigned int budget =
-          amg_stale && iterations_per_decade_after_build > 0 ?
-            static_cast<unsigned int>(std::ceil(3 * prm.amg_rebuild_ratio *
-                                                iterations_per_decade_after_build *
-                                                std::max(1., -std::log10(tolerance)))) +
-              10 :
-            prm.cg_max_iterations;
-        SolverControl    control(std::min(budget, prm.cg_max_iterations), tolerance * b.l2_norm());
+        // A hierarchy made for other values (kept, recomputed on the
+        // aggregates of another matrix, recalled or borrowed) gets a budget:
+        // three times what the rebuild check of update_amg() tolerates per
+        // decade, for every decade from this solve's start to the requested
+        // residual, plus 10. CG past it is slower than a fresh hierarchy would
+        // be (on the default scene, the recomputation after the first contact
+        // set of an initial adaptation took 372 iterations where a fresh build
+        // then took 10-50), so it stops there and goes on from its iterate with
+        // a fresh one (rebuild_amg()), instead of learning it after the solve.
+        // Every rank computes the same budget from global norms.
+        unsigned int budget = prm.cg_max_iterations;
+        if (amg_stale && iterations_per_decade_after_build > 0)
+          {
+            Vector       r(b);
+            const double start   = matrix->residual(r, x, b);
+            const double target  = tolerance * b.l2_norm();
+            const double decades = start > target ? std::log10(start / target) : 0.;
+            const double allowed = 3 * prm.amg_rebuild_ratio * iterations_per_decade_after_build *
+                                     std::max(1., decades) +
+                                   10;
+            if (allowed < prm.cg_max_iterations) // (no overflow in the conversion)
+              budget = static_cast<unsigned int>(std::ceil(allowed));
+          }
+        SolverControl    control(budget, tolerance * b.l2_norm());
         SolverCG<Vector> cg(control);
         const Vector     x_start(x);
         // This call's iterations, a failed attempt's included.
         unsigned int iterations = 0;
         try
           {
+            cg.solve(*matrix, x, b, *amg);
+          }
+        catch (const SolverControl::NoConvergence &)
+          {
+            // A hierarchy of an earlier matrix may precondition the new one
+            // badly (or indefinitely): once more with a fresh hierarchy, from
+            // the better of the start and the last iterate.
+            if (!amg_stale)
+              throw;
+            const bool over_budget =
+              budget < prm.cg_max_iterations && control.last_step() >= budget;
+            if (verbosity >= 1)
+              pcout << "      " << name << ": CG "
+                    << (over_budget ? "over its budget of " + std::to_string(budget) + " iterations" :
+                                      std::string("failed"))
+                    << " with the kept AMG hierarchy, building it afresh" << std::endl;
+            iterations += control.last_step();
+            Vector       r_last(b), r_start(b);
+            const double last_residual  = matrix->residual(r_last, x, b);
+            const double start_residual = matrix->residual(r_start, x_start, b);
+            if (!(last_residual < start_residual)) // (a NaN too)
+              x = x_start;
+            rebuild_amg();
+            control.set_max_steps(prm.cg_max_iterations);
             cg.solve(*matrix, x, b, *amg);
           }
         catch (const SolverControl::NoConvergence &)

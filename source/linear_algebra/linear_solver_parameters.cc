@@ -133,7 +133,9 @@ namespace ContactStefan
                         "An AMG hierarchy kept across active sets (recomputed on its "
                         "aggregates) is rebuilt from scratch when CG needs more than this "
                         "times (plus 0.5) the iterations per decade of residual reduction "
-                        "of the first solve after the last build.");
+                        "of the first solve after the last build. Within a solve, CG on such a "
+                        "hierarchy stops after 3 x this ratio x those iterations per decade "
+                        "per decade to go (+ 10), and goes on with a fresh hierarchy.");
       prm.declare_entry("AMG update",
                         "automatic",
                         Patterns::Selection("automatic|reuse|recompute|rebuild"),
@@ -141,8 +143,8 @@ namespace ContactStefan
                         "or phase) changed the matrix: 'reuse' keeps it as the preconditioner "
                         "of the new matrix, 'recompute' recomputes it on its aggregates (about "
                         "half a build), 'rebuild' builds it afresh. Any of them is rebuilt "
-                        "when CG slows down by 'AMG rebuild ratio', and a CG solve that fails "
-                        "with a kept or recomputed hierarchy is repeated with a fresh one. "
+                        "when CG slows down by 'AMG rebuild ratio', and CG that fails or "
+                        "exceeds its budget on a kept one goes on with a fresh one. "
                         "'automatic': 'reuse' for the elasticity system (a contact set "
                         "changes boundary rows only: 24 % faster on the contact block at "
                         "N = 256, same CG time) and 'recompute' for the enthalpy system (a "

@@ -164,8 +164,8 @@ namespace ContactStefan
      * iteration whose set still changes): on the iterative path the current
      * AMG hierarchy, made for earlier values, preconditions CG on the new ones
      * without being recomputed, and true is returned. Such solves do not
-     * count for the rebuild check; a CG failure builds a hierarchy afresh
-     * for them. On the direct path nothing can be skipped: false, and the
+     * count for the rebuild check; a CG failure, or CG over its budget
+     * (solve()), builds a hierarchy afresh for them. On the direct path nothing can be skipped: false, and the
      * caller must update(). recall(key) of the hierarchy's own values ends
      * the borrowing.
      */
@@ -294,6 +294,8 @@ namespace ContactStefan
     void refactorise_direct(const TrilinosWrappers::SparseMatrix &A, const std::uint64_t key);
     bool update_amg(const TrilinosWrappers::SparseMatrix &A, const std::uint64_t key);
     void keep_and_recompute_amg(const TrilinosWrappers::SparseMatrix &A, const std::uint64_t key);
+    /** A fresh hierarchy for values_key within a solve; the kept ones stay. */
+    void rebuild_amg();
     /**
      * With 'AMG update = recompute', hierarchies of earlier matrix values of
      * the same matrix object for recall(), most recently used first, like the
@@ -310,7 +312,9 @@ namespace ContactStefan
     bool                 amg_built = false;
     /**
      * Whether the hierarchy was built on other matrix values (update() kept or
-     * recomputed it): a CG failure then earns one retry with a fresh build.
+     * recomputed it, or it was recalled or borrowed): CG then has a budget of
+     * iterations (solve()), and going over it or failing earns one retry with
+     * a fresh build.
      */
     bool amg_stale = false;
     /**
@@ -326,7 +330,8 @@ namespace ContactStefan
     /**
      * The key of the values the matrix holds (of the last initialize(),
      * update(), borrow_preconditioner() or successful recall()): a hierarchy
-     * built afresh after a CG failure is made for them.
+     * built afresh within a solve (CG failed or over its budget) is made for
+     * them.
      */
     std::uint64_t values_key = 0;
     /**

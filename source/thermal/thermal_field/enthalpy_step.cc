@@ -338,7 +338,8 @@ namespace ContactStefan
     matrix_signature = signature;
     // Back to the values the current hierarchy was made for, after solves that
     // borrowed it: it serves them again, unless the linear solver has since
-    // built another one (a CG failure): then set up as for new values.
+    // built another one (a CG failure, or CG over its budget): then set up as
+    // for new values.
     if (!factorise && assemble && !linear_solver.recall(signature))
       factorise = true;
     if (factorise)
