@@ -364,10 +364,11 @@ namespace ContactStefan
         amg = std::make_unique<TrilinosWrappers::PreconditionAMG>();
       }
     // (A kept hierarchy of these values would have been recalled.)
-    kept_amg.erase(std::remove_if(kept_amg.begin(),
-                                  kept_amg.end(),
-                                  [&](const KeptAMG &k) { return k.key == values_key; }),
-                   kept_amg.end());
+    if (values_key != 0)
+      kept_amg.erase(std::remove_if(kept_amg.begin(),
+                                    kept_amg.end(),
+                                    [&](const KeptAMG &k) { return k.key == values_key; }),
+                     kept_amg.end());
     amg_built = false;
     try
       {
@@ -630,30 +631,6 @@ namespace ContactStefan
             if (!(last_residual < start_residual)) // (a NaN too)
               x = x_start;
             rebuild_amg();
-            control.set_max_steps(prm.cg_max_iterations);
-            cg.solve(*matrix, x, b, *amg);
-          }
-        catch (const SolverControl::NoConvergence &)
-          {
-            // A hierarchy of an earlier matrix may precondition the new one
-            // badly (or indefinitely): once more with a fresh hierarchy, from
-            // the better of the start and the last iterate.
-            if (!amg_stale)
-              throw;
-            const bool over_budget = control.last_step() < prm.cg_max_iterations;
-            if (verbosity >= 1)
-              pcout << "      " << name << ": CG "
-                    << (over_budget ? "over its budget of " + std::to_string(control.last_step()) +
-                                        " iterations" :
-                                      std::string("failed"))
-                    << " with the kept AMG hierarchy, building it afresh" << std::endl;
-            iterations += control.last_step();
-            Vector r_last(b), r_start(b);
-            const double last_residual  = matrix->residual(r_last, x, b);
-            const double start_residual = matrix->residual(r_start, x_start, b);
-            if (!(last_residual < start_residual)) // (a NaN too)
-              x = x_start;
-            initialize(*matrix, values_key);
             control.set_max_steps(prm.cg_max_iterations);
             cg.solve(*matrix, x, b, *amg);
           }

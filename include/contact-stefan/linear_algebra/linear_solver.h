@@ -165,9 +165,9 @@ namespace ContactStefan
      * AMG hierarchy, made for earlier values, preconditions CG on the new ones
      * without being recomputed, and true is returned. Such solves do not
      * count for the rebuild check; a CG failure, or CG over its budget
-     * (solve()), builds a hierarchy afresh for them. On the direct path nothing can be skipped: false, and the
-     * caller must update(). recall(key) of the hierarchy's own values ends
-     * the borrowing.
+     * (solve()), builds a hierarchy afresh for them. On the direct path
+     * nothing can be skipped: false, and the caller must update().
+     * recall(key) of the hierarchy's own values ends the borrowing.
      */
     bool borrow_preconditioner(const TrilinosWrappers::SparseMatrix &A, const std::uint64_t key);
     /**
