@@ -415,10 +415,11 @@ int main(int argc, char *argv[])
   // The iterative path's budget for a kept AMG hierarchy ('AMG update' =
   // reuse, no reuse limit): after a change of a few rows CG runs on the kept
   // hierarchy as before; after a change that the kept hierarchy preconditions
-  // badly (a third of the strip a thousand times stiffer, as a melt that
-  // re-stiffens would be) CG stops at its budget (three times what the rebuild
-  // check tolerates per decade), builds the hierarchy afresh and goes on from
-  // its iterate. Either way the solution is the direct solver's. The same
+  // badly (4000 added to the diagonal of a third of the strip, about a
+  // thousand times its own: a large capacity term where the rest has none,
+  // as nodes that leave a plateau would get) CG stops at its budget (three
+  // times what the rebuild check tolerates per decade), builds the hierarchy
+  // afresh and goes on from its iterate. Either way the solution is the direct solver's. The same
   // with 'AMG update' = recompute, whose hierarchy keeps its aggregates and is
   // recomputed for the new values.
   {
@@ -428,10 +429,10 @@ int main(int argc, char *argv[])
     cg_prm.linear_solver             = Parameters::LinearSolvers::LinearSolverType::cg_amg;
     cg_prm.kept_factorisations       = 0;
     const std::set<unsigned int> none;
-    std::set<unsigned int>       stiff;
+    std::set<unsigned int>       heavy;
     for (unsigned int i = 0; i < my; ++i)
       for (unsigned int j = 100; j < 200; ++j)
-        stiff.insert(node(i, j));
+        heavy.insert(node(i, j));
     for (const auto update : {Parameters::LinearSolvers::AMGUpdate::reuse,
                               Parameters::LinearSolvers::AMGUpdate::recompute})
       {
@@ -453,22 +454,88 @@ int main(int argc, char *argv[])
               what + ": two rows changed: no build");
         check(difference_to_fresh(prm, A, b, x) < 1e-9, "... solves as a direct solve to 1e-9");
 
-        fill(A, none, 1., stiff, 4000.);
+        fill(A, none, 1., heavy, 4000.);
         log.str("");
         solver.update(A, 3);
         const LinearSolverStatistics updated = solver.take_statistics();
         solver.solve(x, b);
-        const LinearSolverStatistics stiffer = solver.take_statistics();
+        const LinearSolverStatistics heavier = solver.take_statistics();
         std::printf("  %s: %u recomputations in the update, %u builds in the solve\n",
                     what.c_str(),
                     updated.amg_recomputations,
-                    stiffer.amg_builds);
-        check(updated.amg_builds == 0 && stiffer.amg_builds == 1 && stiffer.cg_solves == 1 &&
+                    heavier.amg_builds);
+        check(updated.amg_builds == 0 && heavier.amg_builds == 1 && heavier.cg_solves == 1 &&
                 log.str().find("over its budget") != std::string::npos,
-              what + ": a third of the strip stiffer: over the budget, one build within the "
+              what + ": a third of the strip heavier: over the budget, one build within the "
                      "solve");
         check(difference_to_fresh(prm, A, b, x) < 1e-9, "... solves as a direct solve to 1e-9");
       }
+  }
+
+  // Hierarchies kept for recall ('AMG update' = recompute, 'Kept
+  // factorisations' = 2), as the enthalpy step uses them: the hierarchy of
+  // the first values (key 1) is borrowed by a loose solve with the heavy
+  // diagonal above (key 2), which goes over its budget and builds afresh. The
+  // first one must then be kept, not dropped: recall(1) finds it without a
+  // build, and recall(2) finds the fresh one, current or kept, without a
+  // build (before the fix of recall() a recall of the current hierarchy's own
+  // values missed it, and the update after it kept two hierarchies of key 2).
+  {
+    std::ostringstream        log;
+    ConditionalOStream        logged(log, true);
+    Parameters::LinearSolvers cg_prm = prm;
+    cg_prm.linear_solver             = Parameters::LinearSolvers::LinearSolverType::cg_amg;
+    cg_prm.kept_factorisations       = 2;
+    const std::set<unsigned int> none;
+    std::set<unsigned int>       heavy;
+    for (unsigned int i = 0; i < my; ++i)
+      for (unsigned int j = 100; j < 200; ++j)
+        heavy.insert(node(i, j));
+    LinearSolver solver(
+      cg_prm, 1, logged, "test", Parameters::LinearSolvers::AMGUpdate::recompute, 0.02, 2);
+    fill(A, none, 1.);
+    solver.initialize(A, 1);
+    x = 0;
+    solver.solve(x, b);
+    solver.take_statistics();
+
+    fill(A, none, 1., heavy, 4000.);
+    log.str("");
+    check(solver.borrow_preconditioner(A, 2),
+          "kept for recall: the hierarchy of key 1 borrowed for key 2");
+    solver.solve(x, b);
+    const LinearSolverStatistics borrowed = solver.take_statistics();
+    check(borrowed.amg_builds == 1 && log.str().find("over its budget") != std::string::npos,
+          "kept for recall: the borrowed solve over its budget, one build within it");
+    check(difference_to_fresh(prm, A, b, x) < 1e-9, "... solves as a direct solve to 1e-9");
+    check(solver.recall(2) && solver.take_statistics().amg_builds == 0,
+          "kept for recall: recall(2) right after finds the hierarchy just built");
+
+    // Back and forth between the two values, each recalled without a build
+    // and solved within its budget.
+    for (const unsigned int key : {1u, 2u, 1u})
+      {
+        if (key == 1)
+          fill(A, none, 1.);
+        else
+          fill(A, none, 1., heavy, 4000.);
+        log.str("");
+        const bool recalled = solver.recall(key);
+        x = 0;
+        solver.solve(x, b);
+        const LinearSolverStatistics c = solver.take_statistics();
+        std::printf("  kept for recall: recall(%u) %s, %u builds, %u recomputations\n",
+                    key,
+                    recalled ? "found" : "missed",
+                    c.amg_builds,
+                    c.amg_recomputations);
+        check(recalled && c.amg_builds == 0 && c.amg_recomputations == 0 &&
+                log.str().find("over its budget") == std::string::npos,
+              "kept for recall: recall(" + std::to_string(key) +
+                ") without a build, within the budget");
+        check(difference_to_fresh(prm, A, b, x) < 1e-9, "... solves as a direct solve to 1e-9");
+      }
+    check(!solver.recall(3), "kept for recall: nothing kept under a key never used");
   }
   return UnitTest::finish();
 }

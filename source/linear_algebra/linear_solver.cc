@@ -110,9 +110,12 @@ namespace ContactStefan
 
   bool LinearSolver::recall(const std::uint64_t key)
   {
-    if (borrowed && amg_key == key && key != 0)
+    if (!use_direct && amg_built && amg_key == key && key != 0)
       {
-        // The borrowed hierarchy is the one made for these values.
+        // The current hierarchy is the one made for these values: borrowed
+        // for others since, or built for them within a solve that borrowed
+        // it (rebuild_amg()). Not to be shelved and recomputed for its own
+        // values, which would keep two hierarchies under one key.
         borrowed                = false;
         amg_for_this_matrix     = true;
         values_key              = key;
@@ -354,25 +357,12 @@ namespace ContactStefan
   void LinearSolver::rebuild_amg()
   {
     using AMGUpdate = Parameters::LinearSolvers::AMGUpdate;
-    if (amg_update == AMGUpdate::recompute && prm.kept_factorisations > 0 && amg_key != 0 &&
-        amg_key != values_key)
-      {
-        kept_amg.insert(kept_amg.begin(),
-                        KeptAMG{amg_key, std::move(amg), iterations_per_decade_after_build});
-        if (kept_amg.size() > prm.kept_factorisations)
-          kept_amg.pop_back();
-        amg = std::make_unique<TrilinosWrappers::PreconditionAMG>();
-      }
-    // (A kept hierarchy of these values would have been recalled.)
-    if (values_key != 0)
-      kept_amg.erase(std::remove_if(kept_amg.begin(),
-                                    kept_amg.end(),
-                                    [&](const KeptAMG &k) { return k.key == values_key; }),
-                     kept_amg.end());
-    amg_built = false;
+    // Built into a new object first: if ML fails, the current hierarchy and
+    // the kept ones are as they were.
+    auto fresh = std::make_unique<TrilinosWrappers::PreconditionAMG>();
     try
       {
-        build_amg(*amg, *matrix);
+        build_amg(*fresh, *matrix);
       }
     catch (const std::exception &e)
       {
@@ -381,6 +371,22 @@ namespace ContactStefan
                                  "badly scaled matrix?): " +
                                  one_line(e.what()));
       }
+    // A kept hierarchy of these values would have been recalled; should one
+    // be there, the fresh one replaces it.
+    if (values_key != 0)
+      kept_amg.erase(std::remove_if(kept_amg.begin(),
+                                    kept_amg.end(),
+                                    [&](const KeptAMG &k) { return k.key == values_key; }),
+                     kept_amg.end());
+    if (amg_update == AMGUpdate::recompute && prm.kept_factorisations > 0 && amg_key != 0 &&
+        amg_key != values_key)
+      {
+        kept_amg.insert(kept_amg.begin(),
+                        KeptAMG{amg_key, std::move(amg), iterations_per_decade_after_build});
+        if (kept_amg.size() > prm.kept_factorisations)
+          kept_amg.pop_back();
+      }
+    amg                               = std::move(fresh);
     amg_built                         = true;
     amg_stale                         = false;
     amg_for_this_matrix               = true;

@@ -133,9 +133,9 @@ namespace ContactStefan
                         "An AMG hierarchy kept across active sets (recomputed on its "
                         "aggregates) is rebuilt from scratch when CG needs more than this "
                         "times (plus 0.5) the iterations per decade of residual reduction "
-                        "of the first solve after the last build. Within a solve, CG on such a "
-                        "hierarchy stops after 3 x this ratio x those iterations per decade "
-                        "per decade to go (+ 10), and goes on with a fresh hierarchy.");
+                        "of the first solve after the last build. Within a solve, CG on a hierarchy made "
+                        "for other values (once that rate is measured) stops after 3 x this ratio x those "
+                        "iterations per decade x the decades to go (at least 1) + 10, and goes on fresh.");
       prm.declare_entry("AMG update",
                         "automatic",
                         Patterns::Selection("automatic|reuse|recompute|rebuild"),

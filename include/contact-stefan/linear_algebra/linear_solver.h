@@ -152,8 +152,10 @@ namespace ContactStefan
      * The matrix object of the last initialize() now holds the values that
      * were named key in an earlier update() or initialize(): if their
      * factorisation (CHOLMOD or Amesos) or AMG hierarchy was kept ('Solver/Kept
-     * factorisations'), it becomes the current one and true is returned;
-     * otherwise nothing changes (update() must follow). Each kept Amesos
+     * factorisations'), it becomes the current one and true is returned, as
+     * it is when the current AMG hierarchy is the one made for them (borrowed
+     * since, or built within a solve that borrowed it); otherwise nothing
+     * changes (update() must follow). Each kept Amesos
      * solver holds a full factor (KLU on several ranks: a gathered copy on
      * rank 0), so memory grows with the number kept.
      */
@@ -294,7 +296,10 @@ namespace ContactStefan
     void refactorise_direct(const TrilinosWrappers::SparseMatrix &A, const std::uint64_t key);
     bool update_amg(const TrilinosWrappers::SparseMatrix &A, const std::uint64_t key);
     void keep_and_recompute_amg(const TrilinosWrappers::SparseMatrix &A, const std::uint64_t key);
-    /** A fresh hierarchy for values_key within a solve; the kept ones stay. */
+    /**
+     * A fresh hierarchy for values_key within a solve; the kept ones stay. If
+     * ML fails, nothing has changed.
+     */
     void rebuild_amg();
     /**
      * With 'AMG update = recompute', hierarchies of earlier matrix values of
