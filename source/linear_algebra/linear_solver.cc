@@ -322,30 +322,26 @@ namespace ContactStefan
       }
     else
       preconditioner = std::make_unique<TrilinosWrappers::PreconditionAMG>();
+    // Built before the current hierarchy is shelved: if ML fails, the
+    // current one is still the one made for amg_key.
+    if (!recomputed)
+      try
+        {
+          build_amg(*preconditioner, A);
+        }
+      catch (const std::exception &e)
+        {
+          throw std::runtime_error("the " + name +
+                                   " system could not be preconditioned by AMG: " +
+                                   one_line(e.what()));
+        }
     kept_amg.insert(kept_amg.begin(),
                     KeptAMG{amg_key, std::move(amg), iterations_per_decade_after_build});
-    amg = std::move(preconditioner);
-    if (recomputed)
-      {
-        amg_stale                         = true;
-        iterations_per_decade_after_build = after_build;
-      }
-    else
-      {
-        try
-          {
-            build_amg(*amg, A);
-          }
-        catch (const std::exception &e)
-          {
-            throw std::runtime_error(
-              "the " + name + " system could not be preconditioned by AMG: " + one_line(e.what()));
-          }
-        amg_stale                         = false;
-        iterations_per_decade_after_build = 0;
-      }
-    amg_key             = key;
-    amg_for_this_matrix = true;
+    amg                               = std::move(preconditioner);
+    amg_stale                         = recomputed;
+    iterations_per_decade_after_build = recomputed ? after_build : 0;
+    amg_key                           = key;
+    amg_for_this_matrix               = true;
   }
 
 

@@ -153,9 +153,9 @@ namespace ContactStefan
      * were named key in an earlier update() or initialize(): if their
      * factorisation (CHOLMOD or Amesos) or AMG hierarchy was kept ('Solver/Kept
      * factorisations'), it becomes the current one and true is returned, as
-     * it is when the current AMG hierarchy is the one made for them (borrowed
-     * since, or built within a solve that borrowed it); otherwise nothing
-     * changes (update() must follow). Each kept Amesos
+     * it is when the current AMG hierarchy is the one made for them, whatever
+     * 'AMG update' (borrowed since, or built within a solve that borrowed
+     * it); otherwise nothing changes (update() must follow). Each kept Amesos
      * solver holds a full factor (KLU on several ranks: a gathered copy on
      * rank 0), so memory grows with the number kept.
      */
