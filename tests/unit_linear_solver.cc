@@ -475,11 +475,12 @@ int main(int argc, char *argv[])
   // Hierarchies kept for recall ('AMG update' = recompute, 'Kept
   // factorisations' = 2), as the enthalpy step uses them: the hierarchy of
   // the first values (key 1) is borrowed (as the enthalpy step's loose
-  // solves borrow it) for the heavy diagonal above (key 2), which goes over its budget and builds afresh. The
-  // first one must then be kept, not dropped: recall(1) finds it without a
-  // build, and recall(2) finds the fresh one, current or kept, without a
-  // build (before the fix of recall() a recall of the current hierarchy's own
-  // values missed it, and the update after it kept two hierarchies of key 2).
+  // solves borrow it) for the heavy diagonal above (key 2), which goes over
+  // its budget and builds afresh. The first one must then be kept, not
+  // dropped: recall(1) finds it without a build, and recall(2) finds the
+  // fresh one, current or kept, without a build (before the fix of recall()
+  // a recall of the current hierarchy's own values missed it, and the update
+  // after it kept two hierarchies of key 2).
   {
     std::ostringstream        log;
     ConditionalOStream        logged(log, true);
@@ -508,7 +509,8 @@ int main(int argc, char *argv[])
     check(borrowed.amg_builds == 1 && log.str().find("over its budget") != std::string::npos,
           "kept for recall: the borrowed solve over its budget, one build within it");
     check(difference_to_fresh(prm, A, b, x) < 1e-9, "... solves as a direct solve to 1e-9");
-    check(solver.recall(2), "kept for recall: recall(2) right after finds the hierarchy just built");
+    check(solver.recall(2),
+          "kept for recall: recall(2) right after finds the hierarchy just built");
 
     // Back and forth between the two values, each recalled without a build
     // and solved within its budget.
