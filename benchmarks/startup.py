@@ -7,7 +7,10 @@ shipped scenes, and the cost of writing VTU files per compression level.
 Prints (Markdown tables, after the '# run:' provenance line):
   1. the wall time of `--help`, `--version`, `--print-parameters` (answered by
      the launcher) and `--check prm/subduction.prm` (the solver, without MPI),
-     the smallest and the largest of --repeat runs each;
+     the smallest and the largest of --repeat runs each; then the solver's
+     `--version` with its libraries in the order of cmake/load_order.py
+     against load-order-probe (the default order), max(10, 5 x --repeat)
+     alternating pairs;
   2. the process wall time of the default scene (prm/subduction.prm, on its
      coarse mesh: the adaptation set in the file is switched off) and of the
      tutorial's scene, and the time loop's share (`RESULT wall time` less the
@@ -86,6 +89,26 @@ def main():
         times = [timed([binary] + option, work)[0] for _ in range(args.repeat)]
         print("| `contact-stefan %s` | %.3f–%.3f s |" % (" ".join(option).replace(ROOT + "/", ""),
                                                       min(times), max(times)))
+
+    # The solver's libraries in the order of cmake/load_order.py against the
+    # default order (load-order-probe, the same code linked without it):
+    # --version, which loads every library and does nothing else, in
+    # alternating pairs.
+    solver = os.path.join(os.path.dirname(binary), "contact-stefan-solver")
+    probe = os.path.join(os.path.dirname(binary), "load-order-probe")
+    if os.path.exists(probe):
+        pairs = max(10, 5 * args.repeat)
+        times = {"load order (contact-stefan-solver)": [], "default order (load-order-probe)": []}
+        for _ in range(pairs):
+            for program, name in ((probe, "default order (load-order-probe)"),
+                                  (solver, "load order (contact-stefan-solver)")):
+                times[name].append(timed([program, "--version"], work)[0])
+        print("\n| libraries | `--version`: median (min–max) of %d alternating runs |\n|---|---|"
+              % pairs)
+        for name, values in times.items():
+            values.sort()
+            print("| %s | %.3f (%.3f–%.3f) s |" % (name, values[len(values) // 2], values[0],
+                                                  values[-1]))
 
     print("\n| scene | process wall time (min–max of %d) | time loop (min) |\n|---|---|---|"
           % args.repeat)
