@@ -71,6 +71,27 @@ namespace
     A.compress(VectorOperation::insert);
   }
 
+  // The nodes of columns 100-199: the third of the strip that the budget
+  // scenarios make heavier.
+  std::set<unsigned int> middle_third()
+  {
+    std::set<unsigned int> nodes;
+    for (unsigned int i = 0; i < my; ++i)
+      for (unsigned int j = 100; j < 200; ++j)
+        nodes.insert(node(i, j));
+    return nodes;
+  }
+
+  // CG + AMG forced, with `kept` hierarchies kept for recall.
+  Parameters::LinearSolvers cg_amg_parameters(const Parameters::LinearSolvers &prm,
+                                              const unsigned int               kept)
+  {
+    Parameters::LinearSolvers cg_prm = prm;
+    cg_prm.linear_solver             = Parameters::LinearSolvers::LinearSolverType::cg_amg;
+    cg_prm.kept_factorisations       = kept;
+    return cg_prm;
+  }
+
   // The largest difference between x and the solution of a fresh
   // factorisation of A's values, relative to the latter's size.
   double difference_to_fresh(const Parameters::LinearSolvers &prm,
@@ -423,16 +444,11 @@ int main(int argc, char *argv[])
   // with 'AMG update' = recompute, whose hierarchy keeps its aggregates and is
   // recomputed for the new values.
   {
-    std::ostringstream        log;
-    ConditionalOStream        logged(log, true);
-    Parameters::LinearSolvers cg_prm = prm;
-    cg_prm.linear_solver             = Parameters::LinearSolvers::LinearSolverType::cg_amg;
-    cg_prm.kept_factorisations       = 0;
-    const std::set<unsigned int> none;
-    std::set<unsigned int>       heavy;
-    for (unsigned int i = 0; i < my; ++i)
-      for (unsigned int j = 100; j < 200; ++j)
-        heavy.insert(node(i, j));
+    std::ostringstream                 log;
+    ConditionalOStream                 logged(log, true);
+    const Parameters::LinearSolvers    cg_prm = cg_amg_parameters(prm, 0);
+    const std::set<unsigned int>       none;
+    const std::set<unsigned int>       heavy = middle_third();
     for (const auto update : {Parameters::LinearSolvers::AMGUpdate::reuse,
                               Parameters::LinearSolvers::AMGUpdate::recompute})
       {
@@ -482,16 +498,11 @@ int main(int argc, char *argv[])
   // a recall of the current hierarchy's own values missed it, and the update
   // after it kept two hierarchies of key 2).
   {
-    std::ostringstream        log;
-    ConditionalOStream        logged(log, true);
-    Parameters::LinearSolvers cg_prm = prm;
-    cg_prm.linear_solver             = Parameters::LinearSolvers::LinearSolverType::cg_amg;
-    cg_prm.kept_factorisations       = 2;
-    const std::set<unsigned int> none;
-    std::set<unsigned int>       heavy;
-    for (unsigned int i = 0; i < my; ++i)
-      for (unsigned int j = 100; j < 200; ++j)
-        heavy.insert(node(i, j));
+    std::ostringstream                 log;
+    ConditionalOStream                 logged(log, true);
+    const Parameters::LinearSolvers    cg_prm = cg_amg_parameters(prm, 2);
+    const std::set<unsigned int>       none;
+    const std::set<unsigned int>       heavy = middle_third();
     LinearSolver solver(
       cg_prm, 1, logged, "test", Parameters::LinearSolvers::AMGUpdate::recompute, 0.02, 2);
     fill(A, none, 1.);
